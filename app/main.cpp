@@ -1,0 +1,241 @@
+// contact2d: the command-line program. Thin: parses arguments, loads the scene, calls the
+// library, prints and writes results.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/charts.hpp"
+#include "app/run_report.hpp"
+#include "core/errors.hpp"
+#include "core/model.hpp"
+#include "core/probes.hpp"
+#include "core/scene.hpp"
+#include "core/writers.hpp"
+#include "nonlinear/linear_static.hpp"
+
+namespace fs = std::filesystem;
+using namespace c2d;
+
+namespace {
+
+constexpr int kExitOk = 0, kExitSolveFailed = 1, kExitBadInput = 2;
+
+const char* kMainHelp =
+    "contact2d - finite-element contact between 2D elastic bodies\n"
+    "\n"
+    "usage: contact2d <verb> [options]\n"
+    "  run SCENE      solve a scene (TOML, or a legacy .dat data file) and write results\n"
+    "  mesh SCENE     mesh the scene's bodies and write mesh.vtu\n"
+    "  info SCENE     list bodies, materials, node/edge sets, supports, loads and probes\n"
+    "\n"
+    "Every verb has --help. Exit codes: 0 ok, 1 solve failed (partial results kept),\n"
+    "2 bad input.\n";
+
+const char* kRunHelp =
+    "usage: contact2d run SCENE [--set key=value ...] [--out DIR] [--quiet]\n"
+    "\n"
+    "Solves SCENE and writes into DIR (default: the scene's output.dir, else out/<scene>):\n"
+    "  summary.json   status, mesh, times, error estimate, probes (stable keys)\n"
+    "  results.pvd    + step_0001.vtu for ParaView\n"
+    "  nodes.csv      displacements, smoothed stresses and reactions per node\n"
+    "  deformed.png   deformed mesh coloured by von Mises (and .svg)\n"
+    "  run.log        what was printed\n"
+    "\n"
+    "  --set key=value  override a scene key, e.g. --set analysis.element=T3,\n"
+    "                   --set body.beam.mesh.size=0.05 (array entries by index or name)\n"
+    "  --out DIR        output folder\n"
+    "  --quiet          print nothing but errors\n";
+
+const char* kMeshHelp =
+    "usage: contact2d mesh SCENE [--set key=value ...] [--out DIR]\n"
+    "\nMeshes the scene's bodies and writes DIR/mesh.vtu; prints node, element and DOF counts.\n";
+
+const char* kInfoHelp =
+    "usage: contact2d info SCENE [--set key=value ...]\n"
+    "\nMeshes the scene and lists bodies, materials, named edges and node groups with their\n"
+    "sizes, and how many nodes each support, load and probe selects.\n";
+
+struct Options {
+  std::string verb, scene;
+  std::vector<std::string> sets;
+  std::string out;
+  bool quiet = false, help = false;
+};
+
+Options parse_args(int argc, char** argv) {
+  Options o;
+  if (argc < 2) return o;
+  o.verb = argv[1];
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](const std::string& flag) -> std::string {
+      if (i + 1 >= argc) throw InputError(flag + ": expected a value, found the end of the line");
+      return argv[++i];
+    };
+    if (a == "--help" || a == "-h") o.help = true;
+    else if (a == "--set") o.sets.push_back(value(a));
+    else if (a.rfind("--set=", 0) == 0) o.sets.push_back(a.substr(6));
+    else if (a == "--out") o.out = value(a);
+    else if (a.rfind("--out=", 0) == 0) o.out = a.substr(6);
+    else if (a == "--quiet" || a == "-q") o.quiet = true;
+    else if (!a.empty() && a[0] == '-') throw InputError(a + ": unknown option (see --help)");
+    else if (o.scene.empty()) o.scene = a;
+    else throw InputError(a + ": unexpected argument (one scene per run)");
+  }
+  return o;
+}
+
+/// Progress and log: lines go to the terminal (unless quiet) and to run.log.
+class Reporter {
+ public:
+  explicit Reporter(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO)) {}
+  void phase(const std::string& what) {
+    log_ << what << '\n';
+    if (!quiet_ && tty_) std::cerr << "  .. " << what << std::endl;
+  }
+  void line(const std::string& text) {
+    log_ << text;
+    if (!quiet_) std::cout << text << std::flush;
+  }
+  std::string log() const { return log_.str(); }
+
+ private:
+  bool quiet_, tty_;
+  std::ostringstream log_;
+};
+
+std::string default_out(const Options& o, const core::Scene& scene) {
+  if (!o.out.empty()) return o.out;
+  if (!scene.output_dir.empty()) return scene.output_dir;
+  return "out/" + fs::path(o.scene).stem().string();
+}
+
+int cmd_run(const Options& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  Reporter rep(o.quiet);
+  rep.phase("reading " + o.scene);
+  const core::Scene scene = core::load_scene(o.scene, o.sets);
+  const std::string out = default_out(o, scene);
+  fs::create_directories(out);
+  rep.phase("meshing " + std::to_string(scene.bodies.size()) + " bod" +
+            (scene.bodies.size() == 1 ? "y" : "ies"));
+  const core::Model model = core::build_model(scene);
+  rep.phase("solving " + std::to_string(model.dofs.num_free()) + " equations");
+  core::Results results = nonlinear::solve_linear_static(model, scene.analysis);
+  const bool ok = results.status == SolveStatus::kConverged;
+  if (ok) results.probes = core::evaluate_probes(scene, model, results);
+
+  const auto t_out = std::chrono::steady_clock::now();
+  rep.phase("writing results to " + out);
+  core::write_file_atomic(out + "/step_0001.vtu", core::vtu_document(model, results));
+  core::write_file_atomic(out + "/results.pvd", core::pvd_document({{1.0, "step_0001.vtu"}}));
+  core::write_file_atomic(out + "/nodes.csv", core::nodes_csv(model, results));
+  std::string chart_error;
+  if (ok) chart_error = app::chart_deformed_mesh(out, model, results);
+  results.time.output =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
+  results.time.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  const std::string status =
+      ok ? "converged" : std::string("failed: ") + to_string(results.status) + ": " + results.message;
+  const nlohmann::json summary = app::make_summary(scene, &model, &results, status);
+  core::write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
+  rep.line(app::terminal_summary(summary, out));
+  if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
+  core::write_file_atomic(out + "/run.log", rep.log());
+  return ok ? kExitOk : kExitSolveFailed;
+}
+
+int cmd_mesh(const Options& o) {
+  const core::Scene scene = core::load_scene(o.scene, o.sets);
+  const core::Model model = core::build_model(scene);
+  const std::string out = default_out(o, scene);
+  fs::create_directories(out);
+  core::Results empty;
+  empty.displacement = VecX::Zero(model.mesh.num_dofs());
+  empty.reaction = VecX::Zero(model.mesh.num_dofs());
+  empty.nodal_stress = Eigen::Matrix3Xd::Zero(3, model.mesh.num_nodes());
+  empty.element_stresses.at_points.assign(model.mesh.num_elements(), Eigen::Matrix3Xd::Zero(3, 1));
+  core::write_file_atomic(out + "/mesh.vtu", core::vtu_document(model, empty));
+  const auto [hmin, hmax] = model.mesh.edge_length_range();
+  std::cout << (model.mesh.order == 1 ? "T3" : "T6") << " mesh: " << model.mesh.num_nodes()
+            << " nodes, " << model.mesh.num_elements() << " elements, " << model.mesh.num_dofs()
+            << " DOFs (" << model.dofs.num_free() << " free), edge length " << hmin << " .. "
+            << hmax << ", " << model.mesh_seconds << " s\nwrote " << out << "/mesh.vtu\n";
+  return kExitOk;
+}
+
+int cmd_info(const Options& o) {
+  const core::Scene scene = core::load_scene(o.scene, o.sets);
+  const core::Model model = core::build_model(scene);
+  std::cout << "scene      " << scene.path << (scene.title.empty() ? "" : " - " + scene.title)
+            << "\nunits      " << (scene.units.empty() ? "(not stated)" : scene.units)
+            << "\nanalysis   "
+            << (scene.analysis.state == core::PlaneState::kPlaneStrain ? "plane strain"
+                                                                       : "plane stress")
+            << ", " << (model.mesh.order == 1 ? "T3" : "T6") << "\nmesh       "
+            << model.mesh.num_nodes() << " nodes, " << model.mesh.num_elements() << " elements, "
+            << model.dofs.num_free() << " free DOFs of " << model.mesh.num_dofs() << "\n";
+  for (const auto& m : model.materials)
+    std::cout << "material   " << m.name << ": E = " << m.young << ", nu = " << m.poisson
+              << ", t = " << m.thickness << "\n";
+  for (size_t b = 0; b < model.body_names.size(); ++b) {
+    int elements = 0;
+    for (int id : model.mesh.element_body) elements += id == static_cast<int>(b);
+    std::cout << "body       " << model.body_names[b] << ": " << elements << " elements\n";
+  }
+  for (const auto& [name, ids] : model.mesh.edge_groups)
+    std::cout << "edge set   " << name << ": " << ids.size() << " edges\n";
+  for (const auto& [name, ids] : model.mesh.node_groups)
+    std::cout << "node set   " << name << ": " << ids.size() << " nodes\n";
+  for (const auto& s : scene.supports)
+    std::cout << "support    " << s.at.where << ": " << core::select_nodes(model, s.on).size()
+              << " nodes\n";
+  for (const auto& l : scene.loads)
+    std::cout << "load       " << l.at.where << ": " << core::select_nodes(model, l.on).size()
+              << " nodes\n";
+  for (const auto& p : scene.probes)
+    std::cout << "probe      " << p.name << " (" << p.quantity << ")"
+              << (p.on ? ": " + std::to_string(core::select_nodes(model, *p.on).size()) + " nodes"
+                       : std::string(""))
+              << "\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const Options o = parse_args(argc, argv);
+    if (o.verb.empty() || o.verb == "--help" || o.verb == "-h" || o.verb == "help") {
+      std::cout << kMainHelp;
+      return o.verb.empty() ? kExitBadInput : kExitOk;
+    }
+    const char* help = o.verb == "run"    ? kRunHelp
+                       : o.verb == "mesh" ? kMeshHelp
+                       : o.verb == "info" ? kInfoHelp
+                                          : nullptr;
+    if (!help) throw InputError(o.verb + ": unknown verb; expected run, mesh or info (see --help)");
+    if (o.help) {
+      std::cout << help;
+      return kExitOk;
+    }
+    if (o.scene.empty()) throw InputError(o.verb + ": expected a scene file, found none");
+    if (o.verb == "run") return cmd_run(o);
+    if (o.verb == "mesh") return cmd_mesh(o);
+    return cmd_info(o);
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return kExitSolveFailed;
+  }
+}

@@ -1,0 +1,43 @@
+// Sparse assembly into a pattern computed once and refilled in place.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "core/dof_map.hpp"
+#include "core/mesh.hpp"
+#include "core/types.hpp"
+
+namespace c2d::core {
+
+/// Assembles element matrices into the free-free block K_ff of a mesh's stiffness. The sparsity
+/// pattern and a scatter map (element entry -> position in K_ff's value array) are built once;
+/// later assemblies only overwrite values, so K_ff keeps its pattern and a solver can reuse its
+/// symbolic analysis. Entries coupling free and constrained DOFs become the "lift" vector
+/// K_fc u_c, so that K_ff u_f = f_f - K_fc u_c.
+class Assembler {
+ public:
+  Assembler(const Mesh& mesh, const DofMap& dofs);
+
+  /// Element matrix callback: fills the local matrix of element e (2 * nodes_per_element square).
+  using ElementMatrixFn = std::function<void(int e, LocalMatrix& ke)>;
+
+  /// Refills K_ff; when u_constrained is given, also returns lift = K_fc u_c.
+  void assemble(const ElementMatrixFn& element_matrix, const VecX* u_full, VecX* lift);
+
+  const SpMat& matrix() const { return k_ff_; }
+  SpMat& matrix() { return k_ff_; }
+  const Mesh& mesh() const { return mesh_; }
+  const DofMap& dofs() const { return dofs_; }
+
+  /// Global DOF indices of element e.
+  void element_dofs(int e, std::array<int, kMaxElementDofs>& dofs) const;
+
+ private:
+  const Mesh& mesh_;
+  const DofMap& dofs_;
+  SpMat k_ff_;
+  std::vector<int> scatter_;  ///< per element, ndofe^2 positions (-1: not in K_ff)
+};
+
+}  // namespace c2d::core

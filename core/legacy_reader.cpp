@@ -1,0 +1,179 @@
+#include "core/legacy_reader.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "core/errors.hpp"
+
+namespace c2d::core {
+
+namespace {
+
+class LineReader {
+ public:
+  explicit LineReader(const std::string& path) : path_(path), in_(path) {
+    if (!in_) throw InputError(path + ": cannot open the data file");
+  }
+  // Next non-empty line, split into numbers.
+  std::vector<double> next(const std::string& what) {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++line_no_;
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      std::istringstream is(line);
+      std::vector<double> v;
+      std::string tok;
+      while (is >> tok) {
+        try {
+          size_t used = 0;
+          v.push_back(std::stod(tok, &used));
+          if (used != tok.size()) throw std::invalid_argument(tok);
+        } catch (const std::exception&) {
+          fail("expected " + what + ", found '" + tok + "'");
+        }
+      }
+      return v;
+    }
+    fail("expected " + what + ", found the end of the file");
+  }
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InputError(path_ + ":" + std::to_string(line_no_) + ": " + message);
+  }
+  int line() const { return line_no_; }
+
+ private:
+  std::string path_;
+  std::ifstream in_;
+  int line_no_ = 0;
+};
+
+int as_index(LineReader& r, double v, int count, const char* what) {
+  if (v != std::floor(v) || v < 1 || v > count)
+    r.fail(std::string("expected a ") + what + " number in 1.." + std::to_string(count) +
+           ", found " + std::to_string(v));
+  return static_cast<int>(v) - 1;
+}
+
+}  // namespace
+
+Scene read_legacy_scene(const std::string& path) {
+  LineReader r(path);
+  const auto head = r.next("NN NE ITER");
+  if (head.size() < 2 || head.size() > 3)
+    r.fail("expected 'NN NE ITER' (node count, element count, iteration count), found " +
+           std::to_string(head.size()) + " numbers");
+  const int nn = static_cast<int>(head[0]), ne = static_cast<int>(head[1]);
+  if (nn < 3 || ne < 1 || head[0] != nn || head[1] != ne)
+    r.fail("expected positive integer node and element counts");
+
+  Scene scene;
+  scene.path = path;
+  scene.title = "legacy data file " + path;
+  auto model = std::make_shared<ExplicitModel>();
+  Mesh& mesh = model->mesh;
+  mesh.nodes.assign(nn, Vec2::Zero());
+  std::vector<bool> seen(nn, false);
+  for (int i = 0; i < nn; ++i) {
+    const auto v = r.next("a node line 'id x y sx sy fx fy'");
+    if (v.size() != 7)
+      r.fail("expected 7 numbers on a node line (id x y sx sy fx fy), found " +
+             std::to_string(v.size()));
+    const int id = as_index(r, v[0], nn, "node");
+    if (seen[id]) r.fail("node " + std::to_string(id + 1) + " defined twice");
+    seen[id] = true;
+    mesh.nodes[id] = Vec2(v[1], v[2]);
+    for (int c = 0; c < 2; ++c) {
+      const double flag = v[3 + c], value = v[5 + c];
+      if (flag != 0 && flag != 1) r.fail("expected a support flag 0 or 1, found " + std::to_string(flag));
+      SelectionSpec on;
+      on.kind = SelectionSpec::Kind::kNodes;
+      on.nodes = {id};
+      on.at.where = path + ":" + std::to_string(r.line()) + ": node " + std::to_string(id + 1);
+      if (flag == 1) {
+        SupportSpec s;
+        s.on = on;
+        (c == 0 ? s.ux : s.uy) = value;
+        s.at = on.at;
+        scene.supports.push_back(s);
+      } else if (value != 0.0) {
+        LoadSpec l;
+        l.kind = LoadSpec::Kind::kNodalForce;
+        l.on = on;
+        l.vector = c == 0 ? Vec2(value, 0) : Vec2(0, value);
+        l.at = on.at;
+        scene.loads.push_back(l);
+      }
+    }
+  }
+  std::map<std::tuple<int, double, double, double>, int> material_index;
+  int order = 0;
+  int state = -1;
+  for (int i = 0; i < ne; ++i) {
+    const auto v = r.next("an element line 'id n1 n2 n3 type p1 p2 p3'");
+    int nodes_per = 0;
+    if (v.size() == 8) nodes_per = 3;
+    else if (v.size() == 11) nodes_per = 6;
+    else
+      r.fail("expected 8 (T3) or 11 (T6) numbers on an element line, found " +
+             std::to_string(v.size()));
+    const int type = static_cast<int>(v[1 + nodes_per]);
+    const double p1 = v[2 + nodes_per], p2 = v[3 + nodes_per], p3 = v[4 + nodes_per];
+    if (type == 1) {
+      ExplicitModel::Gap gap;
+      gap.node_a = as_index(r, v[1], nn, "node");
+      gap.node_b = as_index(r, v[2], nn, "node");
+      gap.direction = Vec2(p1, p2);
+      gap.stiffness = p3;
+      if (gap.direction.norm() == 0) r.fail("gap element with a zero direction (nx, ny)");
+      model->gaps.push_back(gap);
+      continue;
+    }
+    if (type != 0 && type != 2)
+      r.fail("expected element type 0 (plane stress), 1 (gap) or 2 (plane strain), found " +
+             std::to_string(type));
+    if (order == 0) order = nodes_per == 3 ? 1 : 2;
+    if ((order == 1) != (nodes_per == 3)) r.fail("mixed T3 and T6 elements");
+    if (state >= 0 && state != type) r.fail("mixed plane stress and plane strain elements");
+    state = type;
+    if (!(p1 > 0) || !(p2 > 0) || !(p3 > -1 && p3 < 0.5))
+      r.fail("expected E > 0, thickness > 0 and -1 < nu < 0.5");
+    std::array<int, 6> conn{-1, -1, -1, -1, -1, -1};
+    for (int k = 0; k < nodes_per; ++k) conn[k] = as_index(r, v[1 + k], nn, "node");
+    auto [it, inserted] = material_index.try_emplace({type, p1, p2, p3},
+                                                     static_cast<int>(model->materials.size()));
+    if (inserted) {
+      MaterialSpec m;
+      m.name = "material" + std::to_string(model->materials.size() + 1);
+      m.young = p1;
+      m.thickness = p2;
+      m.poisson = p3;
+      model->materials.push_back(m);
+    }
+    mesh.elements.push_back(conn);
+    mesh.element_body.push_back(0);
+    mesh.element_material.push_back(it->second);
+  }
+  if (mesh.elements.empty()) r.fail("the file has no solid (type 0 or 2) elements");
+  const auto tail = r.next("the two big numbers 'BIG BIGkr'");
+  (void)tail;
+  mesh.order = order;
+  for (int i = 0; i < nn; ++i)
+    if (!seen[i]) throw InputError(path + ": node " + std::to_string(i + 1) + " is never defined");
+  mesh.orient_counter_clockwise();
+  mesh.build_boundary();
+  scene.analysis.order = order;
+  scene.analysis.state = state == 2 ? PlaneState::kPlaneStrain : PlaneState::kPlaneStress;
+  scene.analysis.smoothing = Smoothing::kDirectAverage;  // the seed program's smoothing
+  scene.materials = model->materials;
+  BodySpec body;
+  body.name = "body";
+  body.material = model->materials.front().name;
+  scene.bodies.push_back(body);
+  scene.explicit_model = model;
+  return scene;
+}
+
+}  // namespace c2d::core

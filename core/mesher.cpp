@@ -1,0 +1,237 @@
+#include "core/mesher.hpp"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <unordered_map>
+
+#include "core/errors.hpp"
+
+namespace c2d::core {
+
+namespace {
+
+/// gmsh is a process-wide singleton; initialise it once, quietly.
+void ensure_gmsh() {
+  static bool initialised = false;
+  if (!initialised) {
+    gmsh::initialize(0, nullptr, false);
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 1);
+    initialised = true;
+  }
+}
+
+double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (p - (a + t * ab)).norm();
+}
+
+struct NamedCurve {
+  int tag;
+  std::string name;
+};
+
+// Builds the primitive in gmsh's built-in (geo) kernel; returns the named boundary curves.
+std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
+  namespace geo = gmsh::model::geo;
+  std::vector<NamedCurve> curves;
+  std::vector<int> loop;
+  auto add_line = [&](int a, int b, const std::string& name) {
+    const int c = geo::addLine(a, b);
+    curves.push_back({c, name});
+    loop.push_back(c);
+  };
+  if (s.type == "rectangle" || s.type == "polygon") {
+    std::vector<Vec2> pts = s.points;
+    if (s.type == "rectangle")
+      pts = {s.min, {s.max.x(), s.min.y()}, s.max, {s.min.x(), s.max.y()}};
+    std::vector<int> tags;
+    for (const auto& p : pts) tags.push_back(geo::addPoint(p.x(), p.y(), 0.0));
+    static const char* rect_names[] = {"bottom", "right", "top", "left"};
+    for (size_t i = 0; i < pts.size(); ++i)
+      add_line(tags[i], tags[(i + 1) % pts.size()],
+               s.type == "rectangle" ? rect_names[i] : "edge" + std::to_string(i));
+  } else {
+    const bool full = s.type == "disk" || s.to_deg - s.from_deg >= 360.0 - 1e-9;
+    const double from = full ? 0.0 : s.from_deg, to = full ? 360.0 : s.to_deg;
+    const int pieces = std::max(full ? 4 : 1, static_cast<int>(std::ceil((to - from) / 90.0)));
+    const int center = geo::addPoint(s.center.x(), s.center.y(), 0.0);
+    std::vector<int> arc_points;
+    for (int i = 0; i <= pieces; ++i) {
+      if (full && i == pieces) {
+        arc_points.push_back(arc_points.front());
+        break;
+      }
+      const double t = (from + (to - from) * i / pieces) * std::numbers::pi / 180.0;
+      arc_points.push_back(geo::addPoint(s.center.x() + s.radius * std::cos(t),
+                                         s.center.y() + s.radius * std::sin(t), 0.0));
+    }
+    for (int i = 0; i < pieces; ++i) {
+      const int c = geo::addCircleArc(arc_points[i], center, arc_points[i + 1]);
+      curves.push_back({c, "arc"});
+      loop.push_back(c);
+    }
+    if (!full) {
+      add_line(arc_points.back(), center, "end");
+      add_line(center, arc_points.front(), "start");
+    }
+  }
+  const int cl = geo::addCurveLoop(loop);
+  geo::addPlaneSurface({cl});
+  geo::synchronize();
+  return curves;
+}
+
+// Reads the current gmsh model's 2D mesh into a Mesh (nodes compacted to those of triangles).
+Mesh read_gmsh_model(int order, const std::vector<NamedCurve>& named) {
+  std::vector<std::size_t> node_tags;
+  std::vector<double> coords, param;
+  gmsh::model::mesh::getNodes(node_tags, coords, param, -1, -1, false, false);
+  std::unordered_map<std::size_t, size_t> tag_pos;
+  for (size_t i = 0; i < node_tags.size(); ++i) tag_pos[node_tags[i]] = i;
+
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> elem_tags, elem_nodes;
+  gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, 2, -1);
+  const int want = order == 1 ? 2 : 9;  // gmsh: 3-node and 6-node triangles
+  Mesh mesh;
+  mesh.order = order;
+  std::unordered_map<std::size_t, int> index;  // gmsh tag -> mesh node
+  auto node_of = [&](std::size_t tag) {
+    auto [it, inserted] = index.try_emplace(tag, mesh.num_nodes());
+    if (inserted) {
+      const size_t p = tag_pos.at(tag);
+      mesh.nodes.emplace_back(coords[3 * p], coords[3 * p + 1]);
+    }
+    return it->second;
+  };
+  for (size_t t = 0; t < types.size(); ++t) {
+    if (types[t] != want)
+      throw InputError("mesh contains gmsh element type " + std::to_string(types[t]) +
+                       ", expected only " + (order == 1 ? "3-node" : "6-node") + " triangles");
+    const int nn = order == 1 ? 3 : 6;
+    for (size_t e = 0; e < elem_tags[t].size(); ++e) {
+      std::array<int, 6> conn{-1, -1, -1, -1, -1, -1};
+      for (int i = 0; i < nn; ++i) conn[i] = node_of(elem_nodes[t][e * nn + i]);
+      mesh.elements.push_back(conn);
+    }
+  }
+  if (mesh.elements.empty()) throw InputError("the mesh has no triangles");
+  mesh.element_body.assign(mesh.elements.size(), 0);
+  mesh.element_material.assign(mesh.elements.size(), 0);
+  mesh.orient_counter_clockwise();
+  mesh.build_boundary();
+
+  // Named edges: boundary edges whose end nodes lie on a named curve's mesh.
+  std::map<std::pair<int, int>, int> edge_index;
+  for (size_t i = 0; i < mesh.boundary_edges.size(); ++i) {
+    const auto& be = mesh.boundary_edges[i];
+    edge_index[{std::min(be.nodes[0], be.nodes[1]), std::max(be.nodes[0], be.nodes[1])}] =
+        static_cast<int>(i);
+  }
+  for (const auto& curve : named) {
+    std::vector<int> ctypes;
+    std::vector<std::vector<std::size_t>> ctags, cnodes;
+    gmsh::model::mesh::getElements(ctypes, ctags, cnodes, 1, curve.tag);
+    for (size_t t = 0; t < ctypes.size(); ++t) {
+      const size_t nn = ctypes[t] == 1 ? 2 : 3;
+      for (size_t e = 0; e < ctags[t].size(); ++e) {
+        auto a = index.find(cnodes[t][e * nn]), b = index.find(cnodes[t][e * nn + 1]);
+        if (a == index.end() || b == index.end()) continue;
+        auto it = edge_index.find({std::min(a->second, b->second), std::max(a->second, b->second)});
+        if (it != edge_index.end()) mesh.edge_groups[curve.name].push_back(it->second);
+      }
+    }
+  }
+  for (auto& [name, ids] : mesh.edge_groups) {
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  }
+  return mesh;
+}
+
+}  // namespace
+
+double requested_size(const BodySpec& body, const Vec2& p) {
+  double h = body.mesh_size;
+  for (const auto& r : body.refine) {
+    const double d = r.segment ? distance_to_segment(p, r.p0, r.p1) : (p - r.p0).norm();
+    h = std::min(h, r.size + (r.growth - 1.0) * std::max(0.0, d - r.radius));
+  }
+  return h;
+}
+
+Mesh mesh_body(const BodySpec& body, int order) {
+  ensure_gmsh();
+  gmsh::clear();
+  gmsh::model::add(body.name);
+  try {
+    std::vector<NamedCurve> named;
+    if (!body.msh_file.empty()) {
+      gmsh::open(body.msh_file);
+      gmsh::vectorpair groups;
+      gmsh::model::getPhysicalGroups(groups, 1);
+      for (const auto& [dim, tag] : groups) {
+        std::string name;
+        gmsh::model::getPhysicalName(dim, tag, name);
+        std::vector<int> entities;
+        gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+        for (int c : entities) named.push_back({c, name.empty() ? std::to_string(tag) : name});
+      }
+      // Convert the element order if the file's differs from the scene's.
+      std::vector<int> types;
+      gmsh::model::mesh::getElementTypes(types, 2);
+      const bool has_t6 = std::find(types.begin(), types.end(), 9) != types.end();
+      if ((order == 2) != has_t6) gmsh::model::mesh::setOrder(order);
+    } else {
+      named = build_geometry(body.shape);
+      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", body.mesh_size);
+      gmsh::option::setNumber("Mesh.Algorithm", body.algorithm == "delaunay" ? 5 : 6);
+      gmsh::option::setNumber("Mesh.ElementOrder", 1);
+      gmsh::model::mesh::setSizeCallback(
+          [&body](int, int, double x, double y, double) { return requested_size(body, {x, y}); });
+      gmsh::model::mesh::generate(2);
+      gmsh::model::mesh::removeSizeCallback();
+      if (order == 2) gmsh::model::mesh::setOrder(2);
+    }
+    Mesh mesh = read_gmsh_model(order, named);
+    if (!body.msh_file.empty()) {
+      // Physical groups as node sets, mapped by coordinates (node tags were compacted).
+      gmsh::vectorpair groups;
+      gmsh::model::getPhysicalGroups(groups, -1);
+      const PointLocator locator(mesh);
+      for (const auto& [dim, tag] : groups) {
+        std::string name;
+        gmsh::model::getPhysicalName(dim, tag, name);
+        std::vector<std::size_t> tags;
+        std::vector<double> xyz;
+        gmsh::model::mesh::getNodesForPhysicalGroup(dim, tag, tags, xyz);
+        auto& dst = mesh.node_groups[name.empty() ? std::to_string(tag) : name];
+        for (size_t i = 0; i < tags.size(); ++i) {
+          const Vec2 p(xyz[3 * i], xyz[3 * i + 1]);
+          const int n = locator.nearest_node(p);
+          if (n >= 0 && (mesh.nodes[n] - p).norm() <= 1e-12 * (1.0 + p.norm())) dst.push_back(n);
+        }
+      }
+    }
+    gmsh::clear();
+    return mesh;
+  } catch (const std::string& message) {  // gmsh API errors are thrown as std::string
+    gmsh::clear();
+    throw InputError(body.at.where + ": gmsh: " + message);
+  } catch (const InputError& e) {
+    gmsh::clear();
+    throw InputError(body.at.where + ": " + e.what());
+  }
+}
+
+}  // namespace c2d::core

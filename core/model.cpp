@@ -1,0 +1,285 @@
+#include "core/model.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <set>
+
+#include "core/elasticity_kernels.hpp"
+#include "core/errors.hpp"
+#include "core/mesher.hpp"
+
+namespace c2d::core {
+
+namespace {
+
+int body_index(const Model& model, const std::string& name) {
+  for (size_t i = 0; i < model.body_names.size(); ++i)
+    if (model.body_names[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+std::vector<bool> body_nodes(const Model& model, int body) {
+  std::vector<bool> in(model.mesh.num_nodes(), body < 0);
+  if (body < 0) return in;
+  for (int e = 0; e < model.mesh.num_elements(); ++e)
+    if (model.mesh.element_body[e] == body)
+      for (int i = 0; i < model.mesh.nodes_per_element(); ++i) in[model.mesh.elements[e][i]] = true;
+  return in;
+}
+
+// Boundary edges named `name` in a body (primitive edge names, physical curves, or the generic
+// extremal sides top/bottom/left/right of the body).
+std::vector<int> named_edges(const Model& model, const SelectionSpec& s, int body) {
+  const Mesh& mesh = model.mesh;
+  const std::string prefix = body >= 0 ? model.body_names[body] + "/" : "";
+  std::vector<int> out;
+  for (const auto& [name, ids] : mesh.edge_groups) {
+    const auto slash = name.find('/');
+    const std::string bare = slash == std::string::npos ? name : name.substr(slash + 1);
+    if (bare != s.name || (body >= 0 && name.rfind(prefix, 0) != 0)) continue;
+    out.insert(out.end(), ids.begin(), ids.end());
+  }
+  if (!out.empty() || (s.name != "top" && s.name != "bottom" && s.name != "left" &&
+                       s.name != "right"))
+    return out;
+  // Generic sides: boundary edges lying on the body's extreme coordinate.
+  const int axis = (s.name == "top" || s.name == "bottom") ? 1 : 0;
+  const bool upper = s.name == "top" || s.name == "right";
+  double extreme = upper ? -1e300 : 1e300;
+  for (const auto& be : mesh.boundary_edges)
+    if (body < 0 || be.body == body)
+      for (int k = 0; k < 2; ++k) {
+        const double c = mesh.nodes[be.nodes[k]][axis];
+        extreme = upper ? std::max(extreme, c) : std::min(extreme, c);
+      }
+  const double tol = 1e-9 * model.model_size;
+  for (size_t i = 0; i < mesh.boundary_edges.size(); ++i) {
+    const auto& be = mesh.boundary_edges[i];
+    if (body >= 0 && be.body != body) continue;
+    if (std::abs(mesh.nodes[be.nodes[0]][axis] - extreme) <= tol &&
+        std::abs(mesh.nodes[be.nodes[1]][axis] - extreme) <= tol)
+      out.push_back(static_cast<int>(i));
+  }
+  return out;
+}
+
+bool on_predicate(const SelectionSpec& s, const Vec2& p, double tol) {
+  using K = SelectionSpec::Kind;
+  switch (s.kind) {
+    case K::kLine: {
+      const Vec2 d = s.p1.normalized();
+      const Vec2 r = p - s.p0;
+      return std::abs(r.x() * d.y() - r.y() * d.x()) <= tol;
+    }
+    case K::kSegment: {
+      const Vec2 ab = s.p1 - s.p0;
+      const double t = std::clamp((p - s.p0).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      return (p - (s.p0 + t * ab)).norm() <= tol;
+    }
+    case K::kBox:
+      return p.x() >= s.p0.x() - tol && p.y() >= s.p0.y() - tol && p.x() <= s.p1.x() + tol &&
+             p.y() <= s.p1.y() + tol;
+    case K::kArc: {
+      const Vec2 r = p - s.p0;
+      if (std::abs(r.norm() - s.radius) > tol) return false;
+      double ang = std::atan2(r.y(), r.x()) * 180.0 / std::numbers::pi;
+      for (double shift : {-360.0, 0.0, 360.0})
+        if (ang + shift >= s.from_deg - 1e-9 && ang + shift <= s.to_deg + 1e-9) return true;
+      return false;
+    }
+    default:
+      return true;
+  }
+}
+
+}  // namespace
+
+std::vector<int> select_nodes(const Model& model, const SelectionSpec& s) {
+  using K = SelectionSpec::Kind;
+  const Mesh& mesh = model.mesh;
+  const int body = s.body.empty() ? -1 : body_index(model, s.body);
+  if (!s.body.empty() && body < 0) throw InputError(s.at.where + ": no body named '" + s.body + "'");
+  const std::vector<bool> in_body = body_nodes(model, body);
+  const double tol = s.tol > 0 ? s.tol : 1e-6 * model.model_size;
+  std::vector<int> out;
+  switch (s.kind) {
+    case K::kNodes:
+      for (int n : s.nodes) {
+        if (n < 0 || n >= mesh.num_nodes())
+          throw InputError(s.at.where + ": node " + std::to_string(n + 1) + " does not exist");
+        out.push_back(n);
+      }
+      break;
+    case K::kGroup: {
+      for (const auto& [name, ids] : mesh.node_groups) {
+        const auto slash = name.find('/');
+        const std::string bare = slash == std::string::npos ? name : name.substr(slash + 1);
+        if (bare == s.name)
+          for (int n : ids)
+            if (in_body[n]) out.push_back(n);
+      }
+      break;
+    }
+    case K::kEdge:
+      for (int i : named_edges(model, s, body))
+        for (int n : mesh.boundary_edges[i].nodes)
+          if (n >= 0) out.push_back(n);
+      break;
+    case K::kNearest: {
+      int best = -1;
+      double best_d = 1e300;
+      for (int n = 0; n < mesh.num_nodes(); ++n) {
+        if (!in_body[n]) continue;
+        const double d = (mesh.nodes[n] - s.p0).squaredNorm();
+        if (d < best_d) best_d = d, best = n;
+      }
+      if (best >= 0) out.push_back(best);
+      break;
+    }
+    default:
+      for (int n = 0; n < mesh.num_nodes(); ++n)
+        if (in_body[n] && on_predicate(s, mesh.nodes[n], tol)) out.push_back(n);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (out.empty())
+    throw InputError(s.at.where + ": the selection matches no node" +
+                     (s.kind == K::kEdge ? " (no boundary edge named '" + s.name + "')"
+                                         : std::string(" (check coordinates and 'tol')")));
+  return out;
+}
+
+std::vector<int> select_edges(const Model& model, const SelectionSpec& s) {
+  const Mesh& mesh = model.mesh;
+  if (s.kind == SelectionSpec::Kind::kEdge) {
+    const int body = s.body.empty() ? -1 : body_index(model, s.body);
+    auto out = named_edges(model, s, body);
+    if (out.empty())
+      throw InputError(s.at.where + ": no boundary edge named '" + s.name + "'");
+    return out;
+  }
+  const auto nodes = select_nodes(model, s);
+  std::vector<bool> in(mesh.num_nodes(), false);
+  for (int n : nodes) in[n] = true;
+  std::vector<int> out;
+  for (size_t i = 0; i < mesh.boundary_edges.size(); ++i) {
+    const auto& be = mesh.boundary_edges[i];
+    bool all = true;
+    for (int n : be.nodes)
+      if (n >= 0) all = all && in[n];
+    if (all) out.push_back(static_cast<int>(i));
+  }
+  if (out.empty())
+    throw InputError(s.at.where + ": the selection contains no boundary edge (an edge load "
+                                  "needs at least two adjacent boundary nodes)");
+  return out;
+}
+
+Model build_model(const Scene& scene) {
+  Model model;
+  const auto t0 = std::chrono::steady_clock::now();
+  const PlaneState state = scene.analysis.state;
+  auto make_material = [state](const MaterialSpec& m) {
+    Material mat;
+    mat.name = m.name;
+    mat.young = m.young;
+    mat.poisson = m.poisson;
+    mat.thickness = m.thickness;
+    mat.state = state;
+    return mat;
+  };
+  if (scene.explicit_model) {
+    if (!scene.explicit_model->gaps.empty())
+      throw NotSupportedError(scene.path + ": gap elements (type 1) are not yet supported in "
+                                           "this build (node-to-node contact lands with the "
+                                           "constraints module)");
+    model.mesh = scene.explicit_model->mesh;
+    for (const auto& m : scene.explicit_model->materials) model.materials.push_back(make_material(m));
+    model.body_names = {"body"};
+  } else {
+    model.mesh.order = scene.analysis.order;
+    for (const auto& m : scene.materials) model.materials.push_back(make_material(m));
+    for (size_t b = 0; b < scene.bodies.size(); ++b) {
+      const BodySpec& spec = scene.bodies[b];
+      Mesh body_mesh = mesh_body(spec, scene.analysis.order);
+      int mat = 0;
+      for (size_t m = 0; m < scene.materials.size(); ++m)
+        if (scene.materials[m].name == spec.material) mat = static_cast<int>(m);
+      model.mesh.append(body_mesh, static_cast<int>(b), mat, spec.name + "/");
+      model.body_names.push_back(spec.name);
+    }
+  }
+  model.mesh_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const Eigen::Vector4d box = model.mesh.bounding_box();
+  model.model_size = std::hypot(box[2] - box[0], box[3] - box[1]);
+
+  model.dofs = DofMap(model.mesh.num_dofs());
+  for (const auto& s : scene.supports) {
+    for (int n : select_nodes(model, s.on)) {
+      for (int c = 0; c < 2; ++c) {
+        const auto& v = c == 0 ? s.ux : s.uy;
+        if (v && !model.dofs.constrain(2 * n + c, *v))
+          throw InputError(s.at.where + ": node " + std::to_string(n + 1) +
+                           " already has a different prescribed " + (c == 0 ? "ux" : "uy"));
+      }
+    }
+  }
+  model.dofs.finalize();
+
+  model.external_force = VecX::Zero(model.mesh.num_dofs());
+  VecX& f = model.external_force;
+  for (const auto& l : scene.loads) {
+    using K = LoadSpec::Kind;
+    if (l.kind == K::kNodalForce) {
+      for (int n : select_nodes(model, l.on)) f.segment<2>(2 * n) += l.vector;
+    } else if (l.kind == K::kBodyForce) {
+      const auto nodes = select_nodes(model, l.on);
+      std::vector<bool> in(model.mesh.num_nodes(), false);
+      for (int n : nodes) in[n] = true;
+      for (int e = 0; e < model.mesh.num_elements(); ++e) {
+        bool all = true;
+        for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
+          all = all && in[model.mesh.elements[e][i]];
+        if (!all) continue;
+        const LocalVector fe =
+            element_body_force(model.mesh.element_coords(e),
+                               model.materials[model.mesh.element_material[e]].thickness, l.vector);
+        for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
+          f.segment<2>(2 * model.mesh.elements[e][i]) += fe.segment<2>(2 * i);
+      }
+    } else {
+      const auto edges = select_edges(model, l.on);
+      const int nn = model.mesh.order == 1 ? 2 : 3;
+      auto edge_coords = [&](const BoundaryEdge& be) {
+        Eigen::MatrixX2d x(nn, 2);
+        for (int i = 0; i < nn; ++i) x.row(i) = model.mesh.nodes[be.nodes[i]].transpose();
+        return x;
+      };
+      Vec2 traction = l.vector;
+      double pressure = l.kind == K::kPressure ? l.value : 0.0;
+      if (l.kind == K::kPressure) traction.setZero();
+      if (l.kind == K::kTotalForce) {
+        // Uniform traction whose resultant is the given force: F / (Σ t L).
+        double tl = 0.0;
+        for (int i : edges) {
+          const auto& be = model.mesh.boundary_edges[i];
+          tl += edge_length(edge_coords(be)) *
+                model.materials[model.mesh.element_material[be.element]].thickness;
+        }
+        traction = l.vector / tl;
+      }
+      for (int i : edges) {
+        const auto& be = model.mesh.boundary_edges[i];
+        const double t = model.materials[model.mesh.element_material[be.element]].thickness;
+        const Eigen::VectorXd fe = edge_load(edge_coords(be), t, traction, pressure);
+        for (int k = 0; k < nn; ++k) f.segment<2>(2 * be.nodes[k]) += fe.segment<2>(2 * k);
+      }
+    }
+  }
+  return model;
+}
+
+}  // namespace c2d::core

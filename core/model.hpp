@@ -1,0 +1,33 @@
+// The discrete model built from a scene: mesh, materials, Dirichlet conditions, load vector.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/dof_map.hpp"
+#include "core/material.hpp"
+#include "core/mesh.hpp"
+#include "core/scene.hpp"
+
+namespace c2d::core {
+
+struct Model {
+  Mesh mesh;
+  std::vector<Material> materials;
+  std::vector<std::string> body_names;
+  DofMap dofs;
+  VecX external_force;  ///< full vector, 2 per node
+  double model_size = 1.0;  ///< bounding-box diagonal
+  double mesh_seconds = 0.0;
+};
+
+/// Meshes the bodies (or takes the legacy mesh), applies supports and loads. Throws InputError
+/// when a selection matches nothing or a support conflicts.
+Model build_model(const Scene& scene);
+
+/// Nodes matched by a selection (sorted, unique). Throws InputError if none match.
+std::vector<int> select_nodes(const Model& model, const SelectionSpec& s);
+/// Boundary edges (indices) whose nodes all lie in the selection.
+std::vector<int> select_edges(const Model& model, const SelectionSpec& s);
+
+}  // namespace c2d::core

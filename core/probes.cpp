@@ -1,0 +1,83 @@
+#include "core/probes.hpp"
+
+#include <cmath>
+
+#include "core/errors.hpp"
+#include "core/triangle.hpp"
+
+namespace c2d::core {
+
+double nodal_quantity(const Model& model, const Results& r, const std::string& q, int n) {
+  const VecX& u = r.displacement;
+  if (q == "ux") return u[2 * n];
+  if (q == "uy") return u[2 * n + 1];
+  if (q == "umag") return std::hypot(u[2 * n], u[2 * n + 1]);
+  if (q == "reaction_x") return r.reaction[2 * n];
+  if (q == "reaction_y") return r.reaction[2 * n + 1];
+  const Voigt s = r.nodal_stress.col(n);
+  if (q == "sx") return s[0];
+  if (q == "sy") return s[1];
+  if (q == "sxy") return s[2];
+  if (q == "s1") return principal(s)[0];
+  if (q == "s2") return principal(s)[1];
+  if (q == "vm") {
+    // The out-of-plane stress needs a material: take one of an element at this node.
+    const Material& m = model.materials.front();
+    return von_mises(s, m.sigma_zz(s));
+  }
+  return std::nan("");
+}
+
+std::map<std::string, double> evaluate_probes(const Scene& scene, const Model& model,
+                                              const Results& results) {
+  std::map<std::string, double> out;
+  const Mesh& mesh = model.mesh;
+  std::unique_ptr<PointLocator> locator;
+  for (const auto& p : scene.probes) {
+    double value = 0.0;
+    if (p.point) {
+      if (!locator) locator = std::make_unique<PointLocator>(mesh);
+      const auto hit = locator->locate(*p.point);
+      if (hit.element < 0)
+        throw InputError(p.at.where + ": probe point (" + std::to_string(p.point->x()) + ", " +
+                         std::to_string(p.point->y()) + ") lies outside the mesh");
+      const int nn = mesh.nodes_per_element();
+      Eigen::VectorXd n(nn);
+      if (nn == 3)
+        n = T3::shape(hit.a, hit.b);
+      else
+        n = T6::shape(hit.a, hit.b);
+      // Interpolate the nodal fields (displacement; smoothed stress) with the element's shape
+      // functions, then derive the requested quantity.
+      Results local;
+      local.displacement = VecX::Zero(2);
+      local.reaction = VecX::Zero(2);
+      local.nodal_stress = Eigen::Matrix3Xd::Zero(3, 1);
+      for (int i = 0; i < nn; ++i) {
+        const int node = mesh.elements[hit.element][i];
+        local.displacement += n[i] * results.displacement.segment<2>(2 * node);
+        local.nodal_stress.col(0) += n[i] * results.nodal_stress.col(node);
+      }
+      Model one;
+      one.materials = {model.materials[mesh.element_material[hit.element]]};
+      value = nodal_quantity(one, local, p.quantity, 0);
+    } else {
+      const auto nodes = select_nodes(model, *p.on);
+      double acc = p.reduce == "max" ? -1e300 : p.reduce == "min" ? 1e300 : 0.0;
+      double best_abs = -1.0;
+      for (int node : nodes) {
+        const double v = nodal_quantity(model, results, p.quantity, node);
+        if (p.reduce == "max") acc = std::max(acc, v);
+        else if (p.reduce == "min") acc = std::min(acc, v);
+        else if (p.reduce == "sum" || p.reduce == "mean") acc += v;
+        else if (std::abs(v) > best_abs) best_abs = std::abs(v), acc = v;  // maxabs, value
+      }
+      if (p.reduce == "mean") acc /= static_cast<double>(nodes.size());
+      value = acc;
+    }
+    out[p.name] = value;
+  }
+  return out;
+}
+
+}  // namespace c2d::core

@@ -1,0 +1,32 @@
+// What one analysis produces.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "core/error_estimator.hpp"
+#include "core/solver_status.hpp"
+#include "core/spd_solver.hpp"
+#include "core/stress_recovery.hpp"
+#include "core/types.hpp"
+
+namespace c2d::core {
+
+struct PhaseTimes {
+  double mesh = 0, assemble = 0, solve = 0, recovery = 0, output = 0, total = 0;
+};
+
+struct Results {
+  SolveStatus status = SolveStatus::kFailed;
+  std::string message;         ///< why it failed; empty on success
+  VecX displacement;           ///< full, 2 per node
+  VecX reaction;               ///< full: f_int - f_ext on constrained DOFs, 0 elsewhere
+  ElementStresses element_stresses;
+  Eigen::Matrix3Xd nodal_stress;  ///< smoothed, 3 x nodes
+  ErrorEstimate error;
+  SpdSolveReport solver;
+  PhaseTimes time;
+  std::map<std::string, double> probes;
+};
+
+}  // namespace c2d::core

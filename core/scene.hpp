@@ -1,0 +1,140 @@
+// A validated scene: what the TOML file (docs/scene.md) or a legacy data file describes.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "core/material.hpp"
+#include "core/mesh.hpp"
+#include "core/stress_recovery.hpp"
+#include "core/types.hpp"
+
+
+namespace c2d::core {
+
+/// Where a scene item came from, for error messages about it after parsing.
+struct SourceRef {
+  std::string where;  ///< "file:line:col: key.path"
+};
+
+struct MaterialSpec {
+  std::string name;
+  double young = 0, poisson = 0, thickness = 1;
+  SourceRef at;
+};
+
+struct RefineSpec {
+  bool segment = false;  ///< refine near a segment p0-p1 (else near the point p0)
+  Vec2 p0 = Vec2::Zero(), p1 = Vec2::Zero();
+  double size = 0, radius = 0, growth = 1.2;
+};
+
+struct ShapeSpec {
+  std::string type;  ///< rectangle | polygon | disk | disk_segment
+  Vec2 min = Vec2::Zero(), max = Vec2::Zero();  ///< rectangle
+  std::vector<Vec2> points;                     ///< polygon, counter-clockwise or not
+  Vec2 center = Vec2::Zero();
+  double radius = 0, from_deg = 0, to_deg = 360;
+};
+
+struct BodySpec {
+  std::string name, material;
+  ShapeSpec shape;
+  std::string msh_file;  ///< non-empty: read this Gmsh .msh v4 file instead of meshing a shape
+  double mesh_size = 0;
+  std::vector<RefineSpec> refine;
+  std::string algorithm = "frontal";  ///< frontal | delaunay
+  SourceRef at;
+};
+
+/// A set of nodes (and the boundary edges among them), defined by a predicate.
+struct SelectionSpec {
+  enum class Kind { kBody, kGroup, kEdge, kLine, kSegment, kBox, kArc, kNearest, kNodes };
+  Kind kind = Kind::kBody;
+  std::string body;   ///< restricts every kind to one body; empty = all bodies
+  std::string name;   ///< group or edge name
+  Vec2 p0 = Vec2::Zero(), p1 = Vec2::Zero();  ///< line point/direction, segment, box, arc center
+  double radius = 0, from_deg = -1e9, to_deg = 1e9;
+  double tol = -1;  ///< < 0: 1e-6 x model size
+  std::vector<int> nodes;  ///< explicit node ids (legacy files)
+  SourceRef at;
+};
+
+struct SupportSpec {
+  SelectionSpec on;
+  std::optional<double> ux, uy;  ///< prescribed values (fix = 0)
+  SourceRef at;
+};
+
+struct LoadSpec {
+  enum class Kind { kNodalForce, kTotalForce, kTraction, kPressure, kBodyForce };
+  Kind kind = Kind::kNodalForce;
+  SelectionSpec on;
+  Vec2 vector = Vec2::Zero();
+  double value = 0;  ///< pressure
+  SourceRef at;
+};
+
+struct ProbeSpec {
+  std::string name, quantity;
+  std::optional<Vec2> point;
+  std::optional<SelectionSpec> on;
+  std::string reduce;  ///< value | max | min | maxabs | sum | mean
+  SourceRef at;
+};
+
+struct AnalysisSpec {
+  PlaneState state = PlaneState::kPlaneStress;
+  int order = 1;
+  bool geometric_nonlinearity = false;
+  int steps = 1;
+  Smoothing smoothing = Smoothing::kGlobalL2;
+  double target_error = 0.05;
+  std::string solver = "cholmod";
+};
+
+/// An explicit mesh (legacy data files): used instead of meshing bodies.
+struct ExplicitModel {
+  Mesh mesh;
+  std::vector<MaterialSpec> materials;
+  /// Node-to-node gap elements (seed type 1): nodes, direction, stiffness.
+  struct Gap {
+    int node_a, node_b;
+    Vec2 direction;
+    double stiffness;
+  };
+  std::vector<Gap> gaps;
+};
+
+struct Scene {
+  std::string path, title, units;
+  AnalysisSpec analysis;
+  std::vector<MaterialSpec> materials;
+  std::vector<BodySpec> bodies;
+  std::vector<SupportSpec> supports;
+  std::vector<LoadSpec> loads;
+  std::vector<ProbeSpec> probes;
+  std::string reference_kind;
+  std::map<std::string, double> reference;
+  std::string output_dir;
+  std::shared_ptr<ExplicitModel> explicit_model;  ///< set for legacy files
+  std::shared_ptr<toml::table> raw;              ///< the parsed (overridden) TOML, for later modules
+};
+
+/// Reads and validates a scene: TOML by default, the seed's data format for *.dat / *.txt.
+/// `overrides` are "key.path=value" strings (--set). Throws InputError on any mistake.
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// Parses TOML text (for tests); `name` is used in messages.
+Scene parse_scene(const std::string& text, const std::string& name,
+                  const std::vector<std::string>& overrides = {});
+
+/// Applies one --set override to a TOML table (exposed for tests).
+void apply_override(toml::table& root, const std::string& assignment);
+
+}  // namespace c2d::core

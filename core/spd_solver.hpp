@@ -1,0 +1,47 @@
+// Sparse symmetric positive definite solver: CHOLMOD (supernodal or simplicial, chosen by
+// CHOLMOD), with Eigen's SimplicialLDLT as a fallback. Symbolic analysis is kept while the
+// sparsity pattern holds.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "core/solver_status.hpp"
+#include "core/types.hpp"
+
+namespace c2d::core {
+
+struct SpdSolveReport {
+  SolveStatus status = SolveStatus::kFailed;
+  std::string backend;            ///< "cholmod" or "eigen_ldlt"
+  std::string message;            ///< why it failed, empty on success
+  double relative_residual = 0;   ///< ||K x - b|| / ||b||
+  double pivot_ratio = 0;         ///< min/max of the factor's diagonal (conditioning proxy)
+  int symbolic_analyses = 0;      ///< how often the pattern was analysed
+  int numeric_factorizations = 0;
+};
+
+class SpdSolver {
+ public:
+  enum class Backend { kCholmod, kEigenLdlt };
+  explicit SpdSolver(Backend preferred = Backend::kCholmod);
+  ~SpdSolver();
+  SpdSolver(const SpdSolver&) = delete;
+  SpdSolver& operator=(const SpdSolver&) = delete;
+
+  /// Factorizes K (lower triangle used). Reuses the symbolic analysis if K's pattern is the
+  /// one last analysed (same size and non-zero count; the caller keeps the pattern fixed).
+  SolveStatus factorize(const SpMat& k);
+  /// Solves K x = b with the last factorization; checks the residual and finiteness.
+  SolveStatus solve(const VecX& b, VecX& x);
+  const SpdSolveReport& report() const { return report_; }
+  /// Forgets the symbolic analysis (call when the pattern changed).
+  void reset_pattern();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  SpdSolveReport report_;
+};
+
+}  // namespace c2d::core

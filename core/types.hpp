@@ -1,0 +1,28 @@
+// Common numeric types of contact2d.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <array>
+#include <vector>
+
+namespace c2d {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using VecX = Eigen::VectorXd;
+using SpMat = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+using Triplet = Eigen::Triplet<double, int>;
+
+/// Dense local element matrix/vector with a fixed upper bound (T6: 12 DOFs), so element loops
+/// never touch the heap.
+constexpr int kMaxElementDofs = 12;
+using LocalMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor,
+                                  kMaxElementDofs, kMaxElementDofs>;
+using LocalVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxElementDofs, 1>;
+
+/// Voigt stress or strain [xx, yy, xy] (engineering shear strain for strains).
+using Voigt = Eigen::Vector3d;
+
+}  // namespace c2d

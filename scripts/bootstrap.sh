@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Installs the Debian packages contact2d needs, only those that are missing.
+# Idempotent and silent when everything is already there.
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libsundials-dev libceres-dev
+  libgmsh-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev gnuplot-nox
+)
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ((${#missing[@]} == 0)); then
+  exit 0
+fi
+echo "bootstrap: installing ${missing[*]}" >&2
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -qq
+"${sudo_cmd[@]}" apt-get -o DPkg::Lock::Timeout=900 install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "bootstrap: done" >&2
