@@ -35,6 +35,7 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
     j["solver"] = {{"backend", r->solver.backend},
                    {"status", to_string(r->solver.status)},
                    {"relative_residual", number(r->solver.relative_residual)},
+                   {"pivot_ratio", number(r->solver.pivot_ratio)},
                    {"symbolic_analyses", r->solver.symbolic_analyses},
                    {"numeric_factorizations", r->solver.numeric_factorizations},
                    {"message", r->solver.message}};
@@ -69,7 +70,7 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
     os << "time       mesh " << s["time_s"]["mesh"].get<double>() << " s, assemble "
        << s["time_s"]["assemble"].get<double>() << " s, solve " << s["time_s"]["solve"].get<double>()
        << " s, total " << s["time_s"]["total"].get<double>() << " s\n";
-  if (s.contains("error") && !s["error"]["relative_error"].is_null())
+  if (s["status"] == "converged" && s.contains("error") && !s["error"]["relative_error"].is_null())
     os << "ZZ error   " << 100.0 * s["error"]["relative_error"].get<double>()
        << " % (global parameter " << s["error"]["global_parameter"].get<double>() << " for target "
        << 100.0 * s["error"]["target"].get<double>() << " %)\n";

@@ -6,10 +6,27 @@
 
 namespace c2d::core {
 
+namespace {
+
+/// Eigen's CHOLMOD wrapper plus the reciprocal condition estimate CHOLMOD computes from its
+/// factor's diagonal ((min L_ii / max L_ii)^2 for LLᵀ).
+class Cholmod : public Eigen::CholmodDecomposition<SpMat, Eigen::Lower> {
+ public:
+  double rcond() {
+    return m_cholmodFactor ? cholmod_rcond(m_cholmodFactor, &cholmod()) : 0.0;
+  }
+};
+
+/// Below this pivot ratio the matrix is singular to working precision (a rigid-body mode left
+/// by missing supports gives pivots of round-off size, ~1e-16 of the largest).
+constexpr double kSingularPivotRatio = 1e-14;
+
+}  // namespace
+
 struct SpdSolver::Impl {
   Backend preferred;
   Backend active;
-  Eigen::CholmodDecomposition<SpMat, Eigen::Lower> cholmod;
+  Cholmod cholmod;
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt;
   Eigen::Index analysed_rows = -1, analysed_nnz = -1;
   const SpMat* matrix = nullptr;
@@ -73,9 +90,10 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     const VecX d = m.ldlt.vectorD();
     const double dmax = d.cwiseAbs().maxCoeff(), dmin = d.cwiseAbs().minCoeff();
     report_.pivot_ratio = dmax > 0 ? dmin / dmax : 0.0;
-  } else {
-    report_.pivot_ratio = 0.0;  // filled by solve() from the residual check
+  } else if (ok) {
+    report_.pivot_ratio = m.cholmod.rcond();
   }
+  if (ok && report_.pivot_ratio < kSingularPivotRatio) ok = false;
   if (!ok) {
     report_.status = SolveStatus::kSingular;
     report_.message = "stiffness matrix is singular or not positive definite (a body free to "

@@ -49,6 +49,9 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis) {
     r.displacement = VecX::Zero(mesh.num_dofs());
     r.reaction = VecX::Zero(mesh.num_dofs());
     r.nodal_stress = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
+    r.element_stresses.at_points.assign(mesh.num_elements(), Eigen::Matrix3Xd::Zero(3, 1));
+    r.element_stresses.at_nodes.assign(mesh.num_elements(),
+                                       Eigen::Matrix3Xd::Zero(3, mesh.nodes_per_element()));
     return r;
   }
   r.displacement = dofs.expand(u_free);

@@ -1,0 +1,87 @@
+// End to end through the executable: exit codes, summary.json, VTU consistency.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+int run(const std::string& args, std::string* output = nullptr) {
+  const fs::path log = fs::temp_directory_path() / "c2d_cli_test.log";
+  const std::string cmd = std::string(C2D_BINARY) + " " + args + " > " + log.string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  if (output) {
+    std::ifstream in(log);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    *output = ss.str();
+  }
+  return WEXITSTATUS(rc);
+}
+
+std::string example(const char* name) { return std::string(C2D_SOURCE_DIR) + "/examples/" + name; }
+
+}  // namespace
+
+TEST(Cli, CantileverRunWritesSummaryAndValidVtu) {
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_cantilever";
+  fs::remove_all(out);
+  ASSERT_EQ(run("run " + example("cantilever.toml") + " --out " + out.string() + " --quiet"), 0);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"], "converged");
+  const double tip = s["probes"]["tip_uy"];
+  EXPECT_NEAR(tip, -0.012208, 0.005 * 0.012208);
+  EXPECT_NEAR(s["probes"]["reaction_y"].get<double>(), 3.0, 1e-9);  // equilibrium
+  for (const char* key : {"mesh", "time_s", "error", "probes", "steps", "newton_iterations"})
+    EXPECT_TRUE(s.contains(key)) << key;
+  // VTU: the counts in the header match the arrays.
+  std::ifstream vtu(out / "step_0001.vtu");
+  std::stringstream ss;
+  ss << vtu.rdbuf();
+  const std::string doc = ss.str();
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(doc, m, std::regex("NumberOfPoints=\"(\\d+)\" NumberOfCells=\"(\\d+)\"")));
+  EXPECT_EQ(std::stoi(m[1]), s["mesh"]["nodes"].get<int>());
+  EXPECT_EQ(std::stoi(m[2]), s["mesh"]["elements"].get<int>());
+  EXPECT_NE(doc.find("</VTKFile>"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "results.pvd"));
+  EXPECT_TRUE(fs::exists(out / "nodes.csv"));
+  EXPECT_TRUE(fs::exists(out / "deformed.png"));
+}
+
+TEST(Cli, BadInputExitsTwoWithOneLine) {
+  std::string output;
+  EXPECT_EQ(run("run " + example("cantilever.toml") + " --set analysis.element=Q8 --quiet", &output), 2);
+  EXPECT_NE(output.find("analysis.element"), std::string::npos) << output;
+  EXPECT_EQ(run("run /nonexistent.toml", &output), 2);
+  EXPECT_NE(output.find("/nonexistent.toml"), std::string::npos);
+  EXPECT_EQ(run("frobnicate x", &output), 2);
+}
+
+TEST(Cli, UnsupportedBodyFailsWithExitOneAndKeepsSummary) {
+  // No support at all: the stiffness is singular; status says so, exit 1, summary written.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_singular";
+  fs::remove_all(out);
+  EXPECT_EQ(run("run " + example("cantilever.toml") +
+                    " --set support[0].on.edge=bottom --set support[0].fix=[\\\"uy\\\"] --out " +
+                    out.string() + " --quiet"),
+            1);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_NE(s["status"].get<std::string>().find("failed: singular"), std::string::npos) << s["status"];
+}
+
+TEST(Cli, HelpForEveryVerb) {
+  for (const char* verb : {"run", "mesh", "info"}) {
+    std::string output;
+    EXPECT_EQ(run(std::string(verb) + " --help", &output), 0);
+    EXPECT_NE(output.find("usage: contact2d"), std::string::npos);
+  }
+}

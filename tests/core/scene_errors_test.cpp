@@ -1,0 +1,140 @@
+// Every scene mistake is one line naming the file, line:column and key path, what was expected
+// and what was found.
+#include <gtest/gtest.h>
+
+#include "core/errors.hpp"
+#include "core/model.hpp"
+#include "core/scene.hpp"
+
+using namespace c2d;
+using namespace c2d::core;
+
+namespace {
+
+struct BadScene {
+  const char* label;
+  const char* text;
+  std::vector<std::string> overrides;
+  std::vector<std::string> expected_fragments;  ///< all must appear in the message
+};
+
+const char* kMaterial = "[[material]]\nname = \"steel\"\nE = 210000.0\nnu = 0.3\n";
+const char* kBody =
+    "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+    "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 1.0] }\nmesh = { size = 0.5 }\n";
+
+std::string scene(const std::string& extra) { return std::string(kMaterial) + kBody + extra; }
+
+void expect_error(const BadScene& c, bool needs_model = false) {
+  try {
+    const Scene s = parse_scene(c.text, "bad.toml", c.overrides);
+    if (needs_model) build_model(s);
+    FAIL() << c.label << ": expected an InputError";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << c.label << ": not one line: " << msg;
+    for (const auto& f : c.expected_fragments)
+      EXPECT_NE(msg.find(f), std::string::npos) << c.label << ": '" << f << "' missing in: " << msg;
+  }
+}
+
+}  // namespace
+
+TEST(SceneErrors, SyntaxErrorNamesLineAndColumn) {
+  expect_error({"syntax", "[[material]]\nname = \"s\"\nE = 1\nnu = 0.3.1\n", {},
+                {"bad.toml:4:", "TOML syntax error"}});
+}
+
+TEST(SceneErrors, WrongTypeNamesKeyAndFound) {
+  const std::string t = "[[material]]\nname = \"steel\"\nE = \"stiff\"\nnu = 0.3\n" + std::string(kBody);
+  expect_error({"type", t.c_str(), {}, {"bad.toml:3:5", "material[0].E", "expected a number",
+                                        "found string \"stiff\""}});
+}
+
+TEST(SceneErrors, MissingKey) {
+  const std::string t = "[[material]]\nname = \"steel\"\nnu = 0.3\n" + std::string(kBody);
+  expect_error({"missing", t.c_str(), {}, {"bad.toml:1:", "material[0].E", "found nothing"}});
+}
+
+TEST(SceneErrors, UnknownKeySuggestsNearest) {
+  const std::string t = scene("[analysis]\nelemnt = \"T6\"\n");
+  expect_error({"typo", t.c_str(), {}, {"bad.toml:11:", "analysis.elemnt", "did you mean 'element'"}});
+}
+
+TEST(SceneErrors, BadChoiceListsChoices) {
+  const std::string t = scene("[analysis]\nelement = \"Q4\"\n");
+  expect_error({"choice", t.c_str(), {}, {"bad.toml:11:11", "analysis.element", "\"T3\" | \"T6\"",
+                                          "found string \"Q4\""}});
+}
+
+TEST(SceneErrors, PoissonOutOfRange) {
+  const std::string t = "[[material]]\nname = \"steel\"\nE = 1.0\nnu = 0.5\n" + std::string(kBody);
+  expect_error({"nu", t.c_str(), {}, {"bad.toml:4:6", "material[0].nu", "(-1, 0.5)", "found number 0.5"}});
+}
+
+TEST(SceneErrors, UnknownMaterialNamesNearest) {
+  const std::string t = std::string(kMaterial) +
+                        "[[body]]\nname = \"b\"\nmaterial = \"stel\"\n"
+                        "shape = { type = \"disk\", center = [0.0, 0.0], radius = 1.0 }\nmesh = { size = 0.5 }\n";
+  expect_error({"material ref", t.c_str(), {}, {"bad.toml:7:12", "body[0].material", "did you mean 'steel'"}});
+}
+
+TEST(SceneErrors, RectangleWithMaxBelowMin) {
+  const std::string t = std::string(kMaterial) +
+                        "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+                        "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, -1.0] }\nmesh = { size = 0.5 }\n";
+  expect_error({"rectangle", t.c_str(), {}, {"bad.toml:8:", "body[0].shape.max", "max > min"}});
+}
+
+TEST(SceneErrors, PointNeedsTwoNumbers) {
+  const std::string t = scene("[[support]]\non = { nearest = [0.0] }\nfix = [\"ux\"]\n");
+  expect_error({"vec2", t.c_str(), {}, {"bad.toml:11:", "support[0].on.nearest", "a pair [x, y]",
+                                        "found an array of 1"}});
+}
+
+TEST(SceneErrors, LoadWithTwoKinds) {
+  const std::string t = scene("[[load]]\non = { edge = \"top\" }\nforce = [0.0, 1.0]\npressure = 2.0\n");
+  expect_error({"load kinds", t.c_str(), {}, {"bad.toml:10:1", "load[0]", "exactly one of force"}});
+}
+
+TEST(SceneErrors, SupportWithoutComponents) {
+  const std::string t = scene("[[support]]\non = { edge = \"left\" }\n");
+  expect_error({"support", t.c_str(), {}, {"bad.toml:10:1", "support[0]", "fix"}});
+}
+
+TEST(SceneErrors, SelectionMatchingNothing) {
+  const std::string t = scene("[[support]]\non = { line = { point = [5.0, 5.0], direction = [0.0, 1.0] } }\nfix = [\"ux\"]\n");
+  expect_error({"empty selection", t.c_str(), {}, {"bad.toml:11:", "support[0].on", "matches no node"}},
+               /*needs_model=*/true);
+}
+
+TEST(SceneErrors, UnknownEdgeName) {
+  const std::string t = scene("[[load]]\non = { edge = \"tpo\" }\ntraction = [0.0, 1.0]\n");
+  expect_error({"edge", t.c_str(), {}, {"bad.toml:11:", "load[0].on", "no boundary edge named 'tpo'"}},
+               true);
+}
+
+TEST(SceneErrors, OverrideWithWrongTypeNamesSet) {
+  const std::string t = scene("");
+  expect_error({"--set", t.c_str(), {"material.E=abc"}, {"(--set)", "material[0].E", "found string \"abc\""}});
+}
+
+TEST(SceneErrors, OverrideTypoSuggestsKey) {
+  const std::string t = scene("");
+  expect_error({"--set typo", t.c_str(), {"analysys.element=T6"}, {"analysys", "did you mean 'analysis'"}});
+}
+
+TEST(SceneErrors, ContactNotYetSupported) {
+  const std::string t = scene("[[contact]]\nmethod = \"lagrange\"\n");
+  expect_error({"contact", t.c_str(), {}, {"bad.toml:", "contact", "not yet supported"}});
+}
+
+TEST(SceneOverrides, ArrayEntriesByNameIndexAndFanOut) {
+  const std::string t = scene("");
+  Scene s = parse_scene(t, "ok.toml", {"body.b.mesh.size=0.25", "material[0].E=5.0"});
+  EXPECT_DOUBLE_EQ(s.bodies[0].mesh_size, 0.25);
+  EXPECT_DOUBLE_EQ(s.materials[0].young, 5.0);
+  s = parse_scene(t, "ok.toml", {"material.nu=0.2", "analysis.element=T6"});
+  EXPECT_DOUBLE_EQ(s.materials[0].poisson, 0.2);
+  EXPECT_EQ(s.analysis.order, 2);
+}
