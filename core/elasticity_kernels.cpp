@@ -88,6 +88,12 @@ void edge_shape(int nn, double s, Eigen::Vector3d& n, Eigen::Vector3d& dn) {
   }
 }
 
+Vec2 edge_tangent(const Eigen::MatrixX2d& x, const Eigen::Vector3d& dn) {
+  Vec2 t = Vec2::Zero();
+  for (int i = 0; i < x.rows(); ++i) t += dn[i] * x.row(i).transpose();
+  return t;
+}
+
 }  // namespace
 
 LocalMatrix element_stiffness(const Eigen::MatrixX2d& x, const Material& mat) {
@@ -136,7 +142,7 @@ Eigen::VectorXd edge_load(const Eigen::MatrixX2d& x, double thickness, const Vec
   Eigen::Vector3d n, dn;
   for (int q = 0; q < 3; ++q) {
     edge_shape(nn, kGaussX[q], n, dn);
-    const Vec2 tangent = (dn.head(nn).transpose() * x).transpose();  // dx/ds, |.| = ds/dξ
+    const Vec2 tangent = edge_tangent(x, dn);  // dx/dξ, |.| = ds/dξ
     const Vec2 outward_scaled(tangent.y(), -tangent.x());           // n * ds/dξ
     const Vec2 tau_ds = traction * tangent.norm() - pressure * outward_scaled;
     for (int i = 0; i < nn; ++i) f.segment<2>(2 * i) += n[i] * tau_ds * kGaussW[q] * thickness;
@@ -150,7 +156,7 @@ double edge_length(const Eigen::MatrixX2d& x) {
   Eigen::Vector3d n, dn;
   for (int q = 0; q < 3; ++q) {
     edge_shape(nn, kGaussX[q], n, dn);
-    l += (dn.head(nn).transpose() * x).norm() * kGaussW[q];
+    l += edge_tangent(x, dn).norm() * kGaussW[q];
   }
   return l;
 }
