@@ -211,6 +211,10 @@ Model build_model(const Scene& scene) {
       model.body_names.push_back(spec.name);
     }
   }
+  model.node_material.assign(model.mesh.num_nodes(), 0);
+  for (int e = 0; e < model.mesh.num_elements(); ++e)
+    for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
+      model.node_material[model.mesh.elements[e][i]] = model.mesh.element_material[e];
   model.mesh_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const Eigen::Vector4d box = model.mesh.bounding_box();

@@ -17,6 +17,7 @@ struct Model {
   std::vector<std::string> body_names;
   DofMap dofs;
   VecX external_force;  ///< full vector, 2 per node
+  std::vector<int> node_material;  ///< material of (one of) the elements at each node
   double model_size = 1.0;  ///< bounding-box diagonal
   double mesh_seconds = 0.0;
 };

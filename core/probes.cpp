@@ -7,25 +7,26 @@
 
 namespace c2d::core {
 
-double nodal_quantity(const Model& model, const Results& r, const std::string& q, int n) {
-  const VecX& u = r.displacement;
-  if (q == "ux") return u[2 * n];
-  if (q == "uy") return u[2 * n + 1];
-  if (q == "umag") return std::hypot(u[2 * n], u[2 * n + 1]);
-  if (q == "reaction_x") return r.reaction[2 * n];
-  if (q == "reaction_y") return r.reaction[2 * n + 1];
-  const Voigt s = r.nodal_stress.col(n);
+double point_quantity(const std::string& q, const Vec2& u, const Vec2& reaction, const Voigt& s,
+                      const Material& material) {
+  if (q == "ux") return u.x();
+  if (q == "uy") return u.y();
+  if (q == "umag") return u.norm();
+  if (q == "reaction_x") return reaction.x();
+  if (q == "reaction_y") return reaction.y();
   if (q == "sx") return s[0];
   if (q == "sy") return s[1];
   if (q == "sxy") return s[2];
   if (q == "s1") return principal(s)[0];
   if (q == "s2") return principal(s)[1];
-  if (q == "vm") {
-    // The out-of-plane stress needs a material: take one of an element at this node.
-    const Material& m = model.materials.front();
-    return von_mises(s, m.sigma_zz(s));
-  }
+  if (q == "vm") return von_mises(s, material.sigma_zz(s));
   return std::nan("");
+}
+
+double nodal_quantity(const Model& model, const Results& r, const std::string& q, int n) {
+  return point_quantity(q, r.displacement.segment<2>(2 * n), r.reaction.segment<2>(2 * n),
+                        r.nodal_stress.col(n),
+                        model.materials[model.node_material.empty() ? 0 : model.node_material[n]]);
 }
 
 std::map<std::string, double> evaluate_probes(const Scene& scene, const Model& model,
@@ -49,18 +50,15 @@ std::map<std::string, double> evaluate_probes(const Scene& scene, const Model& m
         n = T6::shape(hit.a, hit.b);
       // Interpolate the nodal fields (displacement; smoothed stress) with the element's shape
       // functions, then derive the requested quantity.
-      Results local;
-      local.displacement = VecX::Zero(2);
-      local.reaction = VecX::Zero(2);
-      local.nodal_stress = Eigen::Matrix3Xd::Zero(3, 1);
+      Vec2 u = Vec2::Zero();
+      Voigt s = Voigt::Zero();
       for (int i = 0; i < nn; ++i) {
         const int node = mesh.elements[hit.element][i];
-        local.displacement += n[i] * results.displacement.segment<2>(2 * node);
-        local.nodal_stress.col(0) += n[i] * results.nodal_stress.col(node);
+        u += n[i] * results.displacement.segment<2>(2 * node);
+        s += n[i] * results.nodal_stress.col(node);
       }
-      Model one;
-      one.materials = {model.materials[mesh.element_material[hit.element]]};
-      value = nodal_quantity(one, local, p.quantity, 0);
+      value = point_quantity(p.quantity, u, Vec2::Zero(), s,
+                             model.materials[mesh.element_material[hit.element]]);
     } else {
       const auto nodes = select_nodes(model, *p.on);
       double acc = p.reduce == "max" ? -1e300 : p.reduce == "min" ? 1e300 : 0.0;

@@ -10,7 +10,13 @@
 
 namespace c2d::core {
 
-/// Field value at a node: ux, uy, umag, sx, sy, sxy, vm, s1, s2 (smoothed stresses).
+/// A quantity from point values: displacement u, reaction, stress s and the material there
+/// (von Mises needs sigma_zz, which depends on the plane state and nu).
+double point_quantity(const std::string& quantity, const Vec2& u, const Vec2& reaction,
+                      const Voigt& s, const Material& material);
+
+/// Field value at a node: ux, uy, umag, sx, sy, sxy, vm, s1, s2 (smoothed stresses),
+/// reaction_x, reaction_y.
 double nodal_quantity(const Model& model, const Results& results, const std::string& quantity,
                       int node);
 
