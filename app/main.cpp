@@ -158,11 +158,8 @@ int cmd_mesh(const Options& o) {
   const core::Model model = core::build_model(scene);
   const std::string out = default_out(o, scene);
   fs::create_directories(out);
-  core::Results empty;
-  empty.displacement = VecX::Zero(model.mesh.num_dofs());
-  empty.reaction = VecX::Zero(model.mesh.num_dofs());
-  empty.nodal_stress = Eigen::Matrix3Xd::Zero(3, model.mesh.num_nodes());
-  empty.element_stresses.at_points.assign(model.mesh.num_elements(), Eigen::Matrix3Xd::Zero(3, 1));
+  const core::Results empty = core::Results::zeros(
+      model.mesh.num_nodes(), model.mesh.num_elements(), model.mesh.nodes_per_element());
   core::write_file_atomic(out + "/mesh.vtu", core::vtu_document(model, empty));
   const auto [hmin, hmax] = model.mesh.edge_length_range();
   std::cout << (model.mesh.order == 1 ? "T3" : "T6") << " mesh: " << model.mesh.num_nodes()

@@ -14,6 +14,12 @@ namespace c2d::core {
 
 namespace {
 
+// Group and edge names are stored as "body/name"; the scene refers to them by the bare name.
+std::string bare_name(const std::string& name) {
+  const auto slash = name.find('/');
+  return slash == std::string::npos ? name : name.substr(slash + 1);
+}
+
 int body_index(const Model& model, const std::string& name) {
   for (size_t i = 0; i < model.body_names.size(); ++i)
     if (model.body_names[i] == name) return static_cast<int>(i);
@@ -36,9 +42,7 @@ std::vector<int> named_edges(const Model& model, const SelectionSpec& s, int bod
   const std::string prefix = body >= 0 ? model.body_names[body] + "/" : "";
   std::vector<int> out;
   for (const auto& [name, ids] : mesh.edge_groups) {
-    const auto slash = name.find('/');
-    const std::string bare = slash == std::string::npos ? name : name.substr(slash + 1);
-    if (bare != s.name || (body >= 0 && name.rfind(prefix, 0) != 0)) continue;
+    if (bare_name(name) != s.name || (body >= 0 && name.rfind(prefix, 0) != 0)) continue;
     out.insert(out.end(), ids.begin(), ids.end());
   }
   if (!out.empty() || (s.name != "top" && s.name != "bottom" && s.name != "left" &&
@@ -114,9 +118,7 @@ std::vector<int> select_nodes(const Model& model, const SelectionSpec& s) {
       break;
     case K::kGroup: {
       for (const auto& [name, ids] : mesh.node_groups) {
-        const auto slash = name.find('/');
-        const std::string bare = slash == std::string::npos ? name : name.substr(slash + 1);
-        if (bare == s.name)
+        if (bare_name(name) == s.name)
           for (int n : ids)
             if (in_body[n]) out.push_back(n);
       }

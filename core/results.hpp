@@ -27,6 +27,17 @@ struct Results {
   SpdSolveReport solver;
   PhaseTimes time;
   std::map<std::string, double> probes;
+
+  /// All fields zero and sized for `mesh` (a failed solve, or a mesh-only output).
+  static Results zeros(int num_nodes, int num_elements, int nodes_per_element) {
+    Results r;
+    r.displacement = VecX::Zero(2 * num_nodes);
+    r.reaction = VecX::Zero(2 * num_nodes);
+    r.nodal_stress = Eigen::Matrix3Xd::Zero(3, num_nodes);
+    r.element_stresses.at_points.assign(num_elements, Eigen::Matrix3Xd::Zero(3, 1));
+    r.element_stresses.at_nodes.assign(num_elements, Eigen::Matrix3Xd::Zero(3, nodes_per_element));
+    return r;
+  }
 };
 
 }  // namespace c2d::core

@@ -45,14 +45,12 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis) {
   r.solver = solver.report();
   r.time.solve = seconds_since(t);
   if (r.status != SolveStatus::kConverged) {
-    r.message = r.solver.message;
-    r.displacement = VecX::Zero(mesh.num_dofs());
-    r.reaction = VecX::Zero(mesh.num_dofs());
-    r.nodal_stress = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
-    r.element_stresses.at_points.assign(mesh.num_elements(), Eigen::Matrix3Xd::Zero(3, 1));
-    r.element_stresses.at_nodes.assign(mesh.num_elements(),
-                                       Eigen::Matrix3Xd::Zero(3, mesh.nodes_per_element()));
-    return r;
+    Results failed = Results::zeros(mesh.num_nodes(), mesh.num_elements(), mesh.nodes_per_element());
+    failed.status = r.status;
+    failed.message = r.solver.message;
+    failed.solver = r.solver;
+    failed.time = r.time;
+    return failed;
   }
   r.displacement = dofs.expand(u_free);
 
