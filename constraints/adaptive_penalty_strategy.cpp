@@ -1,0 +1,73 @@
+#include "constraints/adaptive_penalty_strategy.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "constraints/penalty_strategy.hpp"
+#include "constraints/strategy_common.hpp"
+
+namespace c2d::constraints {
+
+ConstraintSolution AdaptivePenaltyStrategy::solve(const ConstrainedProblem& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ConstraintSolution s;
+  s.method = name();
+  StrategyOptions start = options_;
+  start.penalty_k = 0.0;  // always start from the local stiffness
+  VecX k_gap, k_eq;
+  default_penalties(p, start, 1.0, k_gap, k_eq);
+  const VecX cap_gap = k_gap * options_.max_penalty_factor;
+  const VecX cap_eq = k_eq * options_.max_penalty_factor;
+  const double tol = penetration_tolerance(options_, p);
+  const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
+  std::vector<char> active = initially_closed(p);
+  PenalizedSolver solver(p);
+  s.status = SolveStatus::kMaxIterations;
+  s.message = "penetration above tolerance after " + std::to_string(options_.max_iterations) +
+              " stiffness raises";
+  for (int round = 0; round < options_.max_iterations; ++round) {
+    const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
+    const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
+                                      active, s.u, s.history, first);
+    s.penalty_history.push_back(std::max(k_gap.size() ? k_gap.maxCoeff() : 0.0,
+                                         k_eq.size() ? k_eq.maxCoeff() : 0.0));
+    if (outcome.status != SolveStatus::kConverged) {
+      s.status = outcome.status;
+      s.message = outcome.message;
+      break;
+    }
+    const VecX g = p.gap0 + p.gap_jacobian * s.u;
+    const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
+    bool raised = false, capped = false;
+    for (int i = 0; i < g.size(); ++i)
+      if (-g[i] > tol) {
+        if (k_gap[i] >= cap_gap[i]) capped = true;
+        else k_gap[i] = std::min(cap_gap[i], k_gap[i] * options_.penalty_growth), raised = true;
+      }
+    for (int j = 0; j < h.size(); ++j)
+      if (std::abs(h[j]) > tol) {
+        if (k_eq[j] >= cap_eq[j]) capped = true;
+        else k_eq[j] = std::min(cap_eq[j], k_eq[j] * options_.penalty_growth), raised = true;
+      }
+    if (!raised && !capped) {
+      s.status = SolveStatus::kConverged;
+      s.message.clear();
+      break;
+    }
+    if (!raised && capped) {
+      s.status = SolveStatus::kMaxIterations;
+      s.message = "penalty reached its cap (" + std::to_string(options_.max_penalty_factor) +
+                  " x local stiffness) with penetration still above the tolerance";
+      break;
+    }
+  }
+  s.factorizations = solver.factorizations();
+  if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kMaxIterations)
+    penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
+  s.penalty = k_gap;
+  finish_solution(p, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
+}
+
+}  // namespace c2d::constraints

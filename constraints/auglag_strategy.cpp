@@ -1,0 +1,68 @@
+#include "constraints/auglag_strategy.hpp"
+
+#include <chrono>
+#include <cmath>
+
+#include "constraints/penalty_strategy.hpp"
+#include "constraints/strategy_common.hpp"
+
+namespace c2d::constraints {
+
+ConstraintSolution AugLagStrategy::solve(const ConstrainedProblem& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ConstraintSolution s;
+  s.method = name();
+  StrategyOptions start = options_;
+  start.penalty_k = 0.0;
+  VecX k_gap, k_eq;
+  default_penalties(p, start, options_.augmentation_factor, k_gap, k_eq);
+  const double tol = penetration_tolerance(options_, p);
+  VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
+  std::vector<char> active = initially_closed(p);
+  PenalizedSolver solver(p);
+  s.status = SolveStatus::kMaxIterations;
+  s.message = "penetration above tolerance after " + std::to_string(options_.max_iterations) +
+              " multiplier updates";
+  for (int round = 0; round < options_.max_iterations; ++round) {
+    const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
+    const auto outcome =
+        solver.solve(k_gap, lambda, k_eq, mu, options_.max_iterations, active, s.u, s.history, first);
+    if (outcome.status != SolveStatus::kConverged) {
+      s.status = outcome.status;
+      s.message = outcome.message;
+      break;
+    }
+    const VecX g = p.gap0 + p.gap_jacobian * s.u;
+    const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
+    const double penetration = g.size() ? std::max(0.0, -g.minCoeff()) : 0.0;
+    const double violation = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
+    // Uzawa update; the history's residual is the largest multiplier change.
+    double change = 0.0;
+    for (int i = 0; i < g.size(); ++i) {
+      const double next = std::max(0.0, lambda[i] - k_gap[i] * g[i]);
+      change = std::max(change, std::abs(next - lambda[i]));
+      lambda[i] = next;
+    }
+    for (int j = 0; j < h.size(); ++j) {
+      change = std::max(change, std::abs(k_eq[j] * h[j]));
+      mu[j] -= k_eq[j] * h[j];
+    }
+    s.history.back().residual = change;
+    if (penetration <= tol && violation <= tol) {
+      s.status = SolveStatus::kConverged;
+      s.message.clear();
+      break;
+    }
+  }
+  s.factorizations = solver.factorizations();
+  s.contact_force = lambda;
+  s.eq_multiplier = mu;
+  s.active.assign(p.num_gaps(), 0);
+  for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = lambda[i] > 0;
+  s.penalty = k_gap;
+  finish_solution(p, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
+}
+
+}  // namespace c2d::constraints

@@ -1,0 +1,20 @@
+// Augmented Lagrangian (Uzawa iteration on the multipliers): penalised subproblems with a
+// moderate stiffness, the multipliers updated as λ ← max(0, λ − k g) until the penetration
+// is below the tolerance. Exact in the limit without the ill-conditioning of a large penalty.
+#pragma once
+
+#include "constraints/constraint_strategy.hpp"
+
+namespace c2d::constraints {
+
+class AugLagStrategy final : public ConstraintStrategy {
+ public:
+  explicit AugLagStrategy(const StrategyOptions& options) : options_(options) {}
+  std::string name() const override { return "auglag"; }
+  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ private:
+  StrategyOptions options_;
+};
+
+}  // namespace c2d::constraints

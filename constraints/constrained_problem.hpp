@@ -1,0 +1,76 @@
+// The problem every constraint backend solves, and what each one reports back.
+//
+//   minimise   ½ uᵀ K u − fᵀ u
+//   subject to A u = b                 (equality rows: supports, symmetry, multipoint constraints)
+//              g(u) = g0 + G u ≥ 0      (inequality rows: contact gaps, negative = penetration)
+//
+// Sign conventions (shared by all backends): the Lagrangian is
+//   L = ½ uᵀ K u − fᵀ u − μᵀ (A u − b) − λᵀ (G u + g0),
+// so K u − f = Aᵀ μ + Gᵀ λ at a solution; λ ≥ 0 is the compressive normal contact force of a row
+// and μ the force a multipoint constraint exerts on the structure.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/solver_status.hpp"
+#include "core/types.hpp"
+
+namespace c2d::constraints {
+
+struct ConstrainedProblem {
+  SpMat stiffness;       ///< K: n x n, symmetric positive (semi-)definite, both triangles stored
+  VecX load;             ///< f: n
+  SpMat eq_jacobian;     ///< A: m_eq x n
+  VecX eq_rhs;           ///< b: m_eq
+  SpMat gap_jacobian;    ///< G: m x n
+  VecX gap0;             ///< g0: m
+  /// Per inequality row: a fixed penalty stiffness the input prescribes (the seed's gap
+  /// elements), 0 where the strategy chooses. Empty = none prescribed.
+  VecX gap_penalty;
+  /// Length against which relative penetration tolerances are measured (smallest contact edge).
+  double length_scale = 1.0;
+  /// Size of the model (bounding-box diagonal), for absolute tolerances.
+  double model_size = 1.0;
+
+  int num_unknowns() const { return static_cast<int>(load.size()); }
+  int num_equalities() const { return static_cast<int>(eq_rhs.size()); }
+  int num_gaps() const { return static_cast<int>(gap0.size()); }
+
+  /// Local stiffness of each row: Σ_j a_ij² K_jj / Σ_j a_ij². For a contact row this is the
+  /// assembled stiffness of the elements around the slave node (and its master nodes), the
+  /// scale FEBio, Kratos and Tribol derive their default penalties from.
+  VecX row_stiffness(const SpMat& rows) const;
+};
+
+/// One iteration of a backend: enough to draw a convergence history or an activation trace.
+struct IterationRecord {
+  int iteration = 0;
+  int active = 0;             ///< active inequality rows after this iteration
+  int entering = 0;           ///< rows that became active
+  int leaving = 0;            ///< rows that became inactive
+  double max_penetration = 0; ///< max(0, −g) over the rows
+  double penalty = 0;         ///< largest penalty / augmentation stiffness in use (0: none)
+  double residual = 0;        ///< backend-specific: KKT or complementarity residual
+};
+
+struct ConstraintSolution {
+  SolveStatus status = SolveStatus::kFailed;
+  std::string method;
+  std::string message;        ///< why it did not converge; notes otherwise
+  VecX u;                     ///< n
+  VecX gap;                   ///< m: g0 + G u
+  VecX contact_force;         ///< m: λ ≥ 0
+  VecX eq_multiplier;         ///< m_eq: μ
+  VecX penalty;               ///< m: penalty stiffness used per row (penalty-type methods)
+  std::vector<char> active;   ///< m: 1 where the row carries force
+  int iterations = 0;
+  int factorizations = 0;
+  double max_penetration = 0; ///< max(0, −g)
+  double max_eq_violation = 0;///< max |A u − b|
+  double seconds = 0;
+  std::vector<IterationRecord> history;
+  std::vector<double> penalty_history;  ///< adaptive_penalty: largest k after each raise
+};
+
+}  // namespace c2d::constraints

@@ -1,0 +1,270 @@
+#include "constraints/ipopt_strategy.hpp"
+
+#include <IpIpoptApplication.hpp>
+#include <IpSolveStatistics.hpp>
+#include <IpTNLP.hpp>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "constraints/strategy_common.hpp"
+
+namespace c2d::constraints {
+
+namespace {
+
+using Ipopt::Index;
+using Ipopt::Number;
+
+/// A constraint row kept for Ipopt: normalised coefficients, bounds, and where it came from.
+struct KeptRow {
+  std::vector<std::pair<int, double>> terms;
+  double lower = 0, upper = 0, norm = 1;
+  bool equality = false;
+  int source = 0;  ///< index into the problem's equality or gap rows
+};
+
+struct RowSet {
+  std::vector<KeptRow> rows;
+  int dropped_zero = 0, dropped_duplicate = 0;
+  std::string inconsistent;  ///< non-empty: contradictory duplicate rows
+};
+
+/// Normalises the rows and drops zero rows and duplicates (the tightest copy of a gap row is
+/// kept; duplicate equalities must agree).
+RowSet prepare_rows(const ConstrainedProblem& p) {
+  RowSet out;
+  std::map<std::string, int> seen;  // pattern+coefficients -> kept row
+  auto add = [&](const SpMat& rows_t, int r, bool equality, double rhs) {
+    KeptRow k;
+    k.equality = equality;
+    k.source = r;
+    double n2 = 0;
+    for (SpMat::InnerIterator it(rows_t, r); it; ++it) {
+      if (it.value() == 0.0) continue;
+      k.terms.emplace_back(static_cast<int>(it.row()), it.value());
+      n2 += it.value() * it.value();
+    }
+    k.norm = std::sqrt(n2);
+    if (k.norm == 0.0) {
+      if (equality ? rhs != 0.0 : rhs < 0.0)
+        out.inconsistent = std::string(equality ? "equality" : "gap") + " row " +
+                           std::to_string(r) + " has no coefficients but cannot be satisfied";
+      ++out.dropped_zero;
+      return;
+    }
+    std::ostringstream key;
+    key.precision(10);
+    key << equality << ':';
+    for (auto& [c, v] : k.terms) {
+      v /= k.norm;
+      key << c << '/' << v << ';';
+    }
+    if (equality) k.lower = k.upper = rhs / k.norm;
+    else k.lower = rhs / k.norm, k.upper = 2e19;  // -g0/|G| <= G u/|G|
+    const auto [pos, fresh] = seen.emplace(key.str(), static_cast<int>(out.rows.size()));
+    if (!fresh) {
+      KeptRow& first = out.rows[pos->second];
+      ++out.dropped_duplicate;
+      if (equality && std::abs(first.lower - k.lower) > 1e-12 * (1 + std::abs(k.lower)))
+        out.inconsistent = "equality rows " + std::to_string(first.source) + " and " +
+                           std::to_string(r) + " are parallel with different right-hand sides";
+      if (!equality && k.lower > first.lower) first.lower = k.lower, first.source = r;
+      return;
+    }
+    out.rows.push_back(k);
+  };
+  const SpMat at = p.eq_jacobian.transpose(), gt = p.gap_jacobian.transpose();
+  for (int j = 0; j < p.num_equalities(); ++j) add(at, j, true, p.eq_rhs[j]);
+  for (int i = 0; i < p.num_gaps(); ++i) add(gt, i, false, -p.gap0[i]);
+  return out;
+}
+
+class ContactQp : public Ipopt::TNLP {
+ public:
+  ContactQp(const ConstrainedProblem& p, const RowSet& rows) : p_(p), rows_(rows) {
+    for (int c = 0; c < p.stiffness.outerSize(); ++c)
+      for (SpMat::InnerIterator it(p.stiffness, c); it; ++it)
+        if (it.row() >= it.col()) hess_.emplace_back(it.row(), it.col(), it.value());
+    for (size_t r = 0; r < rows.rows.size(); ++r)
+      jac_nnz_ += static_cast<Index>(rows.rows[r].terms.size());
+  }
+
+  VecX x, lambda;
+  Ipopt::SolverReturn status = Ipopt::INTERNAL_ERROR;
+
+  bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_h,
+                    IndexStyleEnum& style) override {
+    n = p_.num_unknowns();
+    m = static_cast<Index>(rows_.rows.size());
+    nnz_jac = jac_nnz_;
+    nnz_h = static_cast<Index>(hess_.size());
+    style = C_STYLE;
+    return true;
+  }
+  bool get_bounds_info(Index n, Number* xl, Number* xu, Index m, Number* gl,
+                       Number* gu) override {
+    for (Index i = 0; i < n; ++i) xl[i] = -2e19, xu[i] = 2e19;
+    for (Index r = 0; r < m; ++r) gl[r] = rows_.rows[r].lower, gu[r] = rows_.rows[r].upper;
+    return true;
+  }
+  bool get_starting_point(Index n, bool init_x, Number* x0, bool, Number*, Number*, Index,
+                          bool, Number*) override {
+    if (init_x)
+      for (Index i = 0; i < n; ++i) x0[i] = 0.0;
+    return true;
+  }
+  bool eval_f(Index n, const Number* xp, bool, Number& obj) override {
+    const Eigen::Map<const VecX> u(xp, n);
+    obj = 0.5 * u.dot(p_.stiffness * u) - p_.load.dot(u);
+    return std::isfinite(obj);
+  }
+  bool eval_grad_f(Index n, const Number* xp, bool, Number* grad) override {
+    const Eigen::Map<const VecX> u(xp, n);
+    Eigen::Map<VecX>(grad, n) = p_.stiffness * u - p_.load;
+    return true;
+  }
+  bool eval_g(Index n, const Number* xp, bool, Index m, Number* g) override {
+    for (Index r = 0; r < m; ++r) {
+      double v = 0;
+      for (const auto& [c, a] : rows_.rows[r].terms) v += a * xp[c];
+      g[r] = v;
+    }
+    (void)n;
+    return true;
+  }
+  bool eval_jac_g(Index, const Number*, bool, Index m, Index, Index* irow, Index* jcol,
+                  Number* values) override {
+    Index k = 0;
+    for (Index r = 0; r < m; ++r)
+      for (const auto& [c, a] : rows_.rows[r].terms) {
+        if (values) values[k] = a;
+        else irow[k] = r, jcol[k] = c;
+        ++k;
+      }
+    return true;
+  }
+  bool eval_h(Index, const Number*, bool, Number obj_factor, Index, const Number*, bool, Index,
+              Index* irow, Index* jcol, Number* values) override {
+    for (size_t k = 0; k < hess_.size(); ++k) {
+      if (values) values[k] = obj_factor * hess_[k].value();
+      else irow[k] = hess_[k].row(), jcol[k] = hess_[k].col();
+    }
+    return true;
+  }
+  void finalize_solution(Ipopt::SolverReturn st, Index n, const Number* xp, const Number*,
+                         const Number*, Index m, const Number*, const Number* lam, Number,
+                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
+    status = st;
+    x = Eigen::Map<const VecX>(xp, n);
+    lambda = Eigen::Map<const VecX>(lam, m);
+  }
+
+ private:
+  const ConstrainedProblem& p_;
+  const RowSet& rows_;
+  std::vector<Eigen::Triplet<double>> hess_;
+  Index jac_nnz_ = 0;
+};
+
+SolveStatus map_status(Ipopt::ApplicationReturnStatus s, std::string& message) {
+  using A = Ipopt::ApplicationReturnStatus;
+  switch (s) {
+    case A::Solve_Succeeded: return SolveStatus::kConverged;
+    case A::Solved_To_Acceptable_Level:
+      message = "Ipopt stopped at its 'acceptable' tolerance";
+      return SolveStatus::kConverged;
+    case A::Maximum_Iterations_Exceeded:
+    case A::Maximum_CpuTime_Exceeded:
+      message = "Ipopt reached its iteration or time limit";
+      return SolveStatus::kMaxIterations;
+    case A::Diverging_Iterates: message = "Ipopt iterates diverged"; return SolveStatus::kDiverged;
+    case A::Restoration_Failed:
+      message = "Ipopt restoration phase failed (degenerate or nearly dependent constraint rows)";
+      return SolveStatus::kIllConditioned;
+    case A::Error_In_Step_Computation:
+      message = "Ipopt could not compute a step (singular KKT system: an unsupported body or "
+                "dependent rows)";
+      return SolveStatus::kSingular;
+    case A::Infeasible_Problem_Detected:
+      message = "Ipopt found the constraints infeasible";
+      return SolveStatus::kFailed;
+    case A::Search_Direction_Becomes_Too_Small:
+      message = "Ipopt search direction became too small";
+      return SolveStatus::kIllConditioned;
+    default: message = "Ipopt failed with return code " + std::to_string(static_cast<int>(s));
+  }
+  return SolveStatus::kFailed;
+}
+
+}  // namespace
+
+ConstraintSolution IpoptStrategy::solve(const ConstrainedProblem& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ConstraintSolution s;
+  s.method = name();
+  const RowSet rows = prepare_rows(p);
+  if (!rows.inconsistent.empty()) {
+    s.status = SolveStatus::kFailed;
+    s.message = "inconsistent constraints: " + rows.inconsistent;
+    finish_solution(p, s);
+    return s;
+  }
+  Ipopt::SmartPtr<ContactQp> qp = new ContactQp(p, rows);
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  auto opt = app->Options();
+  opt->SetStringValue("sb", "yes");
+  opt->SetIntegerValue("print_level", 0);
+  opt->SetNumericValue("tol", options_.ipopt_tolerance);
+  opt->SetIntegerValue("max_iter", std::max(200, 20 * options_.max_iterations));
+  opt->SetStringValue("hessian_constant", "yes");
+  opt->SetStringValue("jac_c_constant", "yes");
+  opt->SetStringValue("jac_d_constant", "yes");
+  opt->SetStringValue("mu_strategy", "adaptive");
+  // Exact enforcement: no relaxation of the gap bounds.
+  opt->SetNumericValue("bound_relax_factor", 0.0);
+  Ipopt::ApplicationReturnStatus st = app->Initialize();
+  if (st != Ipopt::Solve_Succeeded) {
+    s.status = SolveStatus::kFailed;
+    s.message = "Ipopt initialisation failed";
+    finish_solution(p, s);
+    return s;
+  }
+  st = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(qp));
+  s.status = map_status(st, s.message);
+  const int iterations =
+      Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : 0;
+  if (rows.dropped_zero + rows.dropped_duplicate > 0)
+    s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +
+                 std::to_string(rows.dropped_zero) + " zero and " +
+                 std::to_string(rows.dropped_duplicate) + " duplicate constraint rows";
+  s.u = qp->x.size() == p.num_unknowns() ? qp->x : VecX::Zero(p.num_unknowns());
+  s.contact_force = VecX::Zero(p.num_gaps());
+  s.eq_multiplier = VecX::Zero(p.num_equalities());
+  if (qp->lambda.size() == static_cast<int>(rows.rows.size())) {
+    // Ipopt's Lagrangian is f + gᵀλ: the force a row exerts is −λ / |row|.
+    for (size_t r = 0; r < rows.rows.size(); ++r) {
+      const KeptRow& k = rows.rows[r];
+      const double force = -qp->lambda[static_cast<int>(r)] / k.norm;
+      if (k.equality) s.eq_multiplier[k.source] = force;
+      else s.contact_force[k.source] = std::max(0.0, force);
+    }
+  }
+  s.active.assign(p.num_gaps(), 0);
+  const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
+  for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = s.contact_force[i] > 1e-8 * fmax;
+  finish_solution(p, s);
+  IterationRecord rec;
+  rec.iteration = iterations;
+  rec.active = count_active(s.active);
+  rec.entering = rec.active;
+  rec.max_penetration = s.max_penetration;
+  s.history.push_back(rec);
+  s.iterations = iterations;
+  s.factorizations = iterations;
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
+}
+
+}  // namespace c2d::constraints

@@ -1,0 +1,22 @@
+// The contact problem as what it is, a convex QP (minimise the potential energy subject to the
+// linearised non-penetration rows), handed to Ipopt with its exact sparse Hessian and Jacobian.
+// Ipopt's multipliers are the contact forces. Rows are normalised to unit length, zero rows and
+// duplicates are dropped before the solve (Ipopt's restoration failure usually means exactly
+// such rows), and Ipopt's return codes map onto the common statuses.
+#pragma once
+
+#include "constraints/constraint_strategy.hpp"
+
+namespace c2d::constraints {
+
+class IpoptStrategy final : public ConstraintStrategy {
+ public:
+  explicit IpoptStrategy(const StrategyOptions& options) : options_(options) {}
+  std::string name() const override { return "ipopt"; }
+  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ private:
+  StrategyOptions options_;
+};
+
+}  // namespace c2d::constraints

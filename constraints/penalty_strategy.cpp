@@ -1,0 +1,93 @@
+#include "constraints/penalty_strategy.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "constraints/strategy_common.hpp"
+
+namespace c2d::constraints {
+
+void default_penalties(const ConstrainedProblem& p, const StrategyOptions& o, double factor,
+                       VecX& k_gap, VecX& k_eq) {
+  const VecX local_gap = p.row_stiffness(p.gap_jacobian);
+  const VecX local_eq = p.row_stiffness(p.eq_jacobian);
+  auto pick = [&](const VecX& local, int i) {
+    return o.penalty_k > 0 ? o.penalty_k : factor * (local[i] > 0 ? local[i] : 1.0);
+  };
+  k_gap.resize(p.num_gaps());
+  for (int i = 0; i < p.num_gaps(); ++i)
+    k_gap[i] = p.gap_penalty.size() == p.num_gaps() && p.gap_penalty[i] > 0 ? p.gap_penalty[i]
+                                                                            : pick(local_gap, i);
+  k_eq.resize(p.num_equalities());
+  for (int j = 0; j < p.num_equalities(); ++j) k_eq[j] = pick(local_eq, j);
+}
+
+void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& lambda,
+                    const VecX& k_eq, const VecX& mu, ConstraintSolution& s) {
+  const int m = p.num_gaps();
+  s.contact_force = VecX::Zero(m);
+  s.active.assign(m, 0);
+  if (m > 0) {
+    const VecX g = p.gap0 + p.gap_jacobian * s.u;
+    for (int i = 0; i < m; ++i) {
+      s.contact_force[i] = std::max(0.0, lambda[i] - k_gap[i] * g[i]);
+      s.active[i] = s.contact_force[i] > 0;
+    }
+  }
+  s.eq_multiplier = p.num_equalities() > 0
+                        ? VecX(mu - k_eq.cwiseProduct(p.eq_jacobian * s.u - p.eq_rhs))
+                        : VecX();
+  s.penalty = k_gap;
+}
+
+namespace {
+// Largest ratio of a row's penalty to its local stiffness: how many digits the penalty costs.
+double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX& k_eq) {
+  double r = 0.0;
+  const VecX lg = p.row_stiffness(p.gap_jacobian), le = p.row_stiffness(p.eq_jacobian);
+  for (int i = 0; i < k_gap.size(); ++i) r = std::max(r, k_gap[i] / std::max(lg[i], 1e-300));
+  for (int j = 0; j < k_eq.size(); ++j) r = std::max(r, k_eq[j] / std::max(le[j], 1e-300));
+  return r;
+}
+}  // namespace
+
+ConstraintSolution PenaltyStrategy::solve(const ConstrainedProblem& p) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ConstraintSolution s;
+  s.method = name();
+  VecX k_gap, k_eq;
+  default_penalties(p, options_, options_.penalty_factor, k_gap, k_eq);
+  std::vector<char> active = initially_closed(p);
+  PenalizedSolver solver(p);
+  const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
+  const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
+                                    active, s.u, s.history, 1);
+  s.status = outcome.status;
+  s.message = outcome.message;
+  s.factorizations = solver.factorizations();
+  // A penalty many orders above the element stiffness leaves the factorization nothing but
+  // round-off: say so instead of returning what it produced.
+  const double ratio = penalty_ratio(p, k_gap, k_eq);
+  const double pivot = solver.linear_report().pivot_ratio;
+  if (ratio > 1e6 && (s.status == SolveStatus::kSingular || pivot < 1e-12)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf,
+                  "penalty k is %.3g x the local element stiffness; the factor's pivot ratio "
+                  "%.3g leaves no significant digits (lower k or use an exact method)",
+                  ratio, pivot);
+    s.status = SolveStatus::kIllConditioned;
+    s.message = buf;
+  }
+  if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kCycling ||
+      s.status == SolveStatus::kMaxIterations)
+    penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
+  else
+    s.u = VecX::Zero(p.num_unknowns());
+  s.penalty = k_gap;
+  finish_solution(p, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
+}
+
+}  // namespace c2d::constraints

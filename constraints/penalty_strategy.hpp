@@ -1,0 +1,28 @@
+// Penalty: each closed gap row becomes a spring of stiffness k; the constraint holds only up to
+// a penetration of about force / k, which the solution reports.
+#pragma once
+
+#include "constraints/constraint_strategy.hpp"
+
+namespace c2d::constraints {
+
+class PenaltyStrategy final : public ConstraintStrategy {
+ public:
+  explicit PenaltyStrategy(const StrategyOptions& options) : options_(options) {}
+  std::string name() const override { return "penalty"; }
+  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ private:
+  StrategyOptions options_;
+};
+
+/// Penalty stiffness per gap row and per equality row: the input's fixed k where it gives one,
+/// else the option's absolute k, else factor × the row's local stiffness.
+void default_penalties(const ConstrainedProblem& p, const StrategyOptions& o, double factor,
+                       VecX& k_gap, VecX& k_eq);
+
+/// Contact forces and multipliers of a penalised solution: λ = max(0, λ0 − k g), μ = μ0 − k h.
+void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& lambda,
+                    const VecX& k_eq, const VecX& mu, ConstraintSolution& s);
+
+}  // namespace c2d::constraints

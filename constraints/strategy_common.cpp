@@ -1,0 +1,194 @@
+#include "constraints/strategy_common.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace c2d::constraints {
+
+VecX ConstrainedProblem::row_stiffness(const SpMat& rows) const {
+  const VecX diag = stiffness.diagonal();
+  VecX num = VecX::Zero(rows.rows()), den = VecX::Zero(rows.rows());
+  for (int col = 0; col < rows.outerSize(); ++col)
+    for (SpMat::InnerIterator it(rows, col); it; ++it) {
+      const double a2 = it.value() * it.value();
+      num[it.row()] += a2 * diag[it.col()];
+      den[it.row()] += a2;
+    }
+  VecX out(rows.rows());
+  for (int i = 0; i < rows.rows(); ++i) out[i] = den[i] > 0 ? num[i] / den[i] : 0.0;
+  return out;
+}
+
+double penetration_tolerance(const StrategyOptions& o, const ConstrainedProblem& p) {
+  return o.tolerance > 0 ? o.tolerance : o.relative_tolerance * p.length_scale;
+}
+
+std::vector<char> initially_closed(const ConstrainedProblem& p) {
+  std::vector<char> active(p.num_gaps(), 0);
+  const double touch = 1e-12 * p.model_size;
+  for (int i = 0; i < p.num_gaps(); ++i) active[i] = p.gap0[i] <= touch;
+  return active;
+}
+
+void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
+  const int m = p.num_gaps();
+  if (s.u.size() != p.num_unknowns()) s.u = VecX::Zero(p.num_unknowns());
+  if (s.contact_force.size() != m) s.contact_force = VecX::Zero(m);
+  if (s.eq_multiplier.size() != p.num_equalities()) s.eq_multiplier = VecX::Zero(p.num_equalities());
+  if (s.penalty.size() != m) s.penalty = VecX::Zero(m);
+  if (static_cast<int>(s.active.size()) != m) s.active.assign(m, 0);
+  const bool finite = s.u.allFinite() && s.contact_force.allFinite() &&
+                      s.eq_multiplier.allFinite() && s.penalty.allFinite();
+  if (!finite) {
+    s.status = SolveStatus::kFailed;
+    s.message = "non-finite values in the solution" + (s.message.empty() ? "" : ": " + s.message);
+    s.u.setZero();
+    s.contact_force.setZero();
+    s.eq_multiplier.setZero();
+    s.penalty.setZero();
+  }
+  s.gap = m > 0 ? VecX(p.gap0 + p.gap_jacobian * s.u) : VecX();
+  s.max_penetration = m > 0 ? std::max(0.0, -s.gap.minCoeff()) : 0.0;
+  s.max_eq_violation =
+      p.num_equalities() > 0 ? (p.eq_jacobian * s.u - p.eq_rhs).cwiseAbs().maxCoeff() : 0.0;
+  if (!s.history.empty()) s.iterations = s.history.back().iteration;
+}
+
+PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p)
+    : p_(p), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()) {}
+
+PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& lambda,
+                                                const VecX& k_eq, const VecX& mu,
+                                                int max_iterations, std::vector<char>& active,
+                                                VecX& u, std::vector<IterationRecord>& history,
+                                                int first_iteration) {
+  Outcome out;
+  const int m = p_.num_gaps();
+  ActiveSetTracker tracker;
+  tracker.record(active);
+  const VecX rhs_eq =
+      p_.num_equalities() > 0 ? VecX(at_ * (mu + k_eq.cwiseProduct(p_.eq_rhs))) : VecX();
+  for (int it = 1; it <= max_iterations; ++it) {
+    VecX k_active(m);
+    for (int i = 0; i < m; ++i) k_active[i] = active[i] ? k_gap[i] : 0.0;
+    SpMat kp = p_.stiffness;
+    if (m > 0) kp += SpMat(gt_ * k_active.asDiagonal() * p_.gap_jacobian);
+    if (p_.num_equalities() > 0) kp += SpMat(at_ * k_eq.asDiagonal() * p_.eq_jacobian);
+    VecX rhs = p_.load;
+    if (m > 0) {
+      VecX w(m);
+      for (int i = 0; i < m; ++i) w[i] = active[i] ? lambda[i] - k_gap[i] * p_.gap0[i] : 0.0;
+      rhs += gt_ * w;
+    }
+    if (p_.num_equalities() > 0) rhs += rhs_eq;
+    out.status = solver_.factorize(kp);
+    if (out.status == SolveStatus::kConverged) out.status = solver_.solve(rhs, u);
+    out.iterations = it;
+    if (out.status != SolveStatus::kConverged) {
+      out.message = solver_.report().message;
+      return out;
+    }
+    const VecX g = m > 0 ? VecX(p_.gap0 + p_.gap_jacobian * u) : VecX();
+    std::vector<char> next(m, 0);
+    for (int i = 0; i < m; ++i) next[i] = lambda[i] - k_gap[i] * g[i] > 0;
+    const auto change = tracker.record(next);
+    IterationRecord rec;
+    rec.iteration = first_iteration + it - 1;
+    rec.active = count_active(next);
+    rec.entering = change.entering;
+    rec.leaving = change.leaving;
+    rec.max_penetration = m > 0 ? std::max(0.0, -g.minCoeff()) : 0.0;
+    rec.penalty = std::max(m > 0 ? k_gap.maxCoeff() : 0.0,
+                           p_.num_equalities() > 0 ? k_eq.maxCoeff() : 0.0);
+    rec.residual = solver_.report().relative_residual;
+    history.push_back(rec);
+    active = next;
+    if (change.unchanged) return out;
+    if (change.repeated) {
+      out.status = SolveStatus::kCycling;
+      out.message = "the penalised active set returned to an earlier set after " +
+                    std::to_string(it) + " iterations";
+      return out;
+    }
+  }
+  out.status = SolveStatus::kMaxIterations;
+  out.message = "active set still changing after " + std::to_string(max_iterations) + " iterations";
+  return out;
+}
+
+double saddle_point_scale(const ConstrainedProblem& p) {
+  const VecX d = p.stiffness.diagonal().cwiseAbs();
+  const double s = d.size() > 0 ? d.mean() : 1.0;
+  return s > 0 ? s : 1.0;
+}
+
+namespace {
+// Position of each multiplier in the saddle-point vector (-1: not in the system).
+std::vector<int> gap_positions(const ConstrainedProblem& p, const std::vector<char>& active,
+                               bool all_rows) {
+  std::vector<int> pos(p.num_gaps(), -1);
+  int next = p.num_unknowns() + p.num_equalities();
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (all_rows || active[i]) pos[i] = next++;
+  return pos;
+}
+}  // namespace
+
+SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& active, double s,
+                          bool all_rows) {
+  const int n = p.num_unknowns(), me = p.num_equalities();
+  const auto pos = gap_positions(p, active, all_rows);
+  int size = n + me;
+  for (int q : pos) size += q >= 0;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(p.stiffness.nonZeros() + 2 * (p.eq_jacobian.nonZeros() + p.gap_jacobian.nonZeros()) +
+            p.num_gaps());
+  for (int c = 0; c < p.stiffness.outerSize(); ++c)
+    for (SpMat::InnerIterator it(p.stiffness, c); it; ++it)
+      t.emplace_back(it.row(), it.col(), it.value());
+  for (int c = 0; c < p.eq_jacobian.outerSize(); ++c)
+    for (SpMat::InnerIterator it(p.eq_jacobian, c); it; ++it) {
+      t.emplace_back(n + it.row(), it.col(), -s * it.value());
+      t.emplace_back(it.col(), n + it.row(), -s * it.value());
+    }
+  for (int c = 0; c < p.gap_jacobian.outerSize(); ++c)
+    for (SpMat::InnerIterator it(p.gap_jacobian, c); it; ++it) {
+      const int q = pos[it.row()];
+      if (q < 0) continue;
+      const double v = active[it.row()] ? -s * it.value() : 0.0;
+      t.emplace_back(q, it.col(), v);
+      t.emplace_back(it.col(), q, v);
+    }
+  if (all_rows)
+    for (int i = 0; i < p.num_gaps(); ++i) t.emplace_back(pos[i], pos[i], active[i] ? 0.0 : s);
+  SpMat m(size, size);
+  m.setFromTriplets(t.begin(), t.end());
+  return m;
+}
+
+VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& active, double s,
+                      bool all_rows) {
+  const int n = p.num_unknowns(), me = p.num_equalities();
+  const auto pos = gap_positions(p, active, all_rows);
+  int size = n + me;
+  for (int q : pos) size += q >= 0;
+  VecX b = VecX::Zero(size);
+  b.head(n) = p.load;
+  if (me > 0) b.segment(n, me) = -s * p.eq_rhs;
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (pos[i] >= 0 && active[i]) b[pos[i]] = s * p.gap0[i];
+  return b;
+}
+
+void split_saddle_point(const ConstrainedProblem& p, const std::vector<char>& active, double s,
+                        bool all_rows, const VecX& x, ConstraintSolution& out) {
+  const int n = p.num_unknowns(), me = p.num_equalities();
+  const auto pos = gap_positions(p, active, all_rows);
+  out.u = x.head(n);
+  out.eq_multiplier = me > 0 ? VecX(s * x.segment(n, me)) : VecX();
+  out.contact_force = VecX::Zero(p.num_gaps());
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (pos[i] >= 0 && active[i]) out.contact_force[i] = s * x[pos[i]];
+}
+
+}  // namespace c2d::constraints

@@ -1,0 +1,72 @@
+// Machinery the backends share: the penalised (augmented-Lagrangian) inner solve, the
+// saddle-point system, tolerances, and the final checks every solution passes through.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "constraints/active_set_tracker.hpp"
+#include "constraints/constraint_strategy.hpp"
+#include "core/spd_solver.hpp"
+
+namespace c2d::constraints {
+
+/// Penetration tolerance: the absolute option, else relative × the problem's length scale.
+double penetration_tolerance(const StrategyOptions& options, const ConstrainedProblem& p);
+
+/// Rows closed at the start (g0 ≤ 1e-12 × model size): touching or already penetrating.
+std::vector<char> initially_closed(const ConstrainedProblem& p);
+
+/// Fills gap, max penetration and equality violation from u; turns any non-finite result into
+/// a failed status with zeroed fields, so no NaN leaves a backend.
+void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s);
+
+/// Minimises ½uᵀKu − fᵀu + Σ_i (1/2k_i) max(0, λ_i − k_i g_i(u))² − μᵀh(u) + ½ Σ_j k_j h_j(u)²
+/// (h = A u − b) for fixed λ, μ: with λ = μ = 0 the pure penalty method, otherwise one
+/// augmented-Lagrangian subproblem. The max() makes it semi-smooth; an active-set loop solves it
+/// exactly once the set settles. The matrix K + Gᵀ diag(k·active) G + Aᵀ diag(k_eq) A keeps one
+/// pattern, so CHOLMOD's symbolic analysis is reused across iterations and calls.
+class PenalizedSolver {
+ public:
+  explicit PenalizedSolver(const ConstrainedProblem& p);
+
+  struct Outcome {
+    SolveStatus status = SolveStatus::kFailed;
+    std::string message;
+    int iterations = 0;
+  };
+  /// `active` is the starting set on entry and the final set on return; `history` gets one
+  /// record per inner iteration, numbered from `first_iteration`.
+  Outcome solve(const VecX& k_gap, const VecX& lambda, const VecX& k_eq, const VecX& mu,
+                int max_iterations, std::vector<char>& active, VecX& u,
+                std::vector<IterationRecord>& history, int first_iteration);
+
+  const core::SpdSolveReport& linear_report() const { return solver_.report(); }
+  int factorizations() const { return solver_.report().numeric_factorizations; }
+
+ private:
+  const ConstrainedProblem& p_;
+  SpMat gt_, at_;  ///< Gᵀ and Aᵀ
+  core::SpdSolver solver_;
+};
+
+/// Scale that brings constraint rows to the magnitude of K's entries (mean of diag K).
+double saddle_point_scale(const ConstrainedProblem& p);
+
+/// The saddle-point matrix for the multipliers of the equality rows and of the inequality rows
+/// with `active` set:
+///   [ K      −s Aᵀ   −s G_Aᵀ ]
+///   [ −s A    0       0      ]
+///   [ −s G_A  0       0      ]
+/// With `all_rows`, inactive rows stay in the system as λ_i = 0 (a unit diagonal s, the G entries
+/// kept as structural zeros), so the pattern never changes; otherwise they are left out.
+SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& active, double s,
+                          bool all_rows);
+/// Right-hand side [f; −s b; s g0_A] of the same system.
+VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& active, double s,
+                      bool all_rows);
+/// Splits a saddle-point solution into u, μ and λ (inactive rows: 0).
+void split_saddle_point(const ConstrainedProblem& p, const std::vector<char>& active, double s,
+                        bool all_rows, const VecX& x, ConstraintSolution& out);
+
+}  // namespace c2d::constraints

@@ -1,0 +1,169 @@
+// The seed's two regulation examples (chapter 3.2) solved through the constraint layer, with
+// every backend: supports and multipoint constraints are rows A u = b, not eliminations.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "constraints/constraint_strategy.hpp"
+
+using namespace c2d;
+using namespace c2d::constraints;
+
+namespace {
+
+SpMat sparse(const Eigen::MatrixXd& d) { return d.sparseView(); }
+
+// Two bars in series, node 2 between them, F = 200 kN at node 2, u1 = u3 = 0 (N, mm).
+ConstrainedProblem two_bars() {
+  const double k1 = 70000.0 * 2400.0 / 300.0, k2 = 200000.0 * 600.0 / 400.0;
+  Eigen::MatrixXd k(3, 3);
+  k << k1, -k1, 0, -k1, k1 + k2, -k2, 0, -k2, k2;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2, 3);
+  a(0, 0) = 1;
+  a(1, 2) = 1;
+  ConstrainedProblem p;
+  p.stiffness = sparse(k);
+  p.load = Eigen::Vector3d(0, 200000.0, 0);
+  p.eq_jacobian = sparse(a);
+  p.eq_rhs = VecX::Zero(2);
+  p.gap_jacobian = SpMat(0, 3);
+  p.gap0 = VecX();
+  p.model_size = 700.0;
+  return p;
+}
+
+// Seven springs: k11 = k77 = 100, k22..k66 = 200, k_i,i+1 = -100, f_i = i, u1 = 0, u2 - u6 = 0.2.
+ConstrainedProblem spring_chain() {
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(7, 7);
+  for (int i = 0; i < 7; ++i) k(i, i) = (i == 0 || i == 6) ? 100 : 200;
+  for (int i = 0; i < 6; ++i) k(i, i + 1) = k(i + 1, i) = -100;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(2, 7);
+  a(0, 0) = 1;
+  a(1, 1) = 1;
+  a(1, 5) = -1;
+  ConstrainedProblem p;
+  p.stiffness = sparse(k);
+  p.load = VecX::LinSpaced(7, 1, 7);
+  p.eq_jacobian = sparse(a);
+  p.eq_rhs = Eigen::Vector2d(0, 0.20);
+  p.gap_jacobian = SpMat(0, 7);
+  p.gap0 = VecX();
+  p.model_size = 1.0;
+  return p;
+}
+
+// Options under which every method must reach the seed's 5 significant digits: the penalty-type
+// methods get a tolerance or stiffness fine enough for that (their error is O(1/k)).
+StrategyOptions options_for(const std::string& method) {
+  StrategyOptions o;
+  o.method = method;
+  o.tolerance = 1e-10;
+  o.penalty_factor = 1e9;
+  o.max_penalty_factor = 1e12;
+  return o;
+}
+
+class EveryMethod : public ::testing::TestWithParam<std::string> {};
+
+}  // namespace
+
+TEST_P(EveryMethod, TwoBarsMiddleDisplacement) {
+  const auto strategy = ConstraintStrategy::create(options_for(GetParam()));
+  const ConstraintSolution s = strategy->solve(two_bars());
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.message;
+  // Reference: u2 = F / (k1 + k2) = 0.23256 mm (seed, chapter 3.2).
+  EXPECT_NEAR(s.u[1], 0.23256, 5e-6);
+  EXPECT_NEAR(s.u[1], 200000.0 / 860000.0, 1e-9 * 0.23256 + (GetParam() == "penalty" ? 1e-6 : 0));
+  // Support reactions: -k1 u2 and -k2 u2, summing to -F.
+  EXPECT_NEAR(s.eq_multiplier[0] + s.eq_multiplier[1], -200000.0, 1e-3);
+}
+
+TEST_P(EveryMethod, SpringChainDisplacementsAndMultipliers) {
+  const auto strategy = ConstraintStrategy::create(options_for(GetParam()));
+  const ConstraintSolution s = strategy->solve(spring_chain());
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.message;
+  const double expected[7] = {0, 0.27, 0.275, 0.25, 0.185, 0.07, 0.14};
+  for (int i = 0; i < 7; ++i) EXPECT_NEAR(s.u[i], expected[i], 1e-7) << "u" << i + 1;
+  // The seed's multipliers have magnitudes 28 (support) and 24.5 (u2 - u6 = 0.2).
+  EXPECT_NEAR(s.eq_multiplier[0], -28.0, 1e-4);
+  EXPECT_NEAR(s.eq_multiplier[1], 24.5, 1e-4);
+}
+
+TEST_P(EveryMethod, ChainAgainstAStopIsExactWithTheKnownActiveSet) {
+  // Add a stop u7 <= 0.1 (gap 0.1 - u7 >= 0): free u7 would be 0.14, so the stop closes and
+  // the solution is the equality solution with u7 = 0.1 added, solved here densely.
+  ConstrainedProblem p = spring_chain();
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(1, 7);
+  g(0, 6) = -1;
+  p.gap_jacobian = sparse(g);
+  p.gap0 = VecX::Constant(1, 0.1);
+  Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(10, 10);
+  kkt.topLeftCorner(7, 7) = Eigen::MatrixXd(p.stiffness);
+  Eigen::MatrixXd rows(3, 7);
+  rows << Eigen::MatrixXd(p.eq_jacobian), g;
+  kkt.topRightCorner(7, 3) = rows.transpose();
+  kkt.bottomLeftCorner(3, 7) = rows;
+  VecX rhs(10);
+  rhs << p.load, p.eq_rhs, -0.1;
+  const VecX ref = kkt.fullPivLu().solve(rhs);
+  const auto strategy = ConstraintStrategy::create(options_for(GetParam()));
+  const ConstraintSolution s = strategy->solve(p);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.message;
+  for (int i = 0; i < 7; ++i) EXPECT_NEAR(s.u[i], ref[i], 1e-7) << "u" << i + 1;
+  EXPECT_NEAR(s.contact_force[0], -ref[9], 1e-5);  // dense KKT sign: K u + Gᵀ ν = f
+  EXPECT_GT(s.contact_force[0], 0.0);
+  EXPECT_EQ(s.active[0], 1);
+}
+
+INSTANTIATE_TEST_SUITE_P(Constraints, EveryMethod,
+                         ::testing::Values("penalty", "adaptive_penalty", "lagrange", "auglag",
+                                           "ipopt", "ssn"));
+
+TEST(Penalty, ErrorDecreasesLikeOneOverK) {
+  // u2 of the spring chain under penalty: error ~ C / k, so ten times k, a tenth of the error.
+  std::vector<double> errors;
+  for (double factor : {1e2, 1e3, 1e4, 1e5}) {
+    StrategyOptions o;
+    o.method = "penalty";
+    o.penalty_factor = factor;
+    const ConstraintSolution s = ConstraintStrategy::create(o)->solve(spring_chain());
+    ASSERT_EQ(s.status, SolveStatus::kConverged);
+    errors.push_back(std::abs(s.u[1] - 0.27));
+  }
+  for (size_t i = 1; i < errors.size(); ++i) EXPECT_NEAR(errors[i - 1] / errors[i], 10.0, 0.5);
+}
+
+TEST(Penalty, HugeStiffnessIsReportedIllConditioned) {
+  StrategyOptions o;
+  o.method = "penalty";
+  o.penalty_k = 1e20;
+  const ConstraintSolution s = ConstraintStrategy::create(o)->solve(two_bars());
+  EXPECT_EQ(s.status, SolveStatus::kIllConditioned) << s.message;
+  EXPECT_TRUE(s.u.allFinite());
+}
+
+TEST(RedundantRows, LagrangeSaysSingularIpoptDropsTheCopy) {
+  ConstrainedProblem p = two_bars();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3, 3);
+  a(0, 0) = 1;
+  a(1, 2) = 1;
+  a(2, 0) = 1;  // u1 = 0 twice
+  p.eq_jacobian = sparse(a);
+  p.eq_rhs = VecX::Zero(3);
+  StrategyOptions o;
+  o.method = "lagrange";
+  const ConstraintSolution lag = ConstraintStrategy::create(o)->solve(p);
+  EXPECT_EQ(lag.status, SolveStatus::kSingular) << lag.message;
+  EXPECT_NE(lag.message.find("dependent"), std::string::npos) << lag.message;
+  o.method = "ipopt";
+  const ConstraintSolution ip = ConstraintStrategy::create(o)->solve(p);
+  EXPECT_EQ(ip.status, SolveStatus::kConverged) << ip.message;
+  EXPECT_NE(ip.message.find("1 duplicate"), std::string::npos) << ip.message;
+  EXPECT_NEAR(ip.u[1], 200000.0 / 860000.0, 1e-8);
+  // Contradictory copies (u1 = 0 and u1 = 0.1) cannot be dropped: a clear failure.
+  p.eq_rhs[2] = 0.1;
+  const ConstraintSolution bad = ConstraintStrategy::create(o)->solve(p);
+  EXPECT_EQ(bad.status, SolveStatus::kFailed);
+  EXPECT_NE(bad.message.find("inconsistent"), std::string::npos) << bad.message;
+}
