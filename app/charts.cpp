@@ -1,5 +1,6 @@
 #include "app/charts.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +23,64 @@ std::string run_gnuplot(const std::string& script_path) {
   if (rc != 0) return "gnuplot failed (exit " + std::to_string(rc) + "), see " + script_path + ".log";
   std::filesystem::remove(script_path + ".log");
   return "";
+}
+
+std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
+                             const std::string& commands) {
+  std::ostringstream gp;
+  for (const char* term : {"png", "svg"}) {
+    gp << (std::string(term) == "png" ? "set terminal pngcairo size 1200,800 font 'Sans,11'\n"
+                                      : "set terminal svg size 1200,800 font 'Sans,11'\n")
+       << "set output '" << dir << "/" << stem << "." << term << "'\n"
+       << commands << "unset output\n";
+  }
+  const std::string script = dir + "/" + stem + ".gp";
+  core::write_file_atomic(script, gp.str());
+  const std::string err = run_gnuplot(script);
+  if (err.empty()) std::filesystem::remove(script);
+  return err;
+}
+
+std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
+                                   const core::Scene& scene) {
+  // Abscissa: the reference coordinate along which the slave nodes spread most.
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const auto& n : c.nodes)
+    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], n.x[k]), hi[k] = std::max(hi[k], n.x[k]);
+  const int axis = hi[1] - lo[1] > hi[0] - lo[0] ? 1 : 0;
+  std::vector<std::pair<double, double>> pts;
+  for (const auto& n : c.nodes) pts.emplace_back(n.x[axis], n.pressure);
+  std::sort(pts.begin(), pts.end());
+  std::ostringstream data;
+  data << std::setprecision(12);
+  for (const auto& [x, p] : pts) data << x << ' ' << p << '\n';
+  const std::string data_path = dir + "/pressure.dat";
+  core::write_file_atomic(data_path, data.str());
+  std::ostringstream cmd;
+  cmd << std::setprecision(10) << "set title 'Contact pressure (" << c.method
+      << ", recovered from nodal forces)'\nset xlabel '" << (axis ? "y" : "x")
+      << "'\nset ylabel 'pressure'\nset grid\nset key top right\n";
+  const auto p0 = scene.reference.find("p_max"), b = scene.reference.find("contact_length");
+  const bool hertz = scene.reference_kind.rfind("hertz", 0) == 0 &&
+                     p0 != scene.reference.end() && b != scene.reference.end();
+  cmd << "plot '" << data_path << "' using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
+  if (hertz) {
+    cmd << ", \\\n     (abs(x) < " << b->second << " ? " << p0->second << "*sqrt(1-(x/"
+        << b->second << ")**2) : 0) with lines lw 2 dt 2 title 'Hertz'";
+    const double span = std::max(std::abs(lo[axis]), std::abs(hi[axis]));
+    cmd << "\n";
+    std::string head = cmd.str();
+    head.insert(head.find("plot "), "set xrange [" + std::to_string(-0.05 * b->second) + ":" +
+                                          std::to_string(std::min(span, 1.6 * b->second)) +
+                                          "]\nset samples 400\n");
+    const std::string err = plot_png_and_svg(dir, "pressure", head);
+    std::filesystem::remove(data_path);
+    return err;
+  }
+  cmd << "\n";
+  const std::string err = plot_png_and_svg(dir, "pressure", cmd.str());
+  std::filesystem::remove(data_path);
+  return err;
 }
 
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
@@ -50,28 +109,17 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
   const std::string data_path = dir + "/deformed.dat", outline_path = dir + "/outline.dat";
   core::write_file_atomic(data_path, data.str());
   core::write_file_atomic(outline_path, outline.str());
-  std::ostringstream gp;
   std::ostringstream scale_text;
   scale_text << std::setprecision(3) << scale;
-  for (const char* term : {"png", "svg"}) {
-    if (std::string(term) == "png")
-      gp << "set terminal pngcairo size 1200,800 font 'Sans,11'\n";
-    else
-      gp << "set terminal svg size 1200,800 font 'Sans,11'\n";
-    gp << "set output '" << dir << "/deformed." << term << "'\n"
-       << "set size ratio -1\nset title 'Deformed mesh (displacements x " << scale_text.str()
-       << "), coloured by von Mises (smoothed)'\n"
-       << "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
-       << "plot '" << data_path << "' using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
-       << "     '" << outline_path << "' using 1:2 with lines lc rgb '#555555' dt 2\n"
-       << "unset output\n";
-  }
-  const std::string script = dir + "/deformed.gp";
-  core::write_file_atomic(script, gp.str());
-  std::string err = run_gnuplot(script);
+  const std::string commands =
+      "set size ratio -1\nset title 'Deformed mesh (displacements x " + scale_text.str() +
+      "), coloured by von Mises (smoothed)'\n"
+      "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
+      "plot '" + data_path + "' using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
+      "     '" + outline_path + "' using 1:2 with lines lc rgb '#555555' dt 2\n";
+  const std::string err = plot_png_and_svg(dir, "deformed", commands);
   std::filesystem::remove(data_path);
   std::filesystem::remove(outline_path);
-  if (err.empty()) std::filesystem::remove(script);
   return err;
 }
 

@@ -3,13 +3,24 @@
 
 #include <string>
 
+#include "constraints/contact_set.hpp"
 #include "core/model.hpp"
+#include "core/scene.hpp"
 #include "core/results.hpp"
 
 namespace c2d::app {
 
 /// Runs a gnuplot script; returns an empty string on success, else why it failed.
 std::string run_gnuplot(const std::string& script_path);
+
+/// Writes DIR/STEM.png and DIR/STEM.svg from gnuplot plot commands; "" or the failure reason.
+std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
+                             const std::string& commands);
+
+/// Recovered contact pressure along the slave surface, with the Hertz profile when the scene's
+/// reference gives p_max and contact_length. Writes DIR/pressure.png and .svg.
+std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
+                                   const core::Scene& scene);
 
 /// Deformed mesh (scaled) over the undeformed outline, coloured by smoothed von Mises.
 /// Writes DIR/deformed.png and DIR/deformed.svg; returns "" or the failure reason.

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -13,6 +14,7 @@
 
 #include "app/charts.hpp"
 #include "app/run_report.hpp"
+#include "constraints/contact_scene.hpp"
 #include "core/errors.hpp"
 #include "core/model.hpp"
 #include "core/probes.hpp"
@@ -39,7 +41,7 @@ const char* kMainHelp =
     "2 bad input.\n";
 
 const char* kRunHelp =
-    "usage: contact2d run SCENE [--set key=value ...] [--out DIR] [--quiet]\n"
+    "usage: contact2d run SCENE [--method M] [--set key=value ...] [--out DIR] [--quiet]\n"
     "\n"
     "Solves SCENE and writes into DIR (default: the scene's output.dir, else out/<scene>):\n"
     "  summary.json   status, mesh, times, error estimate, probes (stable keys)\n"
@@ -47,7 +49,11 @@ const char* kRunHelp =
     "  nodes.csv      displacements, smoothed stresses and reactions per node\n"
     "  deformed.png   deformed mesh coloured by von Mises (and .svg)\n"
     "  run.log        what was printed\n"
+    "  contact.csv    gap, force and recovered pressure per slave node (contact scenes)\n"
+    "  trace.csv      one row per contact iteration: active set, entering, leaving, penetration\n"
     "\n"
+    "  --method M       contact enforcement: penalty | adaptive_penalty | lagrange | auglag |\n"
+    "                   ipopt | ssn (overrides the scene's [[contact]] method)\n"
     "  --set key=value  override a scene key, e.g. --set analysis.element=T3,\n"
     "                   --set body.beam.mesh.size=0.05 (array entries by index or name)\n"
     "  --out DIR        output folder\n"
@@ -65,7 +71,7 @@ const char* kInfoHelp =
 struct Options {
   std::string verb, scene;
   std::vector<std::string> sets;
-  std::string out;
+  std::string out, method;
   bool quiet = false, help = false;
 };
 
@@ -83,6 +89,8 @@ Options parse_args(int argc, char** argv) {
     else if (a == "--set") o.sets.push_back(value(a));
     else if (a.rfind("--set=", 0) == 0) o.sets.push_back(a.substr(6));
     else if (a == "--out") o.out = value(a);
+    else if (a == "--method") o.method = value(a);
+    else if (a.rfind("--method=", 0) == 0) o.method = a.substr(9);
     else if (a.rfind("--out=", 0) == 0) o.out = a.substr(6);
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (!a.empty() && a[0] == '-') throw InputError(a + ": unknown option (see --help)");
@@ -126,9 +134,21 @@ int cmd_run(const Options& o) {
   fs::create_directories(out);
   rep.phase("meshing " + std::to_string(scene.bodies.size()) + " bod" +
             (scene.bodies.size() == 1 ? "y" : "ies"));
+  const constraints::ContactSceneSpec contact_spec =
+      constraints::parse_contact_scene(scene, o.method);
   const core::Model model = core::build_model(scene);
-  rep.phase("solving " + std::to_string(model.dofs.num_free()) + " equations");
-  core::Results results = nonlinear::solve_linear_static(model, scene.analysis);
+  std::unique_ptr<constraints::ContactSet> contact;
+  if (!contact_spec.empty() || (scene.explicit_model && !scene.explicit_model->gaps.empty()))
+    contact = std::make_unique<constraints::ContactSet>(model, contact_spec, scene);
+  if (!o.method.empty() && !contact)
+    throw InputError("--method " + o.method + ": the scene has no [[contact]] to enforce");
+  rep.phase("solving " + std::to_string(model.dofs.num_free()) + " equations" +
+            (contact ? " with " + contact_spec.options.method + " contact (" +
+                           std::to_string(contact->num_slave_nodes()) + " slave nodes)"
+                     : std::string()));
+  constraints::ContactReport contact_report;
+  core::Results results =
+      nonlinear::solve_linear_static(model, scene.analysis, contact.get(), &contact_report);
   const bool ok = results.status == SolveStatus::kConverged;
   if (ok) results.probes = core::evaluate_probes(scene, model, results);
 
@@ -137,15 +157,22 @@ int cmd_run(const Options& o) {
   core::write_file_atomic(out + "/step_0001.vtu", core::vtu_document(model, results));
   core::write_file_atomic(out + "/results.pvd", core::pvd_document({{1.0, "step_0001.vtu"}}));
   core::write_file_atomic(out + "/nodes.csv", core::nodes_csv(model, results));
+  if (contact) {
+    core::write_file_atomic(out + "/contact.csv", app::contact_csv(contact_report));
+    core::write_file_atomic(out + "/trace.csv", app::trace_csv(contact_report));
+  }
   std::string chart_error;
   if (ok) chart_error = app::chart_deformed_mesh(out, model, results);
+  if (ok && contact && contact_report.has_surface && chart_error.empty())
+    chart_error = app::chart_contact_pressure(out, contact_report, scene);
   results.time.output =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
   results.time.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const std::string status =
       ok ? "converged" : std::string("failed: ") + to_string(results.status) + ": " + results.message;
-  const nlohmann::json summary = app::make_summary(scene, &model, &results, status);
+  const nlohmann::json summary = app::make_summary(scene, &model, &results, status,
+                                                      contact ? &contact_report : nullptr);
   core::write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
   rep.line(app::terminal_summary(summary, out));
   if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");

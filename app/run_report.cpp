@@ -12,15 +12,36 @@ nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 }  // namespace
 
 nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
-                            const core::Results* r, const std::string& status) {
+                            const core::Results* r, const std::string& status,
+                            const constraints::ContactReport* contact) {
   nlohmann::json j;
   j["status"] = status;
   j["scene"] = scene.path;
   j["title"] = scene.title;
-  j["method"] = nullptr;
+  j["method"] = contact ? nlohmann::json(contact->method) : nlohmann::json();
   j["steps"] = 1;
   j["newton_iterations"] = 0;
   j["contact"] = nullptr;
+  if (contact) {
+    nlohmann::json c = {{"active_nodes", contact->active_nodes},
+                        {"p_max", number(contact->p_max)},
+                        {"length", number(contact->length)},
+                        {"max_penetration", number(contact->max_penetration)},
+                        {"total_force", number(contact->total_force)},
+                        {"status", to_string(contact->status)},
+                        {"message", contact->message},
+                        {"iterations", contact->iterations},
+                        {"detection_passes", contact->detection_passes},
+                        {"rows", contact->rows},
+                        {"slave_nodes", contact->nodes.size()},
+                        {"seconds", contact->seconds},
+                        {"pressure_recovered", contact->has_surface}};
+    double k_max = 0;
+    for (const auto& n : contact->nodes) k_max = std::max(k_max, n.penalty);
+    c["penalty_max"] = k_max > 0 ? nlohmann::json(k_max) : nlohmann::json();
+    c["penalty_history"] = contact->penalty_history;
+    j["contact"] = c;
+  }
   if (model) {
     j["mesh"] = {{"nodes", model->mesh.num_nodes()},
                  {"elements", model->mesh.num_elements()},
@@ -53,6 +74,19 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
   if (!scene.reference_kind.empty()) {
     nlohmann::json ref = {{"kind", scene.reference_kind}};
     for (const auto& [k, v] : scene.reference) ref[k] = v;
+    // Relative errors of the contact results against the reference values it names.
+    if (contact && r) {
+      nlohmann::json err = nlohmann::json::object();
+      const std::pair<const char*, double> measured[] = {{"p_max", contact->p_max},
+                                                         {"contact_length", contact->length},
+                                                         {"total_force", contact->total_force}};
+      for (const auto& [key, value] : measured) {
+        const auto it = scene.reference.find(key);
+        if (it != scene.reference.end() && it->second != 0)
+          err[key] = number((value - it->second) / it->second);
+      }
+      ref["relative_error"] = err;
+    }
     j["reference"] = ref;
   }
   return j;
@@ -74,10 +108,48 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
     os << "ZZ error   " << 100.0 * s["error"]["relative_error"].get<double>()
        << " % (global parameter " << s["error"]["global_parameter"].get<double>() << " for target "
        << 100.0 * s["error"]["target"].get<double>() << " %)\n";
+  if (s.contains("contact") && !s["contact"].is_null()) {
+    const auto& c = s["contact"];
+    os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
+       << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "
+       << c["slave_nodes"] << " slave nodes active\n"
+       << "           p_max " << c["p_max"].get<double>() << ", length "
+       << c["length"].get<double>() << ", total force " << c["total_force"].get<double>()
+       << ", max penetration " << c["max_penetration"].get<double>() << '\n';
+    if (s.contains("reference") && s["reference"].contains("relative_error"))
+      for (const auto& [key, e] : s["reference"]["relative_error"].items())
+        if (!e.is_null())
+          os << "reference  " << key << " " << s["reference"][key].get<double>() << ": error "
+             << std::showpos << 100.0 * e.get<double>() << std::noshowpos << " %\n";
+  }
   for (const auto& [name, value] : s["probes"].items())
     os << "probe      " << name << " = " << (value.is_null() ? std::string("null") : value.dump())
        << '\n';
   os << "results    " << out_dir << "/ (summary.json, results.pvd, nodes.csv, deformed.png)\n";
+  return os.str();
+}
+
+std::string contact_csv(const constraints::ContactReport& c) {
+  std::ostringstream os;
+  os << std::setprecision(12) << "node,x,y,gap,force,pressure,active,penalty\n";
+  for (const auto& n : c.nodes)
+    os << n.node + 1 << ',' << n.x.x() << ',' << n.x.y() << ',' << n.gap << ',' << n.force << ','
+       << n.pressure << ',' << (n.active ? 1 : 0) << ',' << n.penalty << '\n';
+  return os.str();
+}
+
+std::string trace_csv(const constraints::ContactReport& c) {
+  std::ostringstream os;
+  os << std::setprecision(10)
+     << "step,load_factor,iteration,residual,increment_norm,active,entering,leaving,"
+        "max_penetration,penalty,status\n";
+  for (size_t i = 0; i < c.history.size(); ++i) {
+    const auto& h = c.history[i];
+    const bool last = i + 1 == c.history.size();
+    os << 1 << ',' << 1.0 << ',' << h.iteration << ',' << h.residual << ",," << h.active << ','
+       << h.entering << ',' << h.leaving << ',' << h.max_penetration << ',' << h.penalty << ','
+       << (last ? to_string(c.status) : "iterating") << '\n';
+  }
   return os.str();
 }
 

@@ -18,7 +18,7 @@ struct StrategyOptions {
   double penalty_factor = 1.0e3;
   /// Penetration tolerance: absolute when > 0, else relative × the smallest contact edge.
   double tolerance = 0.0;
-  double relative_tolerance = 1.0e-4;
+  double relative_tolerance = 1.0e-6;
   /// adaptive_penalty: factor applied to a row's k while it penetrates too much, and the cap
   /// on k relative to the local stiffness.
   double penalty_growth = 10.0;

@@ -253,7 +253,8 @@ ConstraintSolution IpoptStrategy::solve(const ConstrainedProblem& p) {
   }
   s.active.assign(p.num_gaps(), 0);
   const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
-  for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = s.contact_force[i] > 1e-8 * fmax;
+  // Interior-point iterates leave O(mu / gap) forces on open rows: not contact.
+  for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = s.contact_force[i] > 1e-6 * fmax;
   finish_solution(p, s);
   IterationRecord rec;
   rec.iteration = iterations;

@@ -27,6 +27,10 @@ struct Results {
   SpdSolveReport solver;
   PhaseTimes time;
   std::map<std::string, double> probes;
+  /// Scalars of the analysis that probes can name (contact_pressure_max, contact_length, ...).
+  std::map<std::string, double> globals;
+  /// Extra nodal fields for the VTU (contact gap and pressure, ...): one value per node.
+  std::map<std::string, VecX> point_fields;
 
   /// All fields zero and sized for `mesh` (a failed solve, or a mesh-only output).
   static Results zeros(int num_nodes, int num_elements, int nodes_per_element) {

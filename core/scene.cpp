@@ -10,8 +10,6 @@
 
 namespace c2d::core {
 
-namespace {
-
 SelectionSpec parse_selection(const TomlView& v) {
   v.require_table();
   v.check_keys({"body", "group", "edge", "line", "segment", "box", "arc", "nearest", "nodes",
@@ -89,6 +87,8 @@ SelectionSpec parse_selection(const TomlView& v) {
     v.fail("a predicate: body, group, edge, line, segment, box, arc, nearest or nodes");
   return s;
 }
+
+namespace {
 
 RefineSpec parse_refine(const TomlView& v) {
   v.require_table();
@@ -177,7 +177,13 @@ ProbeSpec parse_probe(const TomlView& v) {
   p.at.where = v.where();
   p.name = v["name"].string();
   p.quantity = v["quantity"].choice({"ux", "uy", "umag", "sx", "sy", "sxy", "vm", "s1", "s2",
-                                     "reaction_x", "reaction_y"});
+                                     "reaction_x", "reaction_y", "contact_pressure_max",
+                                     "contact_length", "contact_force", "contact_penetration"});
+  if (p.quantity.rfind("contact_", 0) == 0) {
+    if (v.has("at") || v.has("on") || v.has("reduce"))
+      v.fail_message("a contact probe is a global quantity: give no 'at', 'on' or 'reduce'");
+    return p;
+  }
   if (v.has("at") == v.has("on")) v.fail("exactly one of 'at = [x, y]' or 'on = { ... }'");
   if (v.has("at")) p.point = v["at"].vec2();
   if (v.has("on")) p.on = parse_selection(v["on"]);
@@ -314,11 +320,8 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
     scene.probes.push_back(ps);
   }
 
-  for (const char* key : {"contact", "obstacle"})
-    if (root.has(key))
-      throw NotSupportedError(root[key].where() + ": [[" + key +
-                              "]] is not yet supported in this build (contact lands with the "
-                              "constraints module)");
+  // [[contact]] and [[obstacle]] belong to the constraints module, which parses them from
+  // Scene::raw (constraints/contact_scene.hpp).
 
   if (root.has("reference")) {
     const TomlView r = root["reference"];

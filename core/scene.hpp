@@ -134,6 +134,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 Scene parse_scene(const std::string& text, const std::string& name,
                   const std::vector<std::string>& overrides = {});
 
+class TomlView;
+/// Parses a node or edge selection table (shared with the modules that parse their own tables).
+SelectionSpec parse_selection(const TomlView& v);
+
 /// Applies one --set override to a TOML table (exposed for tests).
 void apply_override(toml::table& root, const std::string& assignment);
 

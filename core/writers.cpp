@@ -30,7 +30,7 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 
 namespace {
 
-void data_array(std::ostringstream& os, const char* name, int components,
+void data_array(std::ostringstream& os, const std::string& name, int components,
                 const std::function<double(int, int)>& value, int count) {
   os << "        <DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\""
      << components << "\" format=\"ascii\">\n";
@@ -86,6 +86,8 @@ std::string vtu_document(const Model& model, const Results& r) {
              mesh.num_nodes());
   data_array(os, "s2_smoothed", 1, [&](int i, int) { return nodal_quantity(model, r, "s2", i); },
              mesh.num_nodes());
+  for (const auto& [name, field] : r.point_fields)
+    data_array(os, name, 1, [&](int i, int) { return field[i]; }, mesh.num_nodes());
   os << "      </PointData>\n      <CellData>\n";
   auto element_mean = [&](int e) -> Voigt { return r.element_stresses.at_points[e].rowwise().mean(); };
   data_array(os, "stress_element", 3, [&](int e, int c) { return element_mean(e)[c]; },

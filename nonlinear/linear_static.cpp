@@ -16,9 +16,74 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+/// The contact solve: detect, solve with the scene's strategy, re-detect at the deformed
+/// configuration, repeat while slave nodes change master. Fills the report and the VTU fields.
+void solve_with_contact(const constraints::ContactSet& contact, const DofMap& dofs,
+                        const SpMat& k_ff, const VecX& f_ff, const VecX& u_prescribed, Results& r,
+                        VecX& u_free,
+                        constraints::ContactReport* report_out) {
+  using namespace c2d::constraints;
+  const auto strategy = ConstraintStrategy::create(contact.options());
+  ContactReport report;
+  report.method = strategy->name();
+  VecX u_full = u_prescribed;
+  std::vector<GapRow> rows = contact.detect(u_full);
+  ConstraintSolution s;
+  constexpr int kMaxPasses = 5;
+  for (int pass = 1; pass <= kMaxPasses; ++pass) {
+    const ConstrainedProblem problem = contact.problem(k_ff, f_ff, rows, u_full);
+    s = strategy->solve(problem);
+    report.detection_passes = pass;
+    report.iterations += s.iterations;
+    report.seconds += s.seconds;
+    const int offset = report.history.empty() ? 0 : report.history.back().iteration;
+    for (IterationRecord rec : s.history) {
+      rec.iteration += offset;
+      report.history.push_back(rec);
+    }
+    report.penalty_history.insert(report.penalty_history.end(), s.penalty_history.begin(),
+                                  s.penalty_history.end());
+    if (s.status != SolveStatus::kConverged) break;
+    u_full = dofs.expand(s.u);
+    std::vector<GapRow> next = contact.detect(u_full);
+    bool same = next.size() == rows.size();
+    for (size_t i = 0; same && i < rows.size(); ++i)
+      same = rows[i].slave == next[i].slave && rows[i].master_id == next[i].master_id;
+    if (same) break;
+    rows = std::move(next);
+  }
+  report.status = s.status;
+  report.message = s.message;
+  contact.report(rows, s, report);
+  r.status = s.status;
+  r.message = s.message;
+  r.solver.backend = report.method;
+  r.solver.status = s.status;
+  r.solver.message = s.message;
+  r.solver.numeric_factorizations = s.factorizations;
+  u_free = s.u;
+  r.globals["contact_pressure_max"] = report.p_max;
+  r.globals["contact_length"] = report.length;
+  r.globals["contact_force"] = report.total_force;
+  r.globals["contact_penetration"] = report.max_penetration;
+  const int nn = static_cast<int>(u_prescribed.size() / 2);
+  VecX gap = VecX::Zero(nn), pressure = VecX::Zero(nn), force = VecX::Zero(nn);
+  for (const auto& cn : report.nodes) {
+    gap[cn.node] = cn.gap;
+    pressure[cn.node] = cn.pressure;
+    force[cn.node] = cn.force;
+  }
+  r.point_fields["contact_gap"] = gap;
+  r.point_fields["contact_pressure"] = pressure;
+  r.point_fields["contact_force"] = force;
+  if (report_out) *report_out = std::move(report);
+}
 }  // namespace
 
-Results solve_linear_static(const Model& model, const AnalysisSpec& analysis) {
+Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
+                            const constraints::ContactSet* contact,
+                            constraints::ContactReport* contact_report) {
   Results r;
   const Mesh& mesh = model.mesh;
   const DofMap& dofs = model.dofs;
@@ -37,19 +102,27 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis) {
   r.time.assemble = seconds_since(t);
 
   t = std::chrono::steady_clock::now();
-  SpdSolver solver(analysis.solver == "ldlt" ? SpdSolver::Backend::kEigenLdlt
-                                             : SpdSolver::Backend::kCholmod);
   VecX u_free;
-  r.status = solver.factorize(assembler.matrix());
-  if (r.status == SolveStatus::kConverged) r.status = solver.solve(rhs, u_free);
-  r.solver = solver.report();
+  if (contact && !contact->empty()) {
+    solve_with_contact(*contact, dofs, assembler.matrix(), rhs, u_prescribed, r, u_free, contact_report);
+  } else {
+    SpdSolver solver(analysis.solver == "ldlt" ? SpdSolver::Backend::kEigenLdlt
+                                               : SpdSolver::Backend::kCholmod);
+    r.status = solver.factorize(assembler.matrix());
+    if (r.status == SolveStatus::kConverged) r.status = solver.solve(rhs, u_free);
+    r.solver = solver.report();
+    if (r.status != SolveStatus::kConverged) r.message = r.solver.message;
+  }
   r.time.solve = seconds_since(t);
-  if (r.status != SolveStatus::kConverged) {
+  if (r.status != SolveStatus::kConverged && (u_free.size() != dofs.num_free() || !u_free.allFinite() ||
+                                              u_free.isZero(0.0))) {
     Results failed = Results::zeros(mesh.num_nodes(), mesh.num_elements(), mesh.nodes_per_element());
     failed.status = r.status;
-    failed.message = r.solver.message;
+    failed.message = r.message;
     failed.solver = r.solver;
     failed.time = r.time;
+    failed.globals = r.globals;
+    failed.point_fields = r.point_fields;
     return failed;
   }
   r.displacement = dofs.expand(u_free);

@@ -1,0 +1,101 @@
+// Contact detection: where each slave node is relative to its master (an analytic obstacle,
+// boundary edges of another body, or a paired node), as a signed gap, a normal and the master
+// nodes with their weights. Negative gap = penetration. The normal points from the master
+// toward the free side, so the linearised gap is  δg = n · (δu_slave − Σ_a w_a δu_a).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace c2d::constraints {
+
+/// A rigid analytic obstacle with an exact gap and normal.
+struct Obstacle {
+  enum class Type { kLine, kCircle };
+  std::string name;
+  Type type = Type::kLine;
+  Vec2 point = Vec2::Zero();       ///< line: a point on it
+  Vec2 normal = Vec2::UnitY();     ///< line: unit normal toward the free side
+  Vec2 center = Vec2::Zero();      ///< circle
+  double radius = 0.0;             ///< circle
+  bool inside = false;             ///< circle: bodies stay inside it (a rigid hole)
+
+  /// Signed gap of point x and the normal toward the free side there.
+  void gap(const Vec2& x, double& g, Vec2& n) const;
+};
+
+/// One boundary edge of a master surface: 2 nodes (linear) or 3 (quadratic: ends, then middle),
+/// ordered with the body on the left so the outward normal is (t_y, −t_x).
+struct MasterEdge {
+  std::array<int, 3> nodes{-1, -1, -1};
+  int count = 2;
+};
+
+/// The closest point of a master surface to a slave point.
+struct SegmentProjection {
+  bool found = false;
+  int edge = -1;           ///< index into the search's edges
+  int vertex = -1;         ///< master node when the closest point is an edge end, else -1
+  double xi = 0.0;         ///< edge parameter in [0, 1]
+  double gap = 0.0;
+  Vec2 normal = Vec2::Zero();
+  Vec2 point = Vec2::Zero();
+  std::array<double, 3> weights{0, 0, 0};  ///< shape function values at xi
+};
+
+/// Edge shape functions on the parameter xi in [0, 1] (ends 0 and 1, middle node 2), with their
+/// first and second derivatives.
+void edge_shape(int count, double xi, std::array<double, 3>& n, std::array<double, 3>& dn,
+                std::array<double, 3>& ddn);
+/// Σ_a w_a x_a over the edge's nodes.
+Vec2 combine(const MasterEdge& e, const std::vector<Vec2>& x, const std::array<double, 3>& w);
+
+/// Closest-point projection onto one linear or quadratic edge (Newton on the parameter,
+/// clamped to the edge). The gap and normal are the edge's own (no vertex treatment).
+SegmentProjection project_on_edge(const MasterEdge& edge, const std::vector<Vec2>& x,
+                                  const Vec2& p);
+
+/// Closest-point search over a master surface: a uniform bucket grid over the edges' bounding
+/// boxes (grown by the search distance) gives the candidate edges of a point in O(1), so
+/// detection costs O(n_slave + n_master), never their product.
+///
+/// A point whose closest point is an edge end (a slave facing a master corner or sliding from
+/// one edge to the next) gets the vertex treatment: outside the body the normal is the
+/// direction from the vertex to the point and the gap its distance (continuous with the
+/// adjacent edges' gaps); inside, the normal is the mean of the adjacent edges' normals.
+class MasterSurfaceSearch {
+ public:
+  MasterSurfaceSearch(std::vector<MasterEdge> edges, const std::vector<Vec2>& x,
+                      double search_distance);
+  /// Projection of p; not found when no edge lies within the search distance. Edges that
+  /// contain `exclude_node` are skipped (a slave node never contacts its own edges).
+  SegmentProjection project(const Vec2& p, int exclude_node = -1) const;
+  const std::vector<MasterEdge>& edges() const { return edges_; }
+
+ private:
+  std::vector<MasterEdge> edges_;
+  const std::vector<Vec2>& x_;
+  double search_;
+  Vec2 origin_ = Vec2::Zero();
+  double cell_ = 1.0;
+  int nx_ = 1, ny_ = 1;
+  std::vector<std::vector<int>> cells_;
+  std::vector<std::vector<int>> vertex_edges_;  ///< per master node: adjacent edges (by id map)
+  std::vector<int> vertex_slot_;                ///< node -> row in vertex_edges_, -1 if none
+};
+
+/// A linearised gap row: slave node, master nodes with weights, normal, current gap.
+struct GapRow {
+  int slave = -1;
+  std::vector<std::pair<int, double>> master;  ///< (node, weight)
+  Vec2 normal = Vec2::UnitY();
+  double gap = 0.0;           ///< at the configuration it was detected in
+  int master_id = -1;         ///< edge, vertex (−2 − node), obstacle or pair id: changes = sliding
+  double penalty = 0.0;       ///< prescribed penalty (seed gap elements), 0 = method's choice
+  int pair = 0;               ///< which [[contact]] entry produced it
+};
+
+}  // namespace c2d::constraints

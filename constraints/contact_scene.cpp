@@ -1,0 +1,135 @@
+#include "constraints/contact_scene.hpp"
+
+#include "core/errors.hpp"
+#include "core/toml_view.hpp"
+
+namespace c2d::constraints {
+
+using core::TomlView;
+
+namespace {
+
+Obstacle parse_obstacle(const TomlView& v) {
+  Obstacle o;
+  o.name = v["name"].string();
+  const std::string type = v["type"].choice({"line", "circle"});
+  if (type == "line") {
+    v.check_keys({"name", "type", "point", "normal"});
+    o.type = Obstacle::Type::kLine;
+    o.point = v["point"].vec2();
+    o.normal = v["normal"].vec2();
+    if (o.normal.norm() == 0) v["normal"].fail("a non-zero normal pointing toward the bodies");
+    o.normal.normalize();
+  } else {
+    v.check_keys({"name", "type", "center", "radius", "inside"});
+    o.type = Obstacle::Type::kCircle;
+    o.center = v["center"].vec2();
+    o.radius = v["radius"].positive();
+    o.inside = v["inside"].boolean_or(false);
+  }
+  return o;
+}
+
+void parse_options(const TomlView& v, StrategyOptions& o) {
+  o.method = v["method"].choice_or(
+      {"penalty", "adaptive_penalty", "lagrange", "auglag", "ipopt", "ssn"}, o.method);
+  if (v.has("penalty")) {
+    const TomlView p = v["penalty"];
+    p.require_table();
+    p.check_keys({"k", "factor", "growth", "max_factor"});
+    if (p.has("k")) o.penalty_k = p["k"].positive();
+    if (p.has("factor")) o.penalty_factor = p["factor"].positive();
+    if (p.has("growth")) {
+      o.penalty_growth = p["growth"].number();
+      if (!(o.penalty_growth > 1)) p["growth"].fail("a growth factor > 1");
+    }
+    if (p.has("max_factor")) o.max_penalty_factor = p["max_factor"].positive();
+  }
+  if (v.has("auglag")) {
+    const TomlView a = v["auglag"];
+    a.require_table();
+    a.check_keys({"factor"});
+    o.augmentation_factor = a["factor"].positive();
+  }
+  if (v.has("ipopt")) {
+    const TomlView i = v["ipopt"];
+    i.require_table();
+    i.check_keys({"tol"});
+    o.ipopt_tolerance = i["tol"].positive();
+  }
+  if (v.has("tolerance")) o.tolerance = v["tolerance"].positive();
+  if (v.has("relative_tolerance")) o.relative_tolerance = v["relative_tolerance"].positive();
+  if (v.has("max_iterations")) {
+    o.max_iterations = v["max_iterations"].integer();
+    if (o.max_iterations < 1) v["max_iterations"].fail("an integer >= 1");
+  }
+}
+
+}  // namespace
+
+ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string& method) {
+  ContactSceneSpec spec;
+  if (scene.explicit_model) {
+    // The seed's gap elements: node_to_node pairs built by ContactSet from the legacy model.
+    spec.options.method = "penalty";
+  } else if (scene.raw) {
+    const TomlView root(scene.raw.get(), "", &scene.path);
+    for (const auto& v : root["obstacle"].tables()) {
+      Obstacle o = parse_obstacle(v);
+      for (const auto& other : spec.obstacles)
+        if (other.name == o.name) v["name"].fail("a unique obstacle name");
+      spec.obstacles.push_back(o);
+    }
+    bool first = true;
+    for (const auto& v : root["contact"].tables()) {
+      v.check_keys({"name", "slave", "master", "detection", "direction", "search_distance",
+                    "method", "penalty", "auglag", "ipopt", "tolerance", "relative_tolerance",
+                    "max_iterations"});
+      ContactPairSpec c;
+      c.where = v.where();
+      c.name = v["name"].string_or("contact" + std::to_string(spec.pairs.size() + 1));
+      c.slave = core::parse_selection(v["slave"]);
+      const TomlView m = v["master"];
+      m.require_table();
+      if (m.has("obstacle")) {
+        m.check_keys({"obstacle"});
+        const std::string name = m["obstacle"].string();
+        std::vector<std::string> names;
+        for (size_t i = 0; i < spec.obstacles.size(); ++i) {
+          names.push_back(spec.obstacles[i].name);
+          if (spec.obstacles[i].name == name) c.obstacle = static_cast<int>(i);
+        }
+        if (c.obstacle < 0) {
+          const std::string near = core::nearest_name(name, names);
+          m["obstacle"].fail("the name of an [[obstacle]]" +
+                             (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
+        }
+      } else {
+        c.master = core::parse_selection(m);
+      }
+      c.detection = v["detection"].choice_or({"node_to_segment", "node_to_node"}, c.detection);
+      if (c.detection == "node_to_node" && c.obstacle >= 0)
+        v["detection"].fail("node_to_segment for an obstacle master");
+      if (v.has("direction")) {
+        c.direction = v["direction"].vec2();
+        if (c.direction->norm() == 0) v["direction"].fail("a non-zero direction");
+        c.direction->normalize();
+      }
+      if (v.has("search_distance")) c.search_distance = v["search_distance"].positive();
+      StrategyOptions o = spec.options;
+      parse_options(v, o);
+      if (!first && o.method != spec.options.method)
+        v["method"].fail("the same method as the first [[contact]] ('" + spec.options.method +
+                         "'): one solve enforces every contact the same way");
+      if (first) spec.options = o;
+      first = false;
+      spec.pairs.push_back(c);
+    }
+  }
+  if (!method.empty()) spec.options.method = method;
+  if (const std::string error = spec.options.validate(); !error.empty())
+    throw InputError(scene.path + ": contact " + error);
+  return spec;
+}
+
+}  // namespace c2d::constraints

@@ -1,0 +1,352 @@
+#include "constraints/contact_set.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/errors.hpp"
+
+namespace c2d::constraints {
+
+namespace {
+
+MasterEdge to_master_edge(const core::BoundaryEdge& be, int order) {
+  MasterEdge e;
+  e.nodes = be.nodes;
+  e.count = order == 1 ? 2 : 3;
+  return e;
+}
+
+double chord(const std::vector<Vec2>& x, const MasterEdge& e) {
+  return (x[e.nodes[1]] - x[e.nodes[0]]).norm();
+}
+
+}  // namespace
+
+ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
+                       const core::Scene& scene)
+    : model_(model), spec_(spec) {
+  const core::Mesh& mesh = model.mesh;
+  std::vector<int> slaves;
+  for (size_t c = 0; c < spec.pairs.size(); ++c) {
+    const ContactPairSpec& cs = spec.pairs[c];
+    const std::vector<int> slave_nodes = core::select_nodes(model, cs.slave);
+    std::vector<int> slave_edges;
+    try {
+      slave_edges = core::select_edges(model, cs.slave);
+    } catch (const InputError&) {
+      if (cs.detection != "node_to_node") throw;
+    }
+    for (int id : slave_edges) {
+      slave_edges_.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
+      slave_edge_thickness_.push_back(
+          model.materials[mesh.element_material[mesh.boundary_edges[id].element]].thickness);
+    }
+    slaves.insert(slaves.end(), slave_nodes.begin(), slave_nodes.end());
+    if (cs.detection == "node_to_node") {
+      // Each slave node paired with its nearest master node (bucket grid, O(n)).
+      const std::vector<int> masters = core::select_nodes(model, *cs.master);
+      Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+      for (int n : masters) lo = lo.cwiseMin(mesh.nodes[n]), hi = hi.cwiseMax(mesh.nodes[n]);
+      const double cell =
+          std::max((hi - lo).norm() / std::sqrt(static_cast<double>(masters.size())), 1e-12);
+      std::map<std::pair<long, long>, std::vector<int>> grid;
+      auto key = [&](const Vec2& p) {
+        return std::make_pair(static_cast<long>(std::floor((p.x() - lo.x()) / cell)),
+                              static_cast<long>(std::floor((p.y() - lo.y()) / cell)));
+      };
+      for (int n : masters) grid[key(mesh.nodes[n])].push_back(n);
+      for (int s : slave_nodes) {
+        const auto [ci, cj] = key(mesh.nodes[s]);
+        int best = -1;
+        double best_d = 1e300;
+        for (int ring = 0; best < 0 || ring <= 1; ++ring) {
+          for (long i = ci - ring; i <= ci + ring; ++i)
+            for (long j = cj - ring; j <= cj + ring; ++j) {
+              const auto it = grid.find({i, j});
+              if (it == grid.end()) continue;
+              for (int n : it->second) {
+                const double d = (mesh.nodes[n] - mesh.nodes[s]).norm();
+                if (n != s && d < best_d) best_d = d, best = n;
+              }
+            }
+          if (ring > 4096) break;
+        }
+        if (best < 0) throw InputError(cs.where + ": no master node for slave node " + std::to_string(s + 1));
+        NodePair np;
+        np.master = best;
+        np.slave = s;
+        np.index = static_cast<int>(c);
+        if (cs.direction) {
+          np.direction = *cs.direction;
+        } else if (best_d > 0) {
+          np.direction = (mesh.nodes[s] - mesh.nodes[best]) / best_d;
+        } else {
+          throw InputError(cs.where + ": slave node " + std::to_string(s + 1) +
+                           " coincides with its master node; give 'direction = [nx, ny]'");
+        }
+        node_pairs_.push_back(np);
+      }
+      continue;
+    }
+    Pair p;
+    p.slaves = slave_nodes;
+    p.index = static_cast<int>(c);
+    p.obstacle = cs.obstacle;
+    if (cs.obstacle < 0) {
+      for (int id : core::select_edges(model, *cs.master))
+        p.master_edges.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
+      double longest = 0.0;
+      for (const auto& e : p.master_edges) longest = std::max(longest, chord(mesh.nodes, e));
+      p.search = cs.search_distance > 0 ? cs.search_distance : 2.0 * longest;
+    } else if (cs.search_distance > 0) {
+      p.search = cs.search_distance;
+    }
+    pairs_.push_back(p);
+  }
+  if (scene.explicit_model) {
+    // The seed's gap elements: direction from node a to node b (the file's (nx, ny) when they
+    // coincide), gap = d · (x_b − x_a), the file's stiffness for penalty methods.
+    for (const auto& g : scene.explicit_model->gaps) {
+      NodePair np;
+      np.master = g.node_a;
+      np.slave = g.node_b;
+      const Vec2 d = mesh.nodes[g.node_b] - mesh.nodes[g.node_a];
+      np.direction = d.norm() > 0 ? Vec2(d.normalized()) : Vec2(g.direction.normalized());
+      np.penalty = g.stiffness;
+      np.index = static_cast<int>(spec.pairs.size());
+      node_pairs_.push_back(np);
+      slaves.push_back(g.node_b);
+    }
+  }
+  std::sort(slaves.begin(), slaves.end());
+  slaves.erase(std::unique(slaves.begin(), slaves.end()), slaves.end());
+  slave_nodes_ = slaves;
+  double shortest = 1e300;
+  for (const auto& e : slave_edges_) shortest = std::min(shortest, chord(mesh.nodes, e));
+  if (shortest == 1e300) shortest = mesh.edge_length_range().first;
+  length_scale_ = shortest > 0 && shortest < 1e300 ? shortest : model.model_size * 1e-3;
+}
+
+std::vector<GapRow> ContactSet::detect(const VecX& u) const {
+  const core::Mesh& mesh = model_.mesh;
+  std::vector<Vec2> x(mesh.num_nodes());
+  for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
+  std::vector<GapRow> rows;
+  for (const Pair& p : pairs_) {
+    if (p.obstacle >= 0) {
+      const Obstacle& o = spec_.obstacles[p.obstacle];
+      for (int s : p.slaves) {
+        GapRow r;
+        r.slave = s;
+        o.gap(x[s], r.gap, r.normal);
+        if (r.gap > p.search) continue;
+        r.master_id = p.obstacle;
+        r.pair = p.index;
+        rows.push_back(r);
+      }
+      continue;
+    }
+    const MasterSurfaceSearch search(p.master_edges, x, p.search);
+    for (int s : p.slaves) {
+      const SegmentProjection q = search.project(x[s], s);
+      if (!q.found) continue;
+      GapRow r;
+      r.slave = s;
+      r.gap = q.gap;
+      r.normal = q.normal;
+      r.pair = p.index;
+      r.master_id = q.vertex >= 0 ? -2 - q.vertex : q.edge;
+      const MasterEdge& e = p.master_edges[q.edge];
+      for (int a = 0; a < e.count; ++a)
+        if (q.weights[a] != 0.0) r.master.emplace_back(e.nodes[a], q.weights[a]);
+      rows.push_back(r);
+    }
+  }
+  for (const NodePair& np : node_pairs_) {
+    GapRow r;
+    r.slave = np.slave;
+    r.master = {{np.master, 1.0}};
+    r.normal = np.direction;
+    r.gap = np.direction.dot(x[np.slave] - x[np.master]);
+    r.penalty = np.penalty;
+    r.pair = np.index;
+    r.master_id = np.master;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
+                                       const std::vector<GapRow>& rows, const VecX& u_full) const {
+  const core::DofMap& dofs = model_.dofs;
+  ConstrainedProblem p;
+  p.stiffness = k_ff;
+  p.load = f_ff;
+  p.eq_jacobian = SpMat(0, dofs.num_free());
+  p.eq_rhs = VecX();
+  const int m = static_cast<int>(rows.size());
+  std::vector<Eigen::Triplet<double>> t;
+  p.gap0 = VecX(m);
+  p.gap_penalty = VecX::Zero(m);
+  for (int i = 0; i < m; ++i) {
+    const GapRow& r = rows[i];
+    // g(u) = g_det + Σ a_j (u_j − u_det,j): free DOFs become columns, the rest is constant.
+    double g0 = r.gap;
+    auto add = [&](int node, double w) {
+      for (int c = 0; c < 2; ++c) {
+        const int dof = 2 * node + c;
+        const double a = w * r.normal[c];
+        if (a == 0.0) continue;
+        const int eq = dofs.equation(dof);
+        g0 -= a * u_full[dof];
+        if (eq >= 0) t.emplace_back(i, eq, a);
+        else g0 += a * u_full[dof];  // prescribed: stays at its detection value
+      }
+    };
+    add(r.slave, 1.0);
+    for (const auto& [node, w] : r.master) add(node, -w);
+    p.gap0[i] = g0;
+    p.gap_penalty[i] = r.penalty;
+  }
+  p.gap_jacobian = SpMat(m, dofs.num_free());
+  p.gap_jacobian.setFromTriplets(t.begin(), t.end());
+  p.length_scale = length_scale_;
+  p.model_size = model_.model_size;
+  return p;
+}
+
+VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
+                      const std::vector<double>& thickness, const std::vector<int>& nodes,
+                      const VecX& force, const std::vector<char>& active) {
+  // Unknowns: the pressures of the active nodes; inactive nodes hold p = 0, so the projection
+  // cannot ring beyond the edge of the contact zone.
+  std::map<int, int> index;
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (active[i]) index.emplace(nodes[i], static_cast<int>(index.size()));
+  VecX out = VecX::Zero(static_cast<int>(nodes.size()));
+  if (index.empty()) return out;
+  // 4-point Gauss on [0, 1]: exact for the quadratic-times-quadratic products on straight edges,
+  // and accurate on the gently curved edges of a contact surface.
+  const double gp[4] = {0.0694318442029737, 0.3300094782075719, 0.6699905217924281,
+                        0.9305681557970263};
+  const double gw[4] = {0.1739274225687269, 0.3260725774312731, 0.3260725774312731,
+                        0.1739274225687269};
+  std::vector<Eigen::Triplet<double>> t;
+  for (size_t k = 0; k < edges.size(); ++k) {
+    const MasterEdge& e = edges[k];
+    int slot[3] = {-1, -1, -1};
+    bool any = false;
+    for (int a = 0; a < e.count; ++a) {
+      const auto it = index.find(e.nodes[a]);
+      if (it != index.end()) slot[a] = it->second, any = true;
+    }
+    if (!any) continue;
+    for (int q = 0; q < 4; ++q) {
+      std::array<double, 3> n, dn, ddn;
+      edge_shape(e.count, gp[q], n, dn, ddn);
+      const double w = gw[q] * combine(e, x, dn).norm() * thickness[k];
+      for (int a = 0; a < e.count; ++a)
+        for (int b = 0; b < e.count; ++b)
+          if (slot[a] >= 0 && slot[b] >= 0) t.emplace_back(slot[a], slot[b], w * n[a] * n[b]);
+    }
+  }
+  const int ns = static_cast<int>(index.size());
+  SpMat mass(ns, ns);
+  mass.setFromTriplets(t.begin(), t.end());
+  VecX f = VecX::Zero(ns);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const auto it = index.find(nodes[i]);
+    if (it != index.end()) f[it->second] += force[static_cast<int>(i)];
+  }
+  // An active node on no slave edge has no pressure (a zero row): keep the system regular.
+  const VecX diag = mass.diagonal();
+  for (int i = 0; i < ns; ++i)
+    if (diag[i] == 0.0) mass.coeffRef(i, i) = 1.0, f[i] = 0.0;
+  Eigen::SimplicialLDLT<SpMat> ldlt(mass);
+  if (ldlt.info() != Eigen::Success) return out;
+  const VecX p = ldlt.solve(f);
+  if (!p.allFinite()) return out;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const auto it = index.find(nodes[i]);
+    if (it != index.end()) out[static_cast<int>(i)] = p[it->second];
+  }
+  return out;
+}
+
+void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolution& s,
+                        ContactReport& r) const {
+  const core::Mesh& mesh = model_.mesh;
+  std::map<int, int> slot;
+  r.nodes.clear();
+  for (int n : slave_nodes_) {
+    slot[n] = static_cast<int>(r.nodes.size());
+    ContactNodeResult cn;
+    cn.node = n;
+    cn.x = mesh.nodes[n];
+    cn.gap = 1e300;
+    r.nodes.push_back(cn);
+  }
+  for (size_t i = 0; i < rows.size(); ++i) {
+    ContactNodeResult& cn = r.nodes[slot[rows[i].slave]];
+    const int k = static_cast<int>(i);
+    cn.gap = std::min(cn.gap, s.gap.size() > k ? s.gap[k] : rows[i].gap);
+    cn.force += s.contact_force.size() > k ? s.contact_force[k] : 0.0;
+    cn.penalty = std::max(cn.penalty, s.penalty.size() > k ? s.penalty[k] : 0.0);
+    cn.active = cn.active || (static_cast<int>(s.active.size()) > k && s.active[k]);
+  }
+  VecX force(static_cast<int>(r.nodes.size()));
+  std::vector<char> active(r.nodes.size(), 0);
+  for (size_t i = 0; i < r.nodes.size(); ++i) {
+    if (r.nodes[i].gap == 1e300) r.nodes[i].gap = 0.0;  // no master within reach
+    force[static_cast<int>(i)] = r.nodes[i].force;
+    active[i] = r.nodes[i].active;
+  }
+  const VecX p = recover_pressure(mesh.nodes, slave_edges_, slave_edge_thickness_, slave_nodes_,
+                                  force, active);
+  r.has_surface = !slave_edges_.empty();
+  r.active_nodes = 0;
+  r.total_force = 0.0;
+  r.p_max = 0.0;
+  for (size_t i = 0; i < r.nodes.size(); ++i) {
+    r.nodes[i].pressure = p[static_cast<int>(i)];
+    r.active_nodes += r.nodes[i].active;
+    r.total_force += r.nodes[i].force;
+    r.p_max = std::max(r.p_max, r.nodes[i].pressure);
+  }
+  // Contact length: the part of the slave edges touching an active node where the recovered
+  // pressure, interpolated along the edge, is positive.
+  r.length = 0.0;
+  for (const MasterEdge& e : slave_edges_) {
+    bool touches = false;
+    double pe[3] = {0, 0, 0};
+    for (int a = 0; a < e.count; ++a) {
+      const auto& cn = r.nodes[slot[e.nodes[a]]];
+      touches = touches || cn.active;
+      pe[a] = cn.pressure;
+    }
+    if (!touches) continue;
+    constexpr int kSamples = 64;
+    auto value = [&](double s) {
+      if (e.count == 2) return (1 - s) * pe[0] + s * pe[1];
+      return (1 - s) * (1 - 2 * s) * pe[0] + s * (2 * s - 1) * pe[1] + 4 * s * (1 - s) * pe[2];
+    };
+    auto point = [&](double s) {
+      if (e.count == 2) return Vec2((1 - s) * mesh.nodes[e.nodes[0]] + s * mesh.nodes[e.nodes[1]]);
+      return Vec2((1 - s) * (1 - 2 * s) * mesh.nodes[e.nodes[0]] +
+                  s * (2 * s - 1) * mesh.nodes[e.nodes[1]] + 4 * s * (1 - s) * mesh.nodes[e.nodes[2]]);
+    };
+    for (int k = 0; k < kSamples; ++k) {
+      const double s0 = static_cast<double>(k) / kSamples, s1 = static_cast<double>(k + 1) / kSamples;
+      const double v0 = value(s0), v1 = value(s1);
+      const double seg = (point(s1) - point(s0)).norm();
+      if (v0 > 0 && v1 > 0) r.length += seg;
+      else if (v0 > 0 || v1 > 0) r.length += seg * std::max(v0, v1) / (std::abs(v0) + std::abs(v1));
+    }
+  }
+  r.max_penetration = s.max_penetration;
+  r.rows = static_cast<int>(rows.size());
+}
+
+}  // namespace c2d::constraints

@@ -1,0 +1,107 @@
+// The contact pairs of a model: detection at any configuration, the constrained problem the
+// strategies solve, and the report (gaps, forces, a consistently recovered pressure).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "constraints/constrained_problem.hpp"
+#include "constraints/contact_detection.hpp"
+#include "constraints/contact_scene.hpp"
+#include "core/dof_map.hpp"
+#include "core/model.hpp"
+
+namespace c2d::constraints {
+
+/// Per slave node, after a solve.
+struct ContactNodeResult {
+  int node = -1;
+  Vec2 x = Vec2::Zero();  ///< reference position
+  double gap = 0.0;       ///< smallest gap of its rows (negative = penetration)
+  double force = 0.0;     ///< normal contact force (≥ 0)
+  double pressure = 0.0;  ///< recovered contact pressure (0 for nodes on no slave edge)
+  double penalty = 0.0;   ///< penalty stiffness used (penalty-type methods)
+  bool active = false;
+};
+
+struct ContactReport {
+  std::string method;
+  SolveStatus status = SolveStatus::kFailed;
+  std::string message;
+  int iterations = 0;          ///< backend iterations summed over detection passes
+  int detection_passes = 0;
+  int rows = 0;                ///< gap rows in the last pass
+  std::vector<ContactNodeResult> nodes;
+  int active_nodes = 0;
+  double p_max = 0.0;
+  double length = 0.0;          ///< measure of the slave surface carrying pressure
+  double max_penetration = 0.0;
+  double total_force = 0.0;     ///< Σ normal forces
+  double seconds = 0.0;         ///< time in the backend
+  bool has_surface = false;     ///< pressures recovered on slave edges
+  std::vector<IterationRecord> history;
+  std::vector<double> penalty_history;
+};
+
+class ContactSet {
+ public:
+  /// Resolves the selections of `spec` on the model (throws InputError when one matches nothing)
+  /// and adds the seed's gap elements of a legacy scene.
+  ContactSet(const core::Model& model, const ContactSceneSpec& spec, const core::Scene& scene);
+
+  bool empty() const { return pairs_.empty() && node_pairs_.empty(); }
+  const StrategyOptions& options() const { return spec_.options; }
+  int num_slave_nodes() const { return static_cast<int>(slave_nodes_.size()); }
+
+  /// Gap rows at the configuration X + u (u: full displacement vector).
+  std::vector<GapRow> detect(const VecX& u_full) const;
+
+  /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
+  /// configuration), with prescribed DOFs moved into g0.
+  ConstrainedProblem problem(const SpMat& k_ff, const VecX& f_ff, const std::vector<GapRow>& rows,
+                             const VecX& u_full) const;
+
+  /// Fills the per-node results, recovered pressure, p_max, contact length and total force.
+  void report(const std::vector<GapRow>& rows, const ConstraintSolution& s, ContactReport& r) const;
+
+  /// Smallest slave (else master) edge length: the scale of relative tolerances.
+  double length_scale() const { return length_scale_; }
+
+ private:
+  struct Pair {
+    std::vector<int> slaves;
+    std::vector<MasterEdge> master_edges;
+    int obstacle = -1;
+    double search = 1e300;
+    int index = 0;
+    std::vector<int> body_of_slave;
+  };
+  /// A fixed node-to-node pair: gap = d · (x_slave − x_master).
+  struct NodePair {
+    int master = -1, slave = -1;
+    Vec2 direction = Vec2::UnitY();
+    double penalty = 0.0;
+    int index = 0;
+  };
+  const core::Model& model_;
+  ContactSceneSpec spec_;
+  std::vector<Pair> pairs_;
+  std::vector<NodePair> node_pairs_;
+  std::vector<int> slave_nodes_;             ///< unique, sorted
+  std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
+  std::vector<double> slave_edge_thickness_;
+  double length_scale_ = 1.0;
+};
+
+/// Consistent recovery of a pressure field from nodal normal forces on a line of boundary
+/// edges: solves M p = f with the edge mass matrix M = Σ t ∫ N_a N_b ds, so a pressure the
+/// discretisation can represent comes back exactly (a quadratic edge's 1 : 4 : 1 nodal forces do
+/// not turn into oscillating corner and mid-side values, as dividing by a tributary length does).
+/// Only the active nodes carry unknowns; the others hold p = 0, which confines the projection's
+/// ringing at the edge of the contact zone (where the Hertz pressure has a square-root
+/// singularity in its slope). Returns one value per entry of `nodes`.
+VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
+                      const std::vector<double>& thickness, const std::vector<int>& nodes,
+                      const VecX& force, const std::vector<char>& active);
+
+}  // namespace c2d::constraints
