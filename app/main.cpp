@@ -170,7 +170,11 @@ int cmd_run(const Options& o) {
   results.time.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   const std::string status =
-      ok ? "converged" : std::string("failed: ") + to_string(results.status) + ": " + results.message;
+      ok ? "converged"
+         : std::string("failed: ") +
+               (results.status == SolveStatus::kFailed ? std::string()
+                                                       : std::string(to_string(results.status)) + ": ") +
+               results.message;
   const nlohmann::json summary = app::make_summary(scene, &model, &results, status,
                                                       contact ? &contact_report : nullptr);
   core::write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");

@@ -74,12 +74,15 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
   if (!scene.reference_kind.empty()) {
     nlohmann::json ref = {{"kind", scene.reference_kind}};
     for (const auto& [k, v] : scene.reference) ref[k] = v;
-    // Relative errors of the contact results against the reference values it names.
-    if (contact && r) {
+    // Relative errors against the reference values: contact results and probes by name.
+    if (r) {
+      std::vector<std::pair<std::string, double>> measured(r->probes.begin(), r->probes.end());
+      if (contact) {
+        measured.emplace_back("p_max", contact->p_max);
+        measured.emplace_back("contact_length", contact->length);
+        measured.emplace_back("total_force", contact->total_force);
+      }
       nlohmann::json err = nlohmann::json::object();
-      const std::pair<const char*, double> measured[] = {{"p_max", contact->p_max},
-                                                         {"contact_length", contact->length},
-                                                         {"total_force", contact->total_force}};
       for (const auto& [key, value] : measured) {
         const auto it = scene.reference.find(key);
         if (it != scene.reference.end() && it->second != 0)

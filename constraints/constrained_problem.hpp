@@ -28,6 +28,9 @@ struct ConstrainedProblem {
   /// Per inequality row: a fixed penalty stiffness the input prescribes (the seed's gap
   /// elements), 0 where the strategy chooses. Empty = none prescribed.
   VecX gap_penalty;
+  /// Optional warm start: the inequality rows to treat as closed at the start (empty: the rows
+  /// with g0 ≤ 0). A re-detection or a Newton iteration passes the previous active set.
+  std::vector<char> initial_active;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.

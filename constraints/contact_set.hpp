@@ -66,6 +66,7 @@ class ContactSet {
 
   /// Smallest slave (else master) edge length: the scale of relative tolerances.
   double length_scale() const { return length_scale_; }
+  double model_size() const { return model_.model_size; }
 
  private:
   struct Pair {

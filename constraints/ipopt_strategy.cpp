@@ -48,7 +48,7 @@ RowSet prepare_rows(const ConstrainedProblem& p) {
     }
     k.norm = std::sqrt(n2);
     if (k.norm == 0.0) {
-      if (equality ? rhs != 0.0 : rhs < 0.0)
+      if (equality ? rhs != 0.0 : rhs > 0.0)
         out.inconsistent = std::string(equality ? "equality" : "gap") + " row " +
                            std::to_string(r) + " has no coefficients but cannot be satisfied";
       ++out.dropped_zero;

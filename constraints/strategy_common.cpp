@@ -24,6 +24,7 @@ double penetration_tolerance(const StrategyOptions& o, const ConstrainedProblem&
 }
 
 std::vector<char> initially_closed(const ConstrainedProblem& p) {
+  if (static_cast<int>(p.initial_active.size()) == p.num_gaps()) return p.initial_active;
   std::vector<char> active(p.num_gaps(), 0);
   const double touch = 1e-12 * p.model_size;
   for (int i = 0; i < p.num_gaps(); ++i) active[i] = p.gap0[i] <= touch;

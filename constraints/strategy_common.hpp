@@ -14,7 +14,8 @@ namespace c2d::constraints {
 /// Penetration tolerance: the absolute option, else relative × the problem's length scale.
 double penetration_tolerance(const StrategyOptions& options, const ConstrainedProblem& p);
 
-/// Rows closed at the start (g0 ≤ 1e-12 × model size): touching or already penetrating.
+/// Rows closed at the start: the problem's warm start if it has one, else the rows with
+/// g0 ≤ 1e-12 × model size (touching or already penetrating).
 std::vector<char> initially_closed(const ConstrainedProblem& p);
 
 /// Fills gap, max penetration and equality violation from u; turns any non-finite result into

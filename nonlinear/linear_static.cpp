@@ -1,6 +1,7 @@
 #include "nonlinear/linear_static.hpp"
 
 #include <chrono>
+#include <cmath>
 
 #include "core/assembler.hpp"
 #include "core/elasticity_kernels.hpp"
@@ -31,8 +32,10 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
   std::vector<GapRow> rows = contact.detect(u_full);
   ConstraintSolution s;
   constexpr int kMaxPasses = 5;
+  std::vector<char> warm;
   for (int pass = 1; pass <= kMaxPasses; ++pass) {
-    const ConstrainedProblem problem = contact.problem(k_ff, f_ff, rows, u_full);
+    ConstrainedProblem problem = contact.problem(k_ff, f_ff, rows, u_full);
+    problem.initial_active = warm;
     s = strategy->solve(problem);
     report.detection_passes = pass;
     report.iterations += s.iterations;
@@ -46,11 +49,23 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
                                   s.penalty_history.end());
     if (s.status != SolveStatus::kConverged) break;
     u_full = dofs.expand(s.u);
+    // The linearisation holds if detection at the deformed configuration finds the same rows
+    // with the gaps the linearised rows predicted (a node sliding along a flat master changes
+    // edge without changing its gap); otherwise linearise again about u, warm-started.
     std::vector<GapRow> next = contact.detect(u_full);
     bool same = next.size() == rows.size();
+    const double tol = 1e-9 * contact.model_size();
     for (size_t i = 0; same && i < rows.size(); ++i)
-      same = rows[i].slave == next[i].slave && rows[i].master_id == next[i].master_id;
+      same = rows[i].slave == next[i].slave &&
+             std::abs(next[i].gap - s.gap[static_cast<int>(i)]) <= tol;
     if (same) break;
+    warm.assign(next.size(), 0);
+    for (size_t i = 0; i < next.size(); ++i)
+      for (size_t k = 0; k < rows.size(); ++k)
+        if (rows[k].slave == next[i].slave && rows[k].pair == next[i].pair) {
+          warm[i] = s.active[k];
+          break;
+        }
     rows = std::move(next);
   }
   report.status = s.status;
