@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 
 namespace c2d::app {
@@ -23,9 +24,11 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
   j["newton_iterations"] = 0;
   j["contact"] = nullptr;
   if (contact) {
+    // Without slave edges (node-to-node gaps) there is no pressure field, only forces.
+    const double nan = std::numeric_limits<double>::quiet_NaN();
     nlohmann::json c = {{"active_nodes", contact->active_nodes},
-                        {"p_max", number(contact->p_max)},
-                        {"length", number(contact->length)},
+                        {"p_max", number(contact->has_surface ? contact->p_max : nan)},
+                        {"length", number(contact->has_surface ? contact->length : nan)},
                         {"max_penetration", number(contact->max_penetration)},
                         {"total_force", number(contact->total_force)},
                         {"status", to_string(contact->status)},
@@ -116,8 +119,8 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
     os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
        << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "
        << c["slave_nodes"] << " slave nodes active\n"
-       << "           p_max " << c["p_max"].get<double>() << ", length "
-       << c["length"].get<double>() << ", total force " << c["total_force"].get<double>()
+       << "           p_max " << c["p_max"].dump() << ", length " << c["length"].dump()
+       << ", total force " << c["total_force"].get<double>()
        << ", max penetration " << c["max_penetration"].get<double>() << '\n';
     if (s.contains("reference") && s["reference"].contains("relative_error"))
       for (const auto& [key, e] : s["reference"]["relative_error"].items())

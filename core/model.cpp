@@ -193,10 +193,6 @@ Model build_model(const Scene& scene) {
     return mat;
   };
   if (scene.explicit_model) {
-    if (!scene.explicit_model->gaps.empty())
-      throw NotSupportedError(scene.path + ": gap elements (type 1) are not yet supported in "
-                                           "this build (node-to-node contact lands with the "
-                                           "constraints module)");
     model.mesh = scene.explicit_model->mesh;
     for (const auto& m : scene.explicit_model->materials) model.materials.push_back(make_material(m));
     model.body_names = {"body"};

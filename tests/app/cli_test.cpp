@@ -85,3 +85,51 @@ TEST(Cli, HelpForEveryVerb) {
     EXPECT_NE(output.find("usage: contact2d"), std::string::npos);
   }
 }
+
+TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
+  // The seed's two cantilevers (example 4.3, T6): the upper tip deflects 0.0077 m (seed T6 and
+  // SAP2000); 2% tolerance for the reconstructed geometry and mesh.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_cantilevers";
+  fs::remove_all(out);
+  ASSERT_EQ(run("run " + example("two_cantilevers.toml") + " --method ssn --out " + out.string() +
+                " --quiet"),
+            0);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"], "converged");
+  EXPECT_EQ(s["method"], "ssn");
+  for (const char* key : {"active_nodes", "p_max", "length", "max_penetration", "total_force"})
+    EXPECT_TRUE(s["contact"].contains(key)) << key;
+  EXPECT_NEAR(s["probes"]["a_uy"].get<double>(), -0.0077, 0.02 * 0.0077);
+  EXPECT_NEAR(s["probes"]["d_uy"].get<double>(), -0.0034, 0.02 * 0.0034);
+  // Equilibrium of the lower beam: the contact force equals its support reaction; Euler-Bernoulli
+  // compatibility gives 1.11 t.
+  EXPECT_NEAR(s["contact"]["total_force"].get<double>(), 1.11, 0.03 * 1.11);
+  std::ifstream csv(out / "contact.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "node,x,y,gap,force,pressure,active,penalty");
+  EXPECT_TRUE(fs::exists(out / "trace.csv"));
+  std::ifstream vtu(out / "step_0001.vtu");
+  std::stringstream ss;
+  ss << vtu.rdbuf();
+  EXPECT_NE(ss.str().find("Name=\"contact_pressure\""), std::string::npos);
+}
+
+TEST(Cli, ContactMethodErrorsAndIllConditionedPenalty) {
+  std::string output;
+  EXPECT_EQ(run("run " + example("two_cantilevers.toml") + " --method newton", &output), 2);
+  EXPECT_NE(output.find("found 'newton'"), std::string::npos) << output;
+  EXPECT_EQ(run("run " + example("cantilever.toml") + " --method ssn", &output), 2);
+  EXPECT_NE(output.find("no [[contact]]"), std::string::npos) << output;
+  // k = 1e20 is 1e14 times the elements' stiffness: reported, not solved into garbage.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_k1e20";
+  fs::remove_all(out);
+  EXPECT_EQ(run("run " + example("two_cantilevers.toml") +
+                    " --method penalty --set contact.penalty.k=1e20 --quiet --out " + out.string(),
+                &output),
+            1);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"].get<std::string>().rfind("failed: ill_conditioned", 0), 0u) << s["status"];
+}

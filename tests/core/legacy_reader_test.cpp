@@ -77,7 +77,7 @@ TEST(LegacyReader, ErrorsNameTheLine) {
   }
 }
 
-TEST(LegacyReader, GapElementsAreNotYetSupported) {
+TEST(LegacyReader, GapElementsAreReadAsNodePairs) {
   const std::string path = write_temp("c2d_gap.dat", R"(4 3 1
 1 0 0 1 1 0 0
 2 1 0 0 0 0 0
@@ -91,5 +91,7 @@ TEST(LegacyReader, GapElementsAreNotYetSupported) {
   const Scene s = load_scene(path);
   ASSERT_EQ(s.explicit_model->gaps.size(), 1u);
   EXPECT_EQ(s.explicit_model->gaps[0].node_a, 1);
-  EXPECT_THROW(build_model(s), NotSupportedError);
+  EXPECT_EQ(s.explicit_model->gaps[0].node_b, 2);
+  EXPECT_DOUBLE_EQ(s.explicit_model->gaps[0].stiffness, 1e6);
+  EXPECT_EQ(build_model(s).mesh.num_elements(), 2);  // gaps are constraints, not elements
 }

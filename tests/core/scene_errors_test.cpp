@@ -124,11 +124,6 @@ TEST(SceneErrors, OverrideTypoSuggestsKey) {
   expect_error({"--set typo", t.c_str(), {"analysys.element=T6"}, {"analysys", "did you mean 'analysis'"}});
 }
 
-TEST(SceneErrors, ContactNotYetSupported) {
-  const std::string t = scene("[[contact]]\nmethod = \"lagrange\"\n");
-  expect_error({"contact", t.c_str(), {}, {"bad.toml:", "contact", "not yet supported"}});
-}
-
 TEST(SceneOverrides, ArrayEntriesByNameIndexAndFanOut) {
   const std::string t = scene("");
   Scene s = parse_scene(t, "ok.toml", {"body.b.mesh.size=0.25", "material[0].E=5.0"});
