@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 #include <cmath>
 
+#include "constraints/active_set_tracker.hpp"
 #include "constraints/constraint_strategy.hpp"
 
 using namespace c2d;
@@ -166,4 +167,20 @@ TEST(RedundantRows, LagrangeSaysSingularIpoptDropsTheCopy) {
   const ConstraintSolution bad = ConstraintStrategy::create(o)->solve(p);
   EXPECT_EQ(bad.status, SolveStatus::kFailed);
   EXPECT_NE(bad.message.find("inconsistent"), std::string::npos) << bad.message;
+}
+
+TEST(ActiveSetTracker, CountsChangesAndDetectsARecurringSet) {
+  ActiveSetTracker t;
+  const std::vector<char> a = {1, 0, 1}, b = {0, 1, 1};
+  auto c = t.record(a);
+  EXPECT_EQ(c.entering, 2);
+  c = t.record(b);
+  EXPECT_EQ(c.entering, 1);
+  EXPECT_EQ(c.leaving, 1);
+  EXPECT_FALSE(c.repeated);
+  c = t.record(a);  // back to the first set: a cycle, not convergence
+  EXPECT_TRUE(c.repeated);
+  EXPECT_FALSE(c.unchanged);
+  c = t.record(a);
+  EXPECT_TRUE(c.unchanged);
 }
