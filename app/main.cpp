@@ -21,6 +21,7 @@
 #include "core/scene.hpp"
 #include "core/writers.hpp"
 #include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 namespace fs = std::filesystem;
 using namespace c2d;
@@ -147,8 +148,26 @@ int cmd_run(const Options& o) {
                            std::to_string(contact->num_slave_nodes()) + " slave nodes)"
                      : std::string()));
   constraints::ContactReport contact_report;
-  core::Results results =
-      nonlinear::solve_linear_static(model, scene.analysis, contact.get(), &contact_report);
+  std::vector<nonlinear::StepRecord> steps;
+  core::Results results;
+  if (scene.analysis.geometric_nonlinearity) {
+    if (contact)
+      throw NotSupportedError(scene.path +
+                              ": contact with geometric_nonlinearity = true is not yet supported "
+                              "in this build (run it with geometric_nonlinearity = false)");
+    nonlinear::StepperOptions so;
+    so.steps = scene.analysis.steps;
+    so.on_step = [&](const nonlinear::StepRecord& s) {
+      char line[160];
+      std::snprintf(line, sizeof line, "step %d  lambda %.4g  %s in %d Newton iterations%s",
+                    s.step, s.load_factor, to_string(s.newton.status), s.newton.iterations,
+                    s.attempt > 0 ? " (after a cutback)" : "");
+      rep.phase(line);
+    };
+    results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, so, &steps);
+  } else {
+    results = nonlinear::solve_linear_static(model, scene.analysis, contact.get(), &contact_report);
+  }
   const bool ok = results.status == SolveStatus::kConverged;
   if (ok) results.probes = core::evaluate_probes(scene, model, results);
 
@@ -161,6 +180,7 @@ int cmd_run(const Options& o) {
     core::write_file_atomic(out + "/contact.csv", app::contact_csv(contact_report));
     core::write_file_atomic(out + "/trace.csv", app::trace_csv(contact_report));
   }
+  if (!steps.empty()) core::write_file_atomic(out + "/trace.csv", app::newton_trace_csv(steps));
   std::string chart_error;
   if (ok) chart_error = app::chart_deformed_mesh(out, model, results);
   if (ok && contact && contact_report.has_surface && chart_error.empty())
@@ -175,8 +195,15 @@ int cmd_run(const Options& o) {
                (results.status == SolveStatus::kFailed ? std::string()
                                                        : std::string(to_string(results.status)) + ": ") +
                results.message;
-  const nlohmann::json summary = app::make_summary(scene, &model, &results, status,
-                                                      contact ? &contact_report : nullptr);
+  nlohmann::json summary = app::make_summary(scene, &model, &results, status,
+                                                contact ? &contact_report : nullptr);
+  if (!steps.empty()) {
+    int newton = 0;
+    for (const auto& s : steps) newton += s.newton.iterations;
+    summary["steps"] = static_cast<int>(results.globals["steps"]);
+    summary["newton_iterations"] = newton;
+    summary["load_factor"] = results.globals["load_factor"];
+  }
   core::write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
   rep.line(app::terminal_summary(summary, out));
   if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");

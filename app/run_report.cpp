@@ -159,4 +159,21 @@ std::string trace_csv(const constraints::ContactReport& c) {
   return os.str();
 }
 
+std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps) {
+  std::ostringstream os;
+  os << std::setprecision(10)
+     << "step,load_factor,iteration,residual,increment_norm,active,entering,leaving,"
+        "max_penetration,penalty,status\n";
+  for (const auto& s : steps) {
+    const auto& norms = s.newton.residual_norms;
+    for (size_t k = 0; k < norms.size(); ++k) {
+      const bool last = k + 1 == norms.size();
+      os << s.step << ',' << s.load_factor << ',' << k << ',' << norms[k] << ','
+         << (last ? std::to_string(s.newton.last_step) : std::string()) << ",0,0,0,0,0,"
+         << (last ? to_string(s.newton.status) : "iterating") << '\n';
+    }
+  }
+  return os.str();
+}
+
 }  // namespace c2d::app

@@ -8,6 +8,7 @@
 #include "core/model.hpp"
 #include "core/results.hpp"
 #include "core/scene.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 namespace c2d::app {
 
@@ -25,5 +26,8 @@ std::string trace_csv(const constraints::ContactReport& contact);
 
 /// A few human lines for the terminal.
 std::string terminal_summary(const nlohmann::json& summary, const std::string& out_dir);
+
+/// One row per Newton iteration of every load step attempt (DESIGN §4 columns).
+std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps);
 
 }  // namespace c2d::app

@@ -153,10 +153,6 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
                 : PlaneState::kPlaneStress;
   a.order = v["element"].choice_or({"T3", "T6"}, "T3") == "T6" ? 2 : 1;
   a.geometric_nonlinearity = v["geometric_nonlinearity"].boolean_or(false);
-  if (a.geometric_nonlinearity)
-    throw NotSupportedError(v["geometric_nonlinearity"].where() +
-                            ": geometric nonlinearity is not yet supported in this build "
-                            "(set it to false)");
   if (v.has("steps")) {
     a.steps = v["steps"].integer();
     if (a.steps < 1) v["steps"].fail("an integer >= 1");

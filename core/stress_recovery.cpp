@@ -3,13 +3,14 @@
 #include <stdexcept>
 
 #include "core/elasticity_kernels.hpp"
+#include "core/finite_strain_kernels.hpp"
 #include "core/spd_solver.hpp"
 #include "core/triangle.hpp"
 
 namespace c2d::core {
 
 ElementStresses compute_element_stresses(const Mesh& mesh, const std::vector<Material>& materials,
-                                         const VecX& u) {
+                                         const VecX& u, bool finite_strain) {
   ElementStresses s;
   const int nn = mesh.nodes_per_element();
   s.at_points.resize(mesh.num_elements());
@@ -18,7 +19,9 @@ ElementStresses compute_element_stresses(const Mesh& mesh, const std::vector<Mat
   for (int e = 0; e < mesh.num_elements(); ++e) {
     for (int i = 0; i < nn; ++i) ue.segment<2>(2 * i) = u.segment<2>(2 * mesh.elements[e][i]);
     const Eigen::MatrixX2d x = mesh.element_coords(e);
-    s.at_points[e] = element_point_stresses(x, materials[mesh.element_material[e]], ue);
+    const Material& mat = materials[mesh.element_material[e]];
+    s.at_points[e] = finite_strain ? finite_strain_point_stresses(x, mat, ue)
+                                   : element_point_stresses(x, mat, ue);
     s.at_nodes[e] = extrapolate_to_nodes(s.at_points[e], nn);
   }
   return s;

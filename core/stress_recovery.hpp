@@ -20,9 +20,10 @@ struct ElementStresses {
   std::vector<Eigen::Matrix3Xd> at_nodes;   ///< per element: extrapolated to its nodes
 };
 
-/// Element stresses of displacement u (full vector, 2 per node).
+/// Element stresses of displacement u (full vector, 2 per node): small-strain stresses, or with
+/// `finite_strain` the Cauchy stresses of the St. Venant–Kirchhoff kernels.
 ElementStresses compute_element_stresses(const Mesh& mesh, const std::vector<Material>& materials,
-                                         const VecX& u);
+                                         const VecX& u, bool finite_strain = false);
 
 /// Stress inside an element from its stress-point values: constant (T3) or the linear field
 /// through the 3 Gauss points (T6), at reference coordinates (a, b).

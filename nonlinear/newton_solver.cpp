@@ -1,0 +1,189 @@
+#include "nonlinear/newton_solver.hpp"
+
+#include <kinsol/kinsol.h>
+#include <kinsol/kinsol_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <exception>
+
+namespace c2d::nonlinear {
+
+namespace {
+
+struct Bridge {
+  NewtonSystem* system = nullptr;
+  std::vector<double>* history = nullptr;
+  std::string error;  ///< KINSOL's last error message
+  int n = 0;
+};
+
+Eigen::Map<VecX> view(N_Vector v) {
+  return {N_VGetArrayPointer(v), static_cast<Eigen::Index>(N_VGetLength(v))};
+}
+
+// C callbacks: catch everything, answer with KINSOL's flags (> 0 recoverable, < 0 fatal).
+int residual_callback(N_Vector u, N_Vector f, void* data) {
+  auto* b = static_cast<Bridge*>(data);
+  try {
+    VecX r;
+    if (!b->system->residual(view(u), r) || !r.allFinite()) return 1;
+    view(f) = r;
+    return 0;
+  } catch (const std::exception& e) {
+    b->error = e.what();
+    return -1;
+  }
+}
+
+int jacobian_callback(N_Vector u, N_Vector fu, SUNMatrix, void* data, N_Vector, N_Vector) {
+  auto* b = static_cast<Bridge*>(data);
+  try {
+    b->history->push_back(view(fu).cwiseAbs().maxCoeff());
+    return b->system->factorize_jacobian(view(u)) ? 0 : 1;
+  } catch (const std::exception& e) {
+    b->error = e.what();
+    return -1;
+  }
+}
+
+// The matrix is a placeholder: the system owns the real one, so zero() has nothing to clear.
+SUNMatrix_ID matrix_id(SUNMatrix) { return SUNMATRIX_CUSTOM; }
+int matrix_zero(SUNMatrix) { return 0; }
+void matrix_destroy(SUNMatrix m) { SUNMatFreeEmpty(m); }
+
+SUNLinearSolver_Type solver_type(SUNLinearSolver) { return SUNLINEARSOLVER_DIRECT; }
+SUNLinearSolver_ID solver_id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
+int solver_initialize(SUNLinearSolver) { return SUNLS_SUCCESS; }
+int solver_setup(SUNLinearSolver, SUNMatrix) { return SUNLS_SUCCESS; }  // done in the Jacobian
+int solver_solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector rhs, realtype) {
+  auto* b = static_cast<Bridge*>(s->content);
+  try {
+    VecX sol;
+    if (!b->system->solve(view(rhs), sol) || !sol.allFinite()) return SUNLS_PACKAGE_FAIL_REC;
+    view(x) = sol;
+    return SUNLS_SUCCESS;
+  } catch (const std::exception& e) {
+    b->error = e.what();
+    return SUNLS_PACKAGE_FAIL_UNREC;
+  }
+}
+sunindextype solver_lastflag(SUNLinearSolver) { return 0; }
+int solver_free(SUNLinearSolver s) {
+  s->content = nullptr;
+  SUNLinSolFreeEmpty(s);
+  return 0;
+}
+
+void error_handler(int, const char*, const char*, char* msg, void* data) {
+  static_cast<Bridge*>(data)->error = msg ? msg : "";
+}
+
+SolveStatus map_flag(int flag, std::string& message) {
+  switch (flag) {
+    case KIN_SUCCESS:
+    case KIN_INITIAL_GUESS_OK: return SolveStatus::kConverged;
+    case KIN_MAXITER_REACHED: message = "Newton iteration limit reached"; return SolveStatus::kMaxIterations;
+    case KIN_LINESEARCH_NONCONV:
+    case KIN_LINESEARCH_BCFAIL: message = "line search failed"; return SolveStatus::kDiverged;
+    case KIN_MXNEWT_5X_EXCEEDED: message = "five maximal Newton steps in a row"; return SolveStatus::kDiverged;
+    case KIN_LSETUP_FAIL:
+    case KIN_LSOLVE_FAIL: message = "the Newton system could not be factorised"; return SolveStatus::kSingular;
+    default: {
+      char* name = KINGetReturnFlagName(flag);
+      message = std::string("KINSOL: ") + (name ? name : "error");
+      std::free(name);
+      return SolveStatus::kFailed;
+    }
+  }
+}
+
+}  // namespace
+
+NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o) {
+  NewtonReport report;
+  const int n = static_cast<int>(u.size());
+  if (n == 0) {
+    report.status = SolveStatus::kConverged;
+    return report;
+  }
+  Bridge bridge;
+  bridge.system = &system;
+  bridge.history = &report.residual_norms;
+  bridge.n = n;
+
+  SUNContext ctx = nullptr;
+  if (SUNContext_Create(nullptr, &ctx) != 0) {
+    report.message = "SUNContext_Create failed";
+    return report;
+  }
+  N_Vector x = N_VNew_Serial(n, ctx), uscale = N_VNew_Serial(n, ctx), fscale = N_VNew_Serial(n, ctx);
+  void* kin = KINCreate(ctx);
+  SUNMatrix mat = SUNMatNewEmpty(ctx);
+  SUNLinearSolver ls = SUNLinSolNewEmpty(ctx);
+  int flag = -1;
+  if (x && uscale && fscale && kin && mat && ls) {
+    mat->ops->getid = matrix_id;
+    mat->ops->zero = matrix_zero;
+    mat->ops->destroy = matrix_destroy;
+    ls->content = &bridge;
+    ls->ops->gettype = solver_type;
+    ls->ops->getid = solver_id;
+    ls->ops->initialize = solver_initialize;
+    ls->ops->setup = solver_setup;
+    ls->ops->solve = solver_solve;
+    ls->ops->lastflag = solver_lastflag;
+    ls->ops->free = solver_free;
+    view(x) = u;
+    N_VConst(1.0, uscale);
+    N_VConst(1.0 / std::max(o.residual_scale, 1e-300), fscale);
+    flag = KINInit(kin, residual_callback, x);
+    if (flag == KIN_SUCCESS) flag = KINSetUserData(kin, &bridge);
+    if (flag == KIN_SUCCESS) flag = KINSetErrHandlerFn(kin, error_handler, &bridge);
+    if (flag == KIN_SUCCESS) flag = KINSetLinearSolver(kin, ls, mat);
+    if (flag == KIN_SUCCESS) flag = KINSetJacFn(kin, jacobian_callback);
+    // Exact Newton (a new Jacobian every iteration), no clipping of long first steps.
+    if (flag == KIN_SUCCESS) flag = KINSetMaxSetupCalls(kin, 1);
+    if (flag == KIN_SUCCESS) flag = KINSetMaxNewtonStep(kin, 1e300);
+    if (flag == KIN_SUCCESS) flag = KINSetFuncNormTol(kin, o.residual_tolerance);
+    if (flag == KIN_SUCCESS) flag = KINSetScaledStepTol(kin, 1e-300);
+    if (flag == KIN_SUCCESS) flag = KINSetNumMaxIters(kin, o.max_iterations);
+    if (flag == KIN_SUCCESS)
+      flag = KINSol(kin, x, o.line_search ? KIN_LINESEARCH : KIN_NONE, uscale, fscale);
+    long iters = 0;
+    KINGetNumNonlinSolvIters(kin, &iters);
+    realtype fnorm = 0, step = 0;
+    KINGetFuncNorm(kin, &fnorm);
+    KINGetStepLength(kin, &step);
+    report.iterations = static_cast<int>(iters);
+    report.last_step = step;
+    report.status = map_flag(flag, report.message);
+    if (!bridge.error.empty() && report.status != SolveStatus::kConverged)
+      report.message += ": " + bridge.error;
+    u = view(x);
+    (void)fnorm;
+    VecX r;
+    report.final_residual = system.residual(u, r) ? r.cwiseAbs().maxCoeff() : 0.0;
+  } else {
+    report.message = "could not allocate KINSOL objects";
+  }
+  report.residual_norms.push_back(report.final_residual);
+  if (!u.allFinite()) {
+    report.status = SolveStatus::kFailed;
+    report.message = "Newton produced non-finite values";
+  }
+  if (kin) KINFree(&kin);
+  if (ls) SUNLinSolFree(ls);
+  if (mat) SUNMatDestroy(mat);
+  if (x) N_VDestroy(x);
+  if (uscale) N_VDestroy(uscale);
+  if (fscale) N_VDestroy(fscale);
+  SUNContext_Free(&ctx);
+  return report;
+}
+
+}  // namespace c2d::nonlinear
