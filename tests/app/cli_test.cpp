@@ -133,3 +133,39 @@ TEST(Cli, ContactMethodErrorsAndIllConditionedPenalty) {
   const nlohmann::json s = nlohmann::json::parse(in);
   EXPECT_EQ(s["status"].get<std::string>().rfind("failed: ill_conditioned", 0), 0u) << s["status"];
 }
+
+TEST(Cli, NonlinearRunsAndAnImpossibleLoadExitsOneWithItsSteps) {
+  // The elastica (P L²/EI = 2): Mattiasson's w/L = 0.49346, u/L = 0.16064 within 0.5 %.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_elastica";
+  fs::remove_all(out);
+  ASSERT_EQ(run("run " + example("elastica.toml") + " --quiet --out " + out.string()), 0);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_NEAR(-s["probes"]["tip_uy"].get<double>() / 1000.0 / 0.49346, 1.0, 0.005);
+  EXPECT_NEAR(-s["probes"]["tip_ux"].get<double>() / 1000.0 / 0.16064, 1.0, 0.005);
+  EXPECT_EQ(s["steps"].get<int>(), 10);
+  EXPECT_GE(s["newton_iterations"].get<int>(), 10);
+  EXPECT_TRUE(fs::exists(out / "trace.csv"));
+  // A block pressed with 0.5 E, beyond what St. Venant–Kirchhoff can carry (its nominal stress
+  // peaks at E / (3√3)): exit 1, the converged steps kept.
+  const fs::path crush = fs::temp_directory_path() / "c2d_cli_crush";
+  fs::remove_all(crush);
+  fs::create_directories(crush);
+  const fs::path scene = crush / "crush.toml";
+  std::ofstream(scene) << "[analysis]\ngeometric_nonlinearity = true\nsteps = 10\n"
+                          "[[material]]\nname = \"m\"\nE = 1000.0\nnu = 0.0\n"
+                          "[[body]]\nname = \"b\"\nmaterial = \"m\"\n"
+                          "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 1.0] }\n"
+                          "mesh = { size = 0.5 }\n"
+                          "[[support]]\non = { edge = \"bottom\" }\nfix = [\"uy\"]\n"
+                          "[[support]]\non = { edge = \"left\" }\nfix = [\"ux\"]\n"
+                          "[[load]]\non = { edge = \"top\" }\ntraction = [0.0, -500.0]\n";
+  std::string output;
+  EXPECT_EQ(run("run " + scene.string() + " --quiet --out " + crush.string(), &output), 1) << output;
+  std::ifstream in2(crush / "summary.json");
+  const nlohmann::json f = nlohmann::json::parse(in2);
+  EXPECT_EQ(f["status"].get<std::string>().rfind("failed: ", 0), 0u) << f["status"];
+  EXPECT_GE(f["steps"].get<int>(), 1);
+  EXPECT_LT(f["load_factor"].get<double>(), 1.0);
+  EXPECT_TRUE(fs::exists(crush / "step_0001.vtu"));
+}
