@@ -1,6 +1,5 @@
 #include "constraints/adaptive_penalty_strategy.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "constraints/penalty_strategy.hpp"
@@ -8,10 +7,8 @@
 
 namespace c2d::constraints {
 
-ConstraintSolution AdaptivePenaltyStrategy::solve(const ConstrainedProblem& p) {
-  const auto t0 = std::chrono::steady_clock::now();
+ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
-  s.method = name();
   StrategyOptions start = options_;
   start.penalty_k = 0.0;  // always start from the local stiffness
   VecX k_gap, k_eq;
@@ -65,8 +62,6 @@ ConstraintSolution AdaptivePenaltyStrategy::solve(const ConstrainedProblem& p) {
   if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kMaxIterations)
     penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
   s.penalty = k_gap;
-  finish_solution(p, s);
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }
 

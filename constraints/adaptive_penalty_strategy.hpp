@@ -11,7 +11,9 @@ class AdaptivePenaltyStrategy final : public ConstraintStrategy {
  public:
   explicit AdaptivePenaltyStrategy(const StrategyOptions& options) : options_(options) {}
   std::string name() const override { return "adaptive_penalty"; }
-  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ protected:
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
 
  private:
   StrategyOptions options_;

@@ -1,6 +1,5 @@
 #include "constraints/auglag_strategy.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "constraints/penalty_strategy.hpp"
@@ -8,10 +7,8 @@
 
 namespace c2d::constraints {
 
-ConstraintSolution AugLagStrategy::solve(const ConstrainedProblem& p) {
-  const auto t0 = std::chrono::steady_clock::now();
+ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
-  s.method = name();
   StrategyOptions start = options_;
   start.penalty_k = 0.0;
   VecX k_gap, k_eq;
@@ -34,7 +31,7 @@ ConstraintSolution AugLagStrategy::solve(const ConstrainedProblem& p) {
     }
     const VecX g = p.gap0 + p.gap_jacobian * s.u;
     const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
-    const double penetration = g.size() ? std::max(0.0, -g.minCoeff()) : 0.0;
+    const double penetration = max_penetration(g);
     const double violation = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
     // Uzawa update; the history's residual is the largest multiplier change.
     double change = 0.0;
@@ -60,8 +57,6 @@ ConstraintSolution AugLagStrategy::solve(const ConstrainedProblem& p) {
   s.active.assign(p.num_gaps(), 0);
   for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = lambda[i] > 0;
   s.penalty = k_gap;
-  finish_solution(p, s);
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }
 

@@ -11,7 +11,9 @@ class AugLagStrategy final : public ConstraintStrategy {
  public:
   explicit AugLagStrategy(const StrategyOptions& options) : options_(options) {}
   std::string name() const override { return "auglag"; }
-  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ protected:
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
 
  private:
   StrategyOptions options_;

@@ -1,11 +1,14 @@
 #include "constraints/constraint_strategy.hpp"
 
+#include <chrono>
+
 #include "constraints/adaptive_penalty_strategy.hpp"
 #include "constraints/auglag_strategy.hpp"
 #include "constraints/ipopt_strategy.hpp"
 #include "constraints/lagrange_strategy.hpp"
 #include "constraints/penalty_strategy.hpp"
 #include "constraints/ssn_strategy.hpp"
+#include "constraints/strategy_common.hpp"
 #include "core/errors.hpp"
 
 namespace c2d::constraints {
@@ -36,6 +39,15 @@ std::string StrategyOptions::validate() const {
   if (!(ipopt_tolerance > 0)) return "ipopt.tol: expected a tolerance > 0";
   if (max_iterations < 1) return "max_iterations: expected an integer >= 1";
   return {};
+}
+
+ConstraintSolution ConstraintStrategy::solve(const ConstrainedProblem& problem) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ConstraintSolution s = solve_problem(problem);
+  s.method = name();
+  finish_solution(problem, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return s;
 }
 
 std::unique_ptr<ConstraintStrategy> ConstraintStrategy::create(const StrategyOptions& o) {

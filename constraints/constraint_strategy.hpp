@@ -43,12 +43,17 @@ class ConstraintStrategy {
   virtual ~ConstraintStrategy() = default;
   virtual std::string name() const = 0;
   /// Solves the problem. Never throws for numerical trouble: the status and message say what
-  /// happened, and every field is finite.
-  virtual ConstraintSolution solve(const ConstrainedProblem& problem) = 0;
+  /// happened, and every field is finite. Times the method, names it in the solution and
+  /// derives the gaps, penetration and equality violation from u.
+  ConstraintSolution solve(const ConstrainedProblem& problem);
 
   /// The only place a method name becomes a class. Throws InputError for an unknown method or
   /// invalid options.
   static std::unique_ptr<ConstraintStrategy> create(const StrategyOptions& options);
+
+ protected:
+  /// The method itself: u, forces, multipliers, active set, status, history.
+  virtual ConstraintSolution solve_problem(const ConstrainedProblem& problem) = 0;
 };
 
 }  // namespace c2d::constraints

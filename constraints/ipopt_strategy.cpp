@@ -3,7 +3,6 @@
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
 #include <IpTNLP.hpp>
-#include <chrono>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -200,15 +199,12 @@ SolveStatus map_status(Ipopt::ApplicationReturnStatus s, std::string& message) {
 
 }  // namespace
 
-ConstraintSolution IpoptStrategy::solve(const ConstrainedProblem& p) {
-  const auto t0 = std::chrono::steady_clock::now();
+ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
-  s.method = name();
   const RowSet rows = prepare_rows(p);
   if (!rows.inconsistent.empty()) {
     s.status = SolveStatus::kFailed;
     s.message = "inconsistent constraints: " + rows.inconsistent;
-    finish_solution(p, s);
     return s;
   }
   Ipopt::SmartPtr<ContactQp> qp = new ContactQp(p, rows);
@@ -228,7 +224,6 @@ ConstraintSolution IpoptStrategy::solve(const ConstrainedProblem& p) {
   if (st != Ipopt::Solve_Succeeded) {
     s.status = SolveStatus::kFailed;
     s.message = "Ipopt initialisation failed";
-    finish_solution(p, s);
     return s;
   }
   st = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(qp));
@@ -255,16 +250,14 @@ ConstraintSolution IpoptStrategy::solve(const ConstrainedProblem& p) {
   const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
   // Interior-point iterates leave O(mu / gap) forces on open rows: not contact.
   for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = s.contact_force[i] > 1e-6 * fmax;
-  finish_solution(p, s);
   IterationRecord rec;
   rec.iteration = iterations;
   rec.active = count_active(s.active);
   rec.entering = rec.active;
-  rec.max_penetration = s.max_penetration;
+  rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
   s.history.push_back(rec);
   s.iterations = iterations;
   s.factorizations = iterations;
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }
 

@@ -13,7 +13,9 @@ class IpoptStrategy final : public ConstraintStrategy {
  public:
   explicit IpoptStrategy(const StrategyOptions& options) : options_(options) {}
   std::string name() const override { return "ipopt"; }
-  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ protected:
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
 
  private:
   StrategyOptions options_;

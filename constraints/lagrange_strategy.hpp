@@ -10,7 +10,9 @@ class LagrangeStrategy final : public ConstraintStrategy {
  public:
   explicit LagrangeStrategy(const StrategyOptions& options) : options_(options) {}
   std::string name() const override { return "lagrange"; }
-  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ protected:
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
 
  private:
   StrategyOptions options_;

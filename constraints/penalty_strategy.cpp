@@ -1,6 +1,5 @@
 #include "constraints/penalty_strategy.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -52,10 +51,8 @@ double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX&
 }
 }  // namespace
 
-ConstraintSolution PenaltyStrategy::solve(const ConstrainedProblem& p) {
-  const auto t0 = std::chrono::steady_clock::now();
+ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
-  s.method = name();
   VecX k_gap, k_eq;
   default_penalties(p, options_, options_.penalty_factor, k_gap, k_eq);
   std::vector<char> active = initially_closed(p);
@@ -85,8 +82,6 @@ ConstraintSolution PenaltyStrategy::solve(const ConstrainedProblem& p) {
   else
     s.u = VecX::Zero(p.num_unknowns());
   s.penalty = k_gap;
-  finish_solution(p, s);
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return s;
 }
 

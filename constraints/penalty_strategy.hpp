@@ -10,7 +10,9 @@ class PenaltyStrategy final : public ConstraintStrategy {
  public:
   explicit PenaltyStrategy(const StrategyOptions& options) : options_(options) {}
   std::string name() const override { return "penalty"; }
-  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ protected:
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
 
  private:
   StrategyOptions options_;

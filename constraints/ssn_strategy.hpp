@@ -13,7 +13,9 @@ class SsnStrategy final : public ConstraintStrategy {
  public:
   explicit SsnStrategy(const StrategyOptions& options) : options_(options) {}
   std::string name() const override { return "ssn"; }
-  ConstraintSolution solve(const ConstrainedProblem& problem) override;
+
+ protected:
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
 
  private:
   StrategyOptions options_;

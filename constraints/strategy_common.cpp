@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "constraints/kkt_solver.hpp"
+
 namespace c2d::constraints {
 
 VecX ConstrainedProblem::row_stiffness(const SpMat& rows) const {
@@ -31,6 +33,23 @@ std::vector<char> initially_closed(const ConstrainedProblem& p) {
   return active;
 }
 
+double max_penetration(const VecX& gap) {
+  return gap.size() > 0 ? std::max(0.0, -gap.minCoeff()) : 0.0;
+}
+
+IterationRecord make_record(int iteration, const std::vector<char>& next,
+                            const ActiveSetTracker::Change& change, const VecX& gap,
+                            double residual) {
+  IterationRecord rec;
+  rec.iteration = iteration;
+  rec.active = count_active(next);
+  rec.entering = change.entering;
+  rec.leaving = change.leaving;
+  rec.max_penetration = max_penetration(gap);
+  rec.residual = residual;
+  return rec;
+}
+
 void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
   const int m = p.num_gaps();
   if (s.u.size() != p.num_unknowns()) s.u = VecX::Zero(p.num_unknowns());
@@ -49,7 +68,7 @@ void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
     s.penalty.setZero();
   }
   s.gap = m > 0 ? VecX(p.gap0 + p.gap_jacobian * s.u) : VecX();
-  s.max_penetration = m > 0 ? std::max(0.0, -s.gap.minCoeff()) : 0.0;
+  s.max_penetration = max_penetration(s.gap);
   s.max_eq_violation =
       p.num_equalities() > 0 ? (p.eq_jacobian * s.u - p.eq_rhs).cwiseAbs().maxCoeff() : 0.0;
   if (!s.history.empty()) s.iterations = s.history.back().iteration;
@@ -93,15 +112,10 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
     std::vector<char> next(m, 0);
     for (int i = 0; i < m; ++i) next[i] = lambda[i] - k_gap[i] * g[i] > 0;
     const auto change = tracker.record(next);
-    IterationRecord rec;
-    rec.iteration = first_iteration + it - 1;
-    rec.active = count_active(next);
-    rec.entering = change.entering;
-    rec.leaving = change.leaving;
-    rec.max_penetration = m > 0 ? std::max(0.0, -g.minCoeff()) : 0.0;
+    IterationRecord rec = make_record(first_iteration + it - 1, next, change, g,
+                                      solver_.report().relative_residual);
     rec.penalty = std::max(m > 0 ? k_gap.maxCoeff() : 0.0,
                            p_.num_equalities() > 0 ? k_eq.maxCoeff() : 0.0);
-    rec.residual = solver_.report().relative_residual;
     history.push_back(rec);
     active = next;
     if (change.unchanged) return out;
@@ -124,23 +138,23 @@ double saddle_point_scale(const ConstrainedProblem& p) {
 }
 
 namespace {
-// Position of each multiplier in the saddle-point vector (-1: not in the system).
+// Position of each multiplier in the saddle-point vector (-1: not in the system); `size` gets
+// the system's size.
 std::vector<int> gap_positions(const ConstrainedProblem& p, const std::vector<char>& active,
-                               bool all_rows) {
+                               bool all_rows, int& size) {
   std::vector<int> pos(p.num_gaps(), -1);
-  int next = p.num_unknowns() + p.num_equalities();
+  size = p.num_unknowns() + p.num_equalities();
   for (int i = 0; i < p.num_gaps(); ++i)
-    if (all_rows || active[i]) pos[i] = next++;
+    if (all_rows || active[i]) pos[i] = size++;
   return pos;
 }
 }  // namespace
 
 SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& active, double s,
                           bool all_rows) {
-  const int n = p.num_unknowns(), me = p.num_equalities();
-  const auto pos = gap_positions(p, active, all_rows);
-  int size = n + me;
-  for (int q : pos) size += q >= 0;
+  const int n = p.num_unknowns();
+  int size = 0;
+  const auto pos = gap_positions(p, active, all_rows, size);
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(p.stiffness.nonZeros() + 2 * (p.eq_jacobian.nonZeros() + p.gap_jacobian.nonZeros()) +
             p.num_gaps());
@@ -170,9 +184,8 @@ SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& 
 VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& active, double s,
                       bool all_rows) {
   const int n = p.num_unknowns(), me = p.num_equalities();
-  const auto pos = gap_positions(p, active, all_rows);
-  int size = n + me;
-  for (int q : pos) size += q >= 0;
+  int size = 0;
+  const auto pos = gap_positions(p, active, all_rows, size);
   VecX b = VecX::Zero(size);
   b.head(n) = p.load;
   if (me > 0) b.segment(n, me) = -s * p.eq_rhs;
@@ -184,12 +197,61 @@ VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& acti
 void split_saddle_point(const ConstrainedProblem& p, const std::vector<char>& active, double s,
                         bool all_rows, const VecX& x, ConstraintSolution& out) {
   const int n = p.num_unknowns(), me = p.num_equalities();
-  const auto pos = gap_positions(p, active, all_rows);
+  int size = 0;
+  const auto pos = gap_positions(p, active, all_rows, size);
   out.u = x.head(n);
   out.eq_multiplier = me > 0 ? VecX(s * x.segment(n, me)) : VecX();
   out.contact_force = VecX::Zero(p.num_gaps());
   for (int i = 0; i < p.num_gaps(); ++i)
     if (pos[i] >= 0 && active[i]) out.contact_force[i] = s * x[pos[i]];
+}
+
+void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_rows,
+                      const NextActiveSet& next_set, const std::string& step,
+                      ConstraintSolution& s) {
+  const double scale = saddle_point_scale(p);
+  std::vector<char> active = initially_closed(p);
+  ActiveSetTracker tracker;
+  tracker.record(active);
+  KktSolver kkt;
+  s.status = SolveStatus::kMaxIterations;
+  s.message = "active set still changing after " + std::to_string(max_iterations) + " " + step +
+              "s";
+  for (int it = 1; it <= max_iterations; ++it) {
+    VecX x;
+    SolveStatus st = kkt.factorize(saddle_point_matrix(p, active, scale, all_rows),
+                                   all_rows && it > 1);
+    if (st == SolveStatus::kConverged)
+      st = kkt.solve(saddle_point_rhs(p, active, scale, all_rows), x);
+    if (st != SolveStatus::kConverged) {
+      s.status = st;
+      s.message = kkt.report().message;
+      s.iterations = it;
+      break;
+    }
+    split_saddle_point(p, active, scale, all_rows, x, s);
+    const VecX g = p.num_gaps() > 0 ? VecX(p.gap0 + p.gap_jacobian * s.u) : VecX();
+    std::vector<char> next = active;
+    const double residual = next_set(s, g, kkt.report().relative_residual, next);
+    const auto change = tracker.record(next);
+    s.history.push_back(make_record(it, next, change, g, residual));
+    if (change.unchanged) {
+      s.status = SolveStatus::kConverged;
+      s.message.clear();
+      break;
+    }
+    if (change.repeated) {
+      s.status = SolveStatus::kCycling;
+      s.message = "active set returned to an earlier set at " + step + " " + std::to_string(it);
+      break;
+    }
+    active = next;
+  }
+  s.active = active;
+  s.factorizations = kkt.report().numeric_factorizations;
+  if (s.status != SolveStatus::kConverged && s.status != SolveStatus::kCycling &&
+      s.status != SolveStatus::kMaxIterations)
+    s.u = VecX::Zero(p.num_unknowns());
 }
 
 }  // namespace c2d::constraints

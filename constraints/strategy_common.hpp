@@ -2,6 +2,7 @@
 // saddle-point system, tolerances, and the final checks every solution passes through.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,14 @@ double penetration_tolerance(const StrategyOptions& options, const ConstrainedPr
 /// Rows closed at the start: the problem's warm start if it has one, else the rows with
 /// g0 ≤ 1e-12 × model size (touching or already penetrating).
 std::vector<char> initially_closed(const ConstrainedProblem& p);
+
+/// max(0, −g): the deepest penetration of a gap vector (0 when empty).
+double max_penetration(const VecX& gap);
+
+/// The history record of one active-set iteration that produced `next`.
+IterationRecord make_record(int iteration, const std::vector<char>& next,
+                            const ActiveSetTracker::Change& change, const VecX& gap,
+                            double residual);
 
 /// Fills gap, max penetration and equality violation from u; turns any non-finite result into
 /// a failed status with zeroed fields, so no NaN leaves a backend.
@@ -69,5 +78,20 @@ VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& acti
 /// Splits a saddle-point solution into u, μ and λ (inactive rows: 0).
 void split_saddle_point(const ConstrainedProblem& p, const std::vector<char>& active, double s,
                         bool all_rows, const VecX& x, ConstraintSolution& out);
+
+/// Proposes the next active set from a saddle-point solution (`next` holds the current set on
+/// entry) and returns the iteration's residual for the history; `linear_residual` is that of
+/// the saddle-point solve.
+using NextActiveSet = std::function<double(const ConstraintSolution& s, const VecX& gap,
+                                           double linear_residual, std::vector<char>& next)>;
+
+/// The active-set loop of the multiplier methods: solve the saddle-point system of the current
+/// set, propose the next set, stop when it repeats (converged) or returns to an earlier one
+/// (cycling). With `all_rows` the system keeps every row (one pattern, one symbolic analysis);
+/// otherwise only the active rows, analysed anew each iteration. `step` names an iteration in
+/// messages ("iteration", "Newton step").
+void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_rows,
+                      const NextActiveSet& next_set, const std::string& step,
+                      ConstraintSolution& s);
 
 }  // namespace c2d::constraints
