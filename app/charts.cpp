@@ -63,19 +63,14 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   const auto p0 = scene.reference.find("p_max"), b = scene.reference.find("contact_length");
   const bool hertz = scene.reference_kind.rfind("hertz", 0) == 0 &&
                      p0 != scene.reference.end() && b != scene.reference.end();
+  // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
+  if (hertz)
+    cmd << "set xrange [" << std::max(lo[axis], -1.6 * b->second) << ":"
+        << std::min(hi[axis], 1.6 * b->second) << "]\nset samples 400\n";
   cmd << "plot '" << data_path << "' using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
-  if (hertz) {
-    // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
-    const double b0 = b->second;
-    cmd << ", \\\n     (abs(x) < " << b0 << " ? " << p0->second << "*sqrt(1-(x/" << b0
-        << ")**2) : 0) with lines lw 2 dt 2 title 'Hertz'";
-    std::string head = cmd.str();
-    head.insert(head.find("plot "), "set xrange [" + std::to_string(std::max(lo[axis], -1.6 * b0)) +
-                                          ":" + std::to_string(std::min(hi[axis], 1.6 * b0)) +
-                                          "]\nset samples 400\n");
-    cmd.str(head);
-    cmd.seekp(0, std::ios_base::end);
-  }
+  if (hertz)
+    cmd << ", \\\n     (abs(x) < " << b->second << " ? " << p0->second << "*sqrt(1-(x/"
+        << b->second << ")**2) : 0) with lines lw 2 dt 2 title 'Hertz'";
   cmd << "\n";
   const std::string err = plot_png_and_svg(dir, "pressure", cmd.str());
   std::filesystem::remove(data_path);

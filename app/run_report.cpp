@@ -10,6 +10,11 @@ namespace c2d::app {
 namespace {
 // JSON has no NaN/inf: a non-finite number becomes null rather than an invalid file.
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+// trace.csv columns (DESIGN §4), shared by the contact and the Newton traces.
+constexpr const char* kTraceHeader =
+    "step,load_factor,iteration,residual,increment_norm,active,entering,leaving,"
+    "max_penetration,penalty,status\n";
 }  // namespace
 
 nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
@@ -146,9 +151,7 @@ std::string contact_csv(const constraints::ContactReport& c) {
 
 std::string trace_csv(const constraints::ContactReport& c) {
   std::ostringstream os;
-  os << std::setprecision(10)
-     << "step,load_factor,iteration,residual,increment_norm,active,entering,leaving,"
-        "max_penetration,penalty,status\n";
+  os << std::setprecision(10) << kTraceHeader;
   for (size_t i = 0; i < c.history.size(); ++i) {
     const auto& h = c.history[i];
     const bool last = i + 1 == c.history.size();
@@ -161,9 +164,7 @@ std::string trace_csv(const constraints::ContactReport& c) {
 
 std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps) {
   std::ostringstream os;
-  os << std::setprecision(10)
-     << "step,load_factor,iteration,residual,increment_norm,active,entering,leaving,"
-        "max_penetration,penalty,status\n";
+  os << std::setprecision(10) << kTraceHeader;
   for (const auto& s : steps) {
     const auto& norms = s.newton.residual_norms;
     for (size_t k = 0; k < norms.size(); ++k) {

@@ -75,7 +75,6 @@ class ContactSet {
     int obstacle = -1;
     double search = 1e300;
     int index = 0;
-    std::vector<int> body_of_slave;
   };
   /// A fixed node-to-node pair: gap = d · (x_slave − x_master).
   struct NodePair {

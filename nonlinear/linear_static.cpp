@@ -129,16 +129,19 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
     if (r.status != SolveStatus::kConverged) r.message = r.solver.message;
   }
   r.time.solve = seconds_since(t);
-  if (r.status != SolveStatus::kConverged && (u_free.size() != dofs.num_free() || !u_free.allFinite() ||
-                                              u_free.isZero(0.0))) {
-    Results failed = Results::zeros(mesh.num_nodes(), mesh.num_elements(), mesh.nodes_per_element());
-    failed.status = r.status;
-    failed.message = r.message;
-    failed.solver = r.solver;
-    failed.time = r.time;
-    failed.globals = r.globals;
-    failed.point_fields = r.point_fields;
-    return failed;
+  // A contact method that stopped at its iteration limit or on a cycle still has a displacement
+  // worth reporting; any other failure has none.
+  const bool usable = (r.status == SolveStatus::kConverged || r.status == SolveStatus::kCycling ||
+                       r.status == SolveStatus::kMaxIterations) &&
+                      u_free.size() == dofs.num_free() && u_free.allFinite();
+  if (!usable) {
+    const Results zeros =
+        Results::zeros(mesh.num_nodes(), mesh.num_elements(), mesh.nodes_per_element());
+    r.displacement = zeros.displacement;
+    r.reaction = zeros.reaction;
+    r.element_stresses = zeros.element_stresses;
+    r.nodal_stress = zeros.nodal_stress;
+    return r;
   }
   r.displacement = dofs.expand(u_free);
 

@@ -138,8 +138,8 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
       for (int dof = 0; dof < mesh.num_dofs(); ++dof)
         if (!dofs.is_constrained(dof)) du[dof] = 0.0;
       system.set_state(lambda, u_prev_full);
-      if (system.internal_force(system.full(u_free), f_int) &&
-          system.assemble_tangent(system.full(u_free), &du, &lift)) {
+      if (system.internal_force(u_prev_full, f_int) &&
+          system.assemble_tangent(u_prev_full, &du, &lift)) {
         VecX step;
         const VecX rhs = target * system.f_ext_free() - dofs.restrict(f_int) - lift;
         if (system.solve(rhs, step) && step.allFinite()) guess = u_free + step;

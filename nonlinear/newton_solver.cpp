@@ -19,7 +19,6 @@ struct Bridge {
   NewtonSystem* system = nullptr;
   std::vector<double>* history = nullptr;
   std::string error;  ///< KINSOL's last error message
-  int n = 0;
 };
 
 Eigen::Map<VecX> view(N_Vector v) {
@@ -114,7 +113,6 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
   Bridge bridge;
   bridge.system = &system;
   bridge.history = &report.residual_norms;
-  bridge.n = n;
 
   SUNContext ctx = nullptr;
   if (SUNContext_Create(nullptr, &ctx) != 0) {
@@ -156,8 +154,7 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
       flag = KINSol(kin, x, o.line_search ? KIN_LINESEARCH : KIN_NONE, uscale, fscale);
     long iters = 0;
     KINGetNumNonlinSolvIters(kin, &iters);
-    realtype fnorm = 0, step = 0;
-    KINGetFuncNorm(kin, &fnorm);
+    realtype step = 0;
     KINGetStepLength(kin, &step);
     report.iterations = static_cast<int>(iters);
     report.last_step = step;
@@ -165,7 +162,6 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
     if (!bridge.error.empty() && report.status != SolveStatus::kConverged)
       report.message += ": " + bridge.error;
     u = view(x);
-    (void)fnorm;
     VecX r;
     report.final_residual = system.residual(u, r) ? r.cwiseAbs().maxCoeff() : 0.0;
   } else {
