@@ -9,10 +9,8 @@ namespace c2d::constraints {
 
 ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
-  StrategyOptions start = options_;
-  start.penalty_k = 0.0;  // always start from the local stiffness
   VecX k_gap, k_eq;
-  default_penalties(p, start, 1.0, k_gap, k_eq);
+  default_penalties(p, 0.0, 1.0, k_gap, k_eq);  // always start from the local stiffness
   const VecX cap_gap = k_gap * options_.max_penalty_factor;
   const VecX cap_eq = k_eq * options_.max_penalty_factor;
   const double tol = penetration_tolerance(options_, p);

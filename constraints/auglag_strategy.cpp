@@ -9,10 +9,8 @@ namespace c2d::constraints {
 
 ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
-  StrategyOptions start = options_;
-  start.penalty_k = 0.0;
   VecX k_gap, k_eq;
-  default_penalties(p, start, options_.augmentation_factor, k_gap, k_eq);
+  default_penalties(p, 0.0, options_.augmentation_factor, k_gap, k_eq);
   const double tol = penetration_tolerance(options_, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
   std::vector<char> active = initially_closed(p);

@@ -7,12 +7,12 @@
 
 namespace c2d::constraints {
 
-void default_penalties(const ConstrainedProblem& p, const StrategyOptions& o, double factor,
-                       VecX& k_gap, VecX& k_eq) {
+void default_penalties(const ConstrainedProblem& p, double absolute_k, double factor, VecX& k_gap,
+                       VecX& k_eq) {
   const VecX local_gap = p.row_stiffness(p.gap_jacobian);
   const VecX local_eq = p.row_stiffness(p.eq_jacobian);
   auto pick = [&](const VecX& local, int i) {
-    return o.penalty_k > 0 ? o.penalty_k : factor * (local[i] > 0 ? local[i] : 1.0);
+    return absolute_k > 0 ? absolute_k : factor * (local[i] > 0 ? local[i] : 1.0);
   };
   k_gap.resize(p.num_gaps());
   for (int i = 0; i < p.num_gaps(); ++i)
@@ -54,7 +54,7 @@ double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX&
 ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
   VecX k_gap, k_eq;
-  default_penalties(p, options_, options_.penalty_factor, k_gap, k_eq);
+  default_penalties(p, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
   std::vector<char> active = initially_closed(p);
   PenalizedSolver solver(p);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());

@@ -19,9 +19,9 @@ class PenaltyStrategy final : public ConstraintStrategy {
 };
 
 /// Penalty stiffness per gap row and per equality row: the input's fixed k where it gives one,
-/// else the option's absolute k, else factor × the row's local stiffness.
-void default_penalties(const ConstrainedProblem& p, const StrategyOptions& o, double factor,
-                       VecX& k_gap, VecX& k_eq);
+/// else `absolute_k` when > 0, else factor × the row's local stiffness.
+void default_penalties(const ConstrainedProblem& p, double absolute_k, double factor, VecX& k_gap,
+                       VecX& k_eq);
 
 /// Contact forces and multipliers of a penalised solution: λ = max(0, λ0 − k g), μ = μ0 − k h.
 void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& lambda,
