@@ -61,9 +61,12 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
         const auto [ci, cj] = key(mesh.nodes[s]);
         int best = -1;
         double best_d = 1e300;
-        for (int ring = 0; best < 0 || ring <= 1; ++ring) {
+        // Square rings of cells around the slave's cell; every node in ring r + 1 lies at least
+        // r cells away, so the search stops once the best distance is within that.
+        for (int ring = 0; ring <= 4096; ++ring) {
           for (long i = ci - ring; i <= ci + ring; ++i)
             for (long j = cj - ring; j <= cj + ring; ++j) {
+              if (std::max(std::abs(i - ci), std::abs(j - cj)) != ring) continue;
               const auto it = grid.find({i, j});
               if (it == grid.end()) continue;
               for (int n : it->second) {
@@ -71,7 +74,7 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
                 if (n != s && d < best_d) best_d = d, best = n;
               }
             }
-          if (ring > 4096) break;
+          if (best >= 0 && best_d <= ring * cell) break;
         }
         if (best < 0) throw InputError(cs.where + ": no master node for slave node " + std::to_string(s + 1));
         NodePair np;

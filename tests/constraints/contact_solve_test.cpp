@@ -193,3 +193,53 @@ TEST(LegacyGaps, SeedGapElementsSolveWithTheirStiffnessOrExactly) {
   EXPECT_NEAR(lagrange.report.total_force, 20.0, 1e-9);
   EXPECT_LE(lagrange.report.max_penetration, 1e-15);
 }
+
+TEST(NodeToNode, EachSlavePairsWithItsNearestMasterNode) {
+  // Two equal blocks meshed alike and touching: each node of the upper block's bottom edge pairs
+  // with the coincident node of the lower block's top, gap 0 along the given direction +y.
+  // Pressed together by 10 per unit length over 2, the gaps carry 20.
+  const core::Scene scene = core::parse_scene(R"(
+[[material]]
+name = "m"
+E = 1000.0
+nu = 0.25
+[[body]]
+name = "low"
+material = "m"
+shape = { type = "rectangle", min = [0.0, 0.0], max = [2.0, 1.0] }
+mesh = { size = 0.25 }
+[[body]]
+name = "up"
+material = "m"
+shape = { type = "rectangle", min = [0.0, 1.0], max = [2.0, 2.0] }
+mesh = { size = 0.25 }
+[[support]]
+on = { body = "low", edge = "bottom" }
+fix = ["ux", "uy"]
+[[support]]
+on = { body = "up", edge = "left" }
+fix = ["ux"]
+[[load]]
+on = { body = "up", edge = "top" }
+traction = [0.0, -10.0]
+[[contact]]
+slave = { body = "up", edge = "bottom" }
+master = { body = "low", edge = "top" }
+detection = "node_to_node"
+direction = [0.0, 1.0]
+)", "pairs.toml");
+  const core::Model model = core::build_model(scene);
+  const ContactSet contact(model, parse_contact_scene(scene), scene);
+  const auto rows = contact.detect(VecX::Zero(model.mesh.num_dofs()));
+  ASSERT_GT(rows.size(), 5u);
+  for (const auto& r : rows) {
+    ASSERT_EQ(r.master.size(), 1u);
+    const Vec2 xs = model.mesh.nodes[r.slave], xm = model.mesh.nodes[r.master[0].first];
+    EXPECT_NEAR((xm - xs).norm(), 0.0, 1e-9);  // gmsh places the nodes to ~1e-11
+    EXPECT_NEAR(r.gap, 0.0, 1e-9);
+    EXPECT_NEAR(r.normal.y(), 1.0, 1e-12);
+  }
+  const ContactRun run = solve(scene, model, "lagrange");
+  ASSERT_EQ(run.results.status, SolveStatus::kConverged) << run.report.message;
+  EXPECT_NEAR(run.report.total_force, 20.0, 1e-9);
+}
