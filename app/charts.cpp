@@ -59,7 +59,7 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   std::ostringstream cmd;
   cmd << std::setprecision(10) << "set title 'Contact pressure (" << c.method
       << ", recovered from nodal forces)'\nset xlabel '" << (axis ? "y" : "x")
-      << "'\nset ylabel 'pressure'\nset grid\nset key top right\n";
+      << "'\nset ylabel 'pressure'\nset grid\nset key top left\n";
   const auto p0 = scene.reference.find("p_max"), b = scene.reference.find("contact_length");
   const bool hertz = scene.reference_kind.rfind("hertz", 0) == 0 &&
                      p0 != scene.reference.end() && b != scene.reference.end();
