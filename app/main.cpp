@@ -14,6 +14,7 @@
 
 #include "app/charts.hpp"
 #include "app/run_report.hpp"
+#include "app/trace_charts.hpp"
 #include "constraints/contact_scene.hpp"
 #include "core/errors.hpp"
 #include "core/model.hpp"
@@ -37,6 +38,8 @@ const char* kMainHelp =
     "  run SCENE      solve a scene (TOML, or a legacy .dat data file) and write results\n"
     "  mesh SCENE     mesh the scene's bodies and write mesh.vtu\n"
     "  info SCENE     list bodies, materials, node/edge sets, supports, loads and probes\n"
+    "  trace OUTDIR   charts of a finished run: contact activation per load step, contact\n"
+    "                 force against load factor, Newton residual history\n"
     "\n"
     "Every verb has --help. Exit codes: 0 ok, 1 solve failed (partial results kept),\n"
     "2 bad input.\n";
@@ -51,7 +54,9 @@ const char* kRunHelp =
     "  deformed.png   deformed mesh coloured by von Mises (and .svg)\n"
     "  run.log        what was printed\n"
     "  contact.csv    gap, force and recovered pressure per slave node (contact scenes)\n"
-    "  trace.csv      one row per contact iteration: active set, entering, leaving, penetration\n"
+    "  trace.csv      one row per Newton / active-set iteration of every load step: residual,\n"
+    "                 active set, entering, leaving, penetration, pressure, status\n"
+    "  contact_steps.csv  per load step and slave node: gap, force, pressure, active\n"
     "\n"
     "  --method M       contact enforcement: penalty | adaptive_penalty | lagrange | auglag |\n"
     "                   ipopt | ssn (overrides the scene's [[contact]] method)\n"
@@ -68,6 +73,14 @@ const char* kInfoHelp =
     "usage: contact2d info SCENE [--set key=value ...]\n"
     "\nMeshes the scene and lists bodies, materials, named edges and node groups with their\n"
     "sizes, and how many nodes each support, load and probe selects.\n";
+
+const char* kTraceHelp =
+    "usage: contact2d trace OUTDIR\n"
+    "\nDraws from OUTDIR/trace.csv and OUTDIR/contact_steps.csv (written by `run`), as PNG and\n"
+    "SVG in OUTDIR:\n"
+    "  activation     slave node position x load factor, active nodes coloured by pressure\n"
+    "  contact_force  total contact force and active node count against load factor\n"
+    "  residuals      Newton residual history of every load step\n";
 
 struct Options {
   std::string verb, scene;
@@ -151,20 +164,24 @@ int cmd_run(const Options& o) {
   std::vector<nonlinear::StepRecord> steps;
   core::Results results;
   if (scene.analysis.geometric_nonlinearity) {
-    if (contact)
-      throw NotSupportedError(scene.path +
-                              ": contact with geometric_nonlinearity = true is not yet supported "
-                              "in this build (run it with geometric_nonlinearity = false)");
     nonlinear::StepperOptions so;
     so.steps = scene.analysis.steps;
     so.on_step = [&](const nonlinear::StepRecord& s) {
-      char line[160];
-      std::snprintf(line, sizeof line, "step %d  lambda %.4g  %s in %d Newton iterations%s",
-                    s.step, s.load_factor, to_string(s.newton.status), s.newton.iterations,
-                    s.attempt > 0 ? " (after a cutback)" : "");
-      rep.phase(line);
+      char line[200];
+      std::snprintf(line, sizeof line, "step %d  lambda %.4g  %s in %d Newton iterations", s.step,
+                    s.load_factor, to_string(s.newton.status), s.newton.iterations);
+      std::string text = line;
+      if (!s.contact.empty()) {
+        std::snprintf(line, sizeof line, ", %zu outer, %d active (+%d -%d)", s.contact.size(),
+                      s.contact.back().active, s.contact.front().entering,
+                      s.contact.front().leaving);
+        text += line;
+      }
+      if (s.attempt > 0) text += " (after a cutback)";
+      rep.phase(text);
     };
-    results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, so, &steps);
+    results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, so, &steps, contact.get(),
+                                                   &contact_report);
   } else {
     results = nonlinear::solve_linear_static(model, scene.analysis, contact.get(), &contact_report);
   }
@@ -181,6 +198,16 @@ int cmd_run(const Options& o) {
     core::write_file_atomic(out + "/trace.csv", app::trace_csv(contact_report));
   }
   if (!steps.empty()) core::write_file_atomic(out + "/trace.csv", app::newton_trace_csv(steps));
+  if (contact) {
+    // A linear run is one step at load factor 1.
+    std::vector<nonlinear::StepRecord> one(1);
+    one[0].step = 1;
+    one[0].load_factor = 1.0;
+    one[0].newton.status = results.status;
+    one[0].contact_state = contact_report;
+    core::write_file_atomic(out + "/contact_steps.csv",
+                            app::contact_steps_csv(steps.empty() ? one : steps));
+  }
   std::string chart_error;
   if (ok) chart_error = app::chart_deformed_mesh(out, model, results);
   if (ok && contact && contact_report.has_surface && chart_error.empty())
@@ -209,6 +236,17 @@ int cmd_run(const Options& o) {
   if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
   core::write_file_atomic(out + "/run.log", rep.log());
   return ok ? kExitOk : kExitSolveFailed;
+}
+
+int cmd_trace(const Options& o) {
+  const app::TraceCharts charts = app::draw_trace_charts(o.scene);
+  for (const auto& [stem, what] : charts.written)
+    std::cout << "wrote " << o.scene << "/" << stem << ".png and .svg: " << what << "\n";
+  if (!charts.error.empty()) {
+    std::cerr << "error: " << charts.error << "\n";
+    return kExitSolveFailed;
+  }
+  return kExitOk;
 }
 
 int cmd_mesh(const Options& o) {
@@ -276,14 +314,19 @@ int main(int argc, char** argv) {
     const char* help = o.verb == "run"    ? kRunHelp
                        : o.verb == "mesh" ? kMeshHelp
                        : o.verb == "info" ? kInfoHelp
+                       : o.verb == "trace" ? kTraceHelp
                                           : nullptr;
-    if (!help) throw InputError(o.verb + ": unknown verb; expected run, mesh or info (see --help)");
+    if (!help)
+      throw InputError(o.verb + ": unknown verb; expected run, mesh, info or trace (see --help)");
     if (o.help) {
       std::cout << help;
       return kExitOk;
     }
-    if (o.scene.empty()) throw InputError(o.verb + ": expected a scene file, found none");
+    if (o.scene.empty())
+      throw InputError(o.verb + ": expected " +
+                       (o.verb == "trace" ? "an output folder" : "a scene file") + ", found none");
     if (o.verb == "run") return cmd_run(o);
+    if (o.verb == "trace") return cmd_trace(o);
     if (o.verb == "mesh") return cmd_mesh(o);
     return cmd_info(o);
   } catch (const InputError& e) {

@@ -13,8 +13,8 @@ nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : 
 
 // trace.csv columns (DESIGN §4), shared by the contact and the Newton traces.
 constexpr const char* kTraceHeader =
-    "step,load_factor,iteration,residual,increment_norm,active,entering,leaving,"
-    "max_penetration,penalty,status\n";
+    "step,load_factor,attempt,outer,iteration,residual,increment_norm,active,entering,leaving,"
+    "max_penetration,max_pressure,penalty,status\n";
 }  // namespace
 
 nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
@@ -155,9 +155,10 @@ std::string trace_csv(const constraints::ContactReport& c) {
   for (size_t i = 0; i < c.history.size(); ++i) {
     const auto& h = c.history[i];
     const bool last = i + 1 == c.history.size();
-    os << 1 << ',' << 1.0 << ',' << h.iteration << ',' << h.residual << ",," << h.active << ','
-       << h.entering << ',' << h.leaving << ',' << h.max_penetration << ',' << h.penalty << ','
-       << (last ? to_string(c.status) : "iterating") << '\n';
+    os << "1,1,0,1," << h.iteration << ',' << h.residual << ",," << h.active << ',' << h.entering
+       << ',' << h.leaving << ',' << h.max_penetration << ',';
+    if (last) os << c.p_max;
+    os << ',' << h.penalty << ',' << (last ? to_string(c.status) : "iterating") << '\n';
   }
   return os.str();
 }
@@ -166,13 +167,56 @@ std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps) {
   std::ostringstream os;
   os << std::setprecision(10) << kTraceHeader;
   for (const auto& s : steps) {
-    const auto& norms = s.newton.residual_norms;
-    for (size_t k = 0; k < norms.size(); ++k) {
-      const bool last = k + 1 == norms.size();
-      os << s.step << ',' << s.load_factor << ',' << k << ',' << norms[k] << ','
-         << (last ? std::to_string(s.newton.last_step) : std::string()) << ",0,0,0,0,0,"
-         << (last ? to_string(s.newton.status) : "iterating") << '\n';
+    auto head = [&](int outer, int iteration) -> std::ostream& {
+      return os << s.step << ',' << s.load_factor << ',' << s.attempt << ',' << outer << ','
+                << iteration << ',';
+    };
+    if (s.contact.empty()) {
+      const auto& norms = s.newton.residual_norms;
+      for (size_t k = 0; k < norms.size(); ++k) {
+        const bool last = k + 1 == norms.size();
+        head(1, static_cast<int>(k)) << norms[k] << ',';
+        if (last) os << s.newton.last_step;
+        os << ",0,0,0,0,0,0," << (last ? to_string(s.newton.status) : "iterating") << '\n';
+      }
+      continue;
     }
+    // Contact: the Newton iterations of each outer (active-set) iteration, numbered through the
+    // attempt; the last row of an outer iteration carries its penetration and pressure, the
+    // last row of the attempt its status.
+    int base = 0;
+    for (size_t o = 0; o < s.contact.size(); ++o) {
+      const auto& it = s.contact[o];
+      const auto& norms = it.newton.residual_norms;
+      const size_t rows = std::max<size_t>(norms.size(), 1);
+      for (size_t k = 0; k < rows; ++k) {
+        const bool last = k + 1 == rows;
+        head(it.outer, base + static_cast<int>(k)) << (norms.empty() ? 0.0 : norms[k]) << ',';
+        if (last) os << it.newton.last_step;
+        os << ',' << it.active << ',' << it.entering << ',' << it.leaving << ',';
+        if (last) os << it.max_penetration << ',' << it.max_pressure;
+        else os << ',';
+        os << ',' << it.penalty << ','
+           << (!last ? "iterating"
+                     : to_string(o + 1 == s.contact.size() ? s.newton.status : it.newton.status))
+           << '\n';
+      }
+      base += it.newton.iterations;
+    }
+  }
+  return os.str();
+}
+
+/// One row per slave node and converged load step.
+std::string contact_steps_csv(const std::vector<nonlinear::StepRecord>& steps) {
+  std::ostringstream os;
+  os << std::setprecision(12) << "step,load_factor,node,x,y,gap,force,pressure,active\n";
+  for (const auto& s : steps) {
+    if (s.newton.status != SolveStatus::kConverged) continue;
+    for (const auto& n : s.contact_state.nodes)
+      os << s.step << ',' << s.load_factor << ',' << n.node + 1 << ',' << n.x.x() << ','
+         << n.x.y() << ',' << n.gap << ',' << n.force << ',' << n.pressure << ','
+         << (n.active ? 1 : 0) << '\n';
   }
   return os.str();
 }

@@ -30,4 +30,8 @@ std::string terminal_summary(const nlohmann::json& summary, const std::string& o
 /// One row per Newton iteration of every load step attempt (DESIGN §4 columns).
 std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps);
 
+/// contact_steps.csv: per converged load step and slave node: step, load_factor, node, x, y
+/// (reference position), gap, force, pressure, active.
+std::string contact_steps_csv(const std::vector<nonlinear::StepRecord>& steps);
+
 }  // namespace c2d::app

@@ -13,6 +13,7 @@ ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
   default_penalties(p, 0.0, options_.augmentation_factor, k_gap, k_eq);
   const double tol = penetration_tolerance(options_, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
+  if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
   std::vector<char> active = initially_closed(p);
   PenalizedSolver solver(p);
   s.status = SolveStatus::kMaxIterations;

@@ -31,6 +31,9 @@ struct ConstrainedProblem {
   /// Optional warm start: the inequality rows to treat as closed at the start (empty: the rows
   /// with g0 ≤ 0). A re-detection or a Newton iteration passes the previous active set.
   std::vector<char> initial_active;
+  /// Optional warm start of the row forces λ (empty: none). The augmented Lagrangian starts its
+  /// multiplier iteration from it; the other methods ignore it.
+  VecX initial_force;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.

@@ -96,6 +96,7 @@ struct GapRow {
   int master_id = -1;         ///< edge, vertex (−2 − node), obstacle or pair id: changes = sliding
   double penalty = 0.0;       ///< prescribed penalty (seed gap elements), 0 = method's choice
   int pair = 0;               ///< which [[contact]] entry produced it
+  int slot = -1;              ///< stable identity across detections (see ContactSet::num_slots)
 };
 
 }  // namespace c2d::constraints

@@ -123,6 +123,11 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
       slaves.push_back(g.node_b);
     }
   }
+  for (Pair& p : pairs_) {
+    p.first_slot = num_slots_;
+    num_slots_ += static_cast<int>(p.slaves.size());
+  }
+  for (NodePair& np : node_pairs_) np.slot = num_slots_++;
   std::sort(slaves.begin(), slaves.end());
   slaves.erase(std::unique(slaves.begin(), slaves.end()), slaves.end());
   slave_nodes_ = slaves;
@@ -140,19 +145,22 @@ std::vector<GapRow> ContactSet::detect(const VecX& u) const {
   for (const Pair& p : pairs_) {
     if (p.obstacle >= 0) {
       const Obstacle& o = spec_.obstacles[p.obstacle];
-      for (int s : p.slaves) {
+      for (size_t k = 0; k < p.slaves.size(); ++k) {
+        const int s = p.slaves[k];
         GapRow r;
         r.slave = s;
         o.gap(x[s], r.gap, r.normal);
         if (r.gap > p.search) continue;
         r.master_id = p.obstacle;
         r.pair = p.index;
+        r.slot = p.first_slot + static_cast<int>(k);
         rows.push_back(r);
       }
       continue;
     }
     const MasterSurfaceSearch search(p.master_edges, x, p.search);
-    for (int s : p.slaves) {
+    for (size_t k = 0; k < p.slaves.size(); ++k) {
+      const int s = p.slaves[k];
       const SegmentProjection q = search.project(x[s], s);
       if (!q.found) continue;
       GapRow r;
@@ -160,6 +168,7 @@ std::vector<GapRow> ContactSet::detect(const VecX& u) const {
       r.gap = q.gap;
       r.normal = q.normal;
       r.pair = p.index;
+      r.slot = p.first_slot + static_cast<int>(k);
       r.master_id = q.vertex >= 0 ? -2 - q.vertex : q.edge;
       const MasterEdge& e = p.master_edges[q.edge];
       for (int a = 0; a < e.count; ++a)
@@ -176,6 +185,7 @@ std::vector<GapRow> ContactSet::detect(const VecX& u) const {
     r.penalty = np.penalty;
     r.pair = np.index;
     r.master_id = np.master;
+    r.slot = np.slot;
     rows.push_back(r);
   }
   return rows;

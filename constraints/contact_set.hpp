@@ -64,6 +64,11 @@ class ContactSet {
   /// Fills the per-node results, recovered pressure, p_max, contact length and total force.
   void report(const std::vector<GapRow>& rows, const ConstraintSolution& s, ContactReport& r) const;
 
+  /// Each (contact entry, slave node) combination and each node pair has a slot, the stable
+  /// identity of its row across detections (GapRow::slot): active sets and multipliers carried
+  /// from one detection, iteration or load step to the next are indexed by it.
+  int num_slots() const { return num_slots_; }
+
   /// Smallest slave (else master) edge length: the scale of relative tolerances.
   double length_scale() const { return length_scale_; }
   double model_size() const { return model_.model_size; }
@@ -75,6 +80,7 @@ class ContactSet {
     int obstacle = -1;
     double search = 1e300;
     int index = 0;
+    int first_slot = 0;  ///< slot of slaves[0]; slaves[k] has first_slot + k
   };
   /// A fixed node-to-node pair: gap = d · (x_slave − x_master).
   struct NodePair {
@@ -82,6 +88,7 @@ class ContactSet {
     Vec2 direction = Vec2::UnitY();
     double penalty = 0.0;
     int index = 0;
+    int slot = 0;
   };
   const core::Model& model_;
   ContactSceneSpec spec_;
@@ -91,6 +98,7 @@ class ContactSet {
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;
   double length_scale_ = 1.0;
+  int num_slots_ = 0;
 };
 
 /// Consistent recovery of a pressure field from nodal normal forces on a line of boundary

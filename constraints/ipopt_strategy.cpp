@@ -248,8 +248,15 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   }
   s.active.assign(p.num_gaps(), 0);
   const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
-  // Interior-point iterates leave O(mu / gap) forces on open rows: not contact.
-  for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = s.contact_force[i] > 1e-6 * fmax;
+  // Interior-point iterates leave O(mu / gap) forces on open rows: not contact. A row is active
+  // when it carries force and touches (gap within the penetration tolerance); the others are
+  // open and their residual forces are dropped.
+  const VecX gap = p.gap0 + p.gap_jacobian * s.u;
+  const double touch = penetration_tolerance(options_, p);
+  for (int i = 0; i < p.num_gaps(); ++i) {
+    s.active[i] = s.contact_force[i] > 1e-6 * fmax && gap[i] <= touch;
+    if (!s.active[i]) s.contact_force[i] = 0.0;
+  }
   IterationRecord rec;
   rec.iteration = iterations;
   rec.active = count_active(s.active);

@@ -29,7 +29,8 @@ class SpdSolver {
   SpdSolver(const SpdSolver&) = delete;
   SpdSolver& operator=(const SpdSolver&) = delete;
 
-  /// Factorizes K (lower triangle used). Reuses the symbolic analysis if K's pattern is the
+  /// Factorizes K (lower triangle used). K is referenced, not copied: it must stay alive and
+  /// unchanged until the last solve() with this factorisation (the residual check reads it). Reuses the symbolic analysis if K's pattern is the
   /// one last analysed (same size and non-zero count; the caller keeps the pattern fixed).
   SolveStatus factorize(const SpMat& k);
   /// Solves K x = b with the last factorization; checks the residual and finiteness.

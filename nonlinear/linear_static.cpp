@@ -8,6 +8,7 @@
 #include "core/error_estimator.hpp"
 #include "core/spd_solver.hpp"
 #include "core/stress_recovery.hpp"
+#include "nonlinear/contact_newton.hpp"
 
 namespace c2d::nonlinear {
 
@@ -59,13 +60,10 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
       same = rows[i].slave == next[i].slave &&
              std::abs(next[i].gap - s.gap[static_cast<int>(i)]) <= tol;
     if (same) break;
+    std::vector<char> by_slot(contact.num_slots(), 0);
+    for (size_t k = 0; k < rows.size(); ++k) by_slot[rows[k].slot] = s.active[k];
     warm.assign(next.size(), 0);
-    for (size_t i = 0; i < next.size(); ++i)
-      for (size_t k = 0; k < rows.size(); ++k)
-        if (rows[k].slave == next[i].slave && rows[k].pair == next[i].pair) {
-          warm[i] = s.active[k];
-          break;
-        }
+    for (size_t i = 0; i < next.size(); ++i) warm[i] = by_slot[next[i].slot];
     rows = std::move(next);
   }
   report.status = s.status;
@@ -78,20 +76,7 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
   r.solver.message = s.message;
   r.solver.numeric_factorizations = s.factorizations;
   u_free = s.u;
-  r.globals["contact_pressure_max"] = report.p_max;
-  r.globals["contact_length"] = report.length;
-  r.globals["contact_force"] = report.total_force;
-  r.globals["contact_penetration"] = report.max_penetration;
-  const int nn = static_cast<int>(u_prescribed.size() / 2);
-  VecX gap = VecX::Zero(nn), pressure = VecX::Zero(nn), force = VecX::Zero(nn);
-  for (const auto& cn : report.nodes) {
-    gap[cn.node] = cn.gap;
-    pressure[cn.node] = cn.pressure;
-    force[cn.node] = cn.force;
-  }
-  r.point_fields["contact_gap"] = gap;
-  r.point_fields["contact_pressure"] = pressure;
-  r.point_fields["contact_force"] = force;
+  store_contact_results(report, static_cast<int>(u_prescribed.size() / 2), r);
   if (report_out) *report_out = std::move(report);
 }
 }  // namespace

@@ -6,9 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "constraints/contact_set.hpp"
 #include "core/model.hpp"
 #include "core/results.hpp"
 #include "core/scene.hpp"
+#include "nonlinear/contact_newton.hpp"
 #include "nonlinear/newton_solver.hpp"
 
 namespace c2d::nonlinear {
@@ -18,8 +20,12 @@ struct StepRecord {
   int step = 0;              ///< converged steps so far, this one included when converged
   double load_factor = 0.0;  ///< the target λ of the attempt
   int attempt = 0;           ///< 0 first try, k after k cutbacks
-  NewtonReport newton;
+  NewtonReport newton;       ///< every KINSOL iteration of the attempt
   double seconds = 0.0;
+  /// With contact: the outer (active-set) iterations of the attempt and, when it converged,
+  /// the contact state per slave node (gap, force, pressure, active).
+  std::vector<ContactIteration> contact;
+  constraints::ContactReport contact_state;
 };
 
 struct StepperOptions {
@@ -34,9 +40,13 @@ struct StepperOptions {
 };
 
 /// Solves from λ = 0 to 1. On failure the results hold the last converged step, with the status
-/// and message of the failure. Never throws on a numerical failure.
+/// and message of the failure. Never throws on a numerical failure. With `contact`, every step
+/// runs the outer active-set iterations of solve_contact_step; `contact_report` gets the state
+/// of the last converged step.
 core::Results solve_geometric_nonlinear(const core::Model& model, const core::AnalysisSpec& analysis,
                                         const StepperOptions& options,
-                                        std::vector<StepRecord>* trace = nullptr);
+                                        std::vector<StepRecord>* trace = nullptr,
+                                        const constraints::ContactSet* contact = nullptr,
+                                        constraints::ContactReport* contact_report = nullptr);
 
 }  // namespace c2d::nonlinear

@@ -182,4 +182,18 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
   return report;
 }
 
+NewtonReport solve_newton_with_fallback(NewtonSystem& system, VecX& u, const NewtonOptions& o) {
+  const VecX guess = u;
+  NewtonOptions plain = o;
+  plain.line_search = false;
+  NewtonReport report = solve_newton(system, u, plain);
+  if (report.status == SolveStatus::kConverged || !o.line_search) return report;
+  u = guess;
+  NewtonReport searched = solve_newton(system, u, o);
+  searched.iterations += report.iterations;
+  searched.residual_norms.insert(searched.residual_norms.begin(), report.residual_norms.begin(),
+                                 report.residual_norms.end());
+  return searched;
+}
+
 }  // namespace c2d::nonlinear

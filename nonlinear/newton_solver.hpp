@@ -43,4 +43,10 @@ struct NewtonReport {
 /// Solves R(u) = 0 from the initial guess u (overwritten with the result).
 NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& options);
 
+/// Full Newton steps first, then (if that fails and options.line_search is set) a second
+/// attempt from the same guess with KINSOL's line search. On slender structures the residual may
+/// rise for one iteration before it collapses, which a line search mistakes for divergence. The
+/// report combines both attempts' iterations and norms.
+NewtonReport solve_newton_with_fallback(NewtonSystem& system, VecX& u, const NewtonOptions& options);
+
 }  // namespace c2d::nonlinear

@@ -1,0 +1,201 @@
+#include "app/trace_charts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <set>
+#include <sstream>
+
+#include "app/charts.hpp"
+#include "core/errors.hpp"
+#include "core/writers.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  std::string cell;
+  std::istringstream in(line);
+  while (std::getline(in, cell, ',')) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+}  // namespace
+
+int CsvTable::column(const std::string& name) const {
+  const auto it = std::find(columns.begin(), columns.end(), name);
+  if (it == columns.end())
+    throw InputError(path + ":1: expected a column '" + name + "', found none in the header");
+  return static_cast<int>(it - columns.begin());
+}
+
+double CsvTable::number(size_t row, int column) const {
+  const std::string& cell = rows[row][column];
+  if (cell.empty()) return std::nan("");
+  char* end = nullptr;
+  const double v = std::strtod(cell.c_str(), &end);
+  if (end == cell.c_str() || *end != '\0')
+    throw InputError(path + ":" + std::to_string(row + 2) + ": column '" + columns[column] +
+                     "': expected a number, found '" + cell + "'");
+  return v;
+}
+
+CsvTable read_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the file");
+  CsvTable t;
+  t.path = path;
+  std::string line;
+  if (!std::getline(in, line) || line.empty())
+    throw InputError(path + ":1: expected a header row, found an empty file");
+  t.columns = split(line);
+  int number = 1;
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    auto cells = split(line);
+    if (cells.size() != t.columns.size())
+      throw InputError(path + ":" + std::to_string(number) + ": expected " +
+                       std::to_string(t.columns.size()) + " cells, found " +
+                       std::to_string(cells.size()));
+    t.rows.push_back(std::move(cells));
+  }
+  return t;
+}
+
+namespace {
+
+/// Activation and contact force charts from contact_steps.csv.
+std::string contact_charts(const std::string& dir, const CsvTable& t, TraceCharts& out) {
+  const int c_step = t.column("step"), c_lf = t.column("load_factor"), c_x = t.column("x"),
+            c_y = t.column("y"), c_force = t.column("force"), c_p = t.column("pressure"),
+            c_active = t.column("active");
+  // Position along the slave surface: the reference coordinate along which it spreads most.
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  bool any_pressure = false;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    const double xy[2] = {t.number(r, c_x), t.number(r, c_y)};
+    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], xy[k]), hi[k] = std::max(hi[k], xy[k]);
+    any_pressure = any_pressure || t.number(r, c_p) != 0.0;
+  }
+  const int axis = hi[1] - lo[1] > hi[0] - lo[0] ? 1 : 0;
+  const int c_pos = axis ? c_y : c_x, c_colour = any_pressure ? c_p : c_force;
+  std::ostringstream act;
+  act << std::setprecision(12);
+  std::map<int, std::pair<double, double>> per_step;  // step -> (load factor, force)
+  std::map<int, int> active_per_step;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    const int step = static_cast<int>(t.number(r, c_step));
+    const bool active = t.number(r, c_active) > 0;
+    act << t.number(r, c_pos) << ' ' << t.number(r, c_lf) << ' ' << t.number(r, c_colour) << ' '
+        << (active ? 1 : 0) << '\n';
+    auto& s = per_step[step];
+    s.first = t.number(r, c_lf);
+    s.second += t.number(r, c_force);
+    active_per_step[step] += active;
+  }
+  const std::string act_path = dir + "/activation.dat";
+  core::write_file_atomic(act_path, act.str());
+  std::ostringstream cmd;
+  cmd << "set title 'Contact activation per load step (" << t.rows.size() / std::max<size_t>(1, per_step.size())
+      << " slave nodes)'\nset xlabel 'slave node position " << (axis ? "y" : "x")
+      << " (reference)'\nset ylabel 'load factor'\nset grid\nset key outside bottom center horizontal\n"
+      << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', 1 '#440154')\n"
+      << "set cblabel '" << (any_pressure ? "contact pressure" : "contact force") << "'\n"
+      << "plot '" << act_path << "' using 1:($4 > 0 ? 1/0 : $2) with points pt 6 ps 0.6 "
+      << "lc rgb 'gray60' title 'open', \\\n     '' using 1:($4 > 0 ? $2 : 1/0):3 with points "
+      << "pt 5 ps 1.4 lc palette title 'in contact (colour: "
+      << (any_pressure ? "pressure" : "force") << ")'\n";
+  std::string err = plot_png_and_svg(dir, "activation", cmd.str());
+  std::filesystem::remove(act_path);
+  if (!err.empty()) return err;
+  out.written.emplace_back("activation", "slave node position x load factor, coloured by " +
+                                             std::string(any_pressure ? "pressure" : "force"));
+
+  std::ostringstream force;
+  force << std::setprecision(12) << "0 0 0\n";
+  for (const auto& [step, s] : per_step)
+    force << s.first << ' ' << s.second << ' ' << active_per_step[step] << '\n';
+  const std::string force_path = dir + "/contact_force.dat";
+  core::write_file_atomic(force_path, force.str());
+  std::ostringstream fc;
+  fc << "set title 'Total contact force against load factor'\nset xlabel 'load factor'\n"
+     << "set ylabel 'total contact force'\nset y2label 'active slave nodes'\nset ytics nomirror\n"
+     << "set y2tics\nset grid\nset key top left\nset xrange [0:1]\nset yrange [0:*]\n"
+     << "set y2range [0:*]\nplot '" << force_path
+     << "' using 1:2 with linespoints pt 7 lw 2 title 'contact force', '' using 1:3 axes x1y2 "
+     << "with steps dt 2 lw 1.5 title 'active nodes'\n";
+  err = plot_png_and_svg(dir, "contact_force", fc.str());
+  std::filesystem::remove(force_path);
+  if (err.empty())
+    out.written.emplace_back("contact_force", "total contact force and active nodes per step");
+  return err;
+}
+
+/// Newton residual history: one line per load step attempt, in the order of the trace.
+std::string residual_chart(const std::string& dir, const CsvTable& t, TraceCharts& out) {
+  const int c_step = t.column("step"), c_attempt = t.column("attempt"),
+            c_res = t.column("residual"), c_lf = t.column("load_factor");
+  std::ostringstream data;
+  data << std::setprecision(12);
+  std::vector<std::string> titles;
+  int last_step = -1, last_attempt = -1, x = 0;
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    const int step = static_cast<int>(t.number(r, c_step));
+    const int attempt = static_cast<int>(t.number(r, c_attempt));
+    if (step != last_step || attempt != last_attempt) {
+      if (!titles.empty()) data << "\n\n";
+      std::ostringstream title;
+      title << "λ = " << t.number(r, c_lf) << (attempt > 0 ? " (retry)" : "");
+      titles.push_back(title.str());
+      last_step = step, last_attempt = attempt, x = 0;
+    }
+    const double res = t.number(r, c_res);
+    data << x++ << ' ' << (res > 0 ? res : 1e-300) << '\n';
+  }
+  if (titles.empty()) return "";
+  const std::string path = dir + "/residuals.dat";
+  core::write_file_atomic(path, data.str());
+  std::ostringstream cmd;
+  cmd << "set title 'Newton residual history per load step (‖R‖∞, outer iterations joined)'\n"
+      << "set xlabel 'residual evaluation within the step'\nset ylabel 'residual'\n"
+      << "set logscale y\nset format y '10^{%L}'\nset grid\n"
+      << (titles.size() > 12 ? "set key off\n" : "set key outside right\n") << "plot ";
+  for (size_t i = 0; i < titles.size(); ++i)
+    cmd << (i ? ", \\\n     " : "") << "'" << path << "' index " << i
+        << " using 1:2 with linespoints pt 7 ps 0.6 title '" << titles[i] << "'";
+  cmd << "\n";
+  const std::string err = plot_png_and_svg(dir, "residuals", cmd.str());
+  std::filesystem::remove(path);
+  if (err.empty())
+    out.written.emplace_back("residuals", std::to_string(titles.size()) +
+                                              " load step attempts, residual per Newton iteration");
+  return err;
+}
+
+}  // namespace
+
+TraceCharts draw_trace_charts(const std::string& dir) {
+  if (!std::filesystem::is_directory(dir))
+    throw InputError(dir + ": expected the output folder of a run, found no such folder");
+  const std::string trace_path = dir + "/trace.csv";
+  if (!std::filesystem::exists(trace_path))
+    throw InputError(trace_path + ": not found; `contact2d run SCENE --out " + dir +
+                     "` writes it");
+  const CsvTable trace = read_csv(trace_path);
+  TraceCharts out;
+  const std::string steps_path = dir + "/contact_steps.csv";
+  if (std::filesystem::exists(steps_path)) {
+    const CsvTable steps = read_csv(steps_path);
+    if (!steps.rows.empty()) out.error = contact_charts(dir, steps, out);
+  }
+  if (out.error.empty()) out.error = residual_chart(dir, trace, out);
+  return out;
+}
+
+}  // namespace c2d::app

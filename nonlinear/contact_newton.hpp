@@ -1,0 +1,80 @@
+// Contact inside a load step of the geometric-nonlinear analysis.
+//
+// Each load step runs outer iterations. An outer iteration
+//   1. detects the contact rows at the current configuration and linearises the problem there
+//      (K_T, the out-of-balance force, the gap rows): the SQP subproblem;
+//   2. hands it to the scene's ConstraintStrategy, which returns a step, an active set, forces
+//      and (penalty-type methods) stiffnesses;
+//   3. holds that active set fixed and solves the nonlinear equations with KINSOL, starting from
+//      the strategy's step: penalty-type methods add the forces λ̂ − k g(u) of the active rows
+//      (CHOLMOD), exact methods add the multipliers of the active rows as unknowns (UMFPACK on
+//      the saddle-point system, symbolic analysis kept through the solve).
+// The step has converged when the strategy, consulted at the new state, keeps the active set
+// and asks for no further step. The active set never changes inside a KINSOL solve, so KINSOL's
+// line search sees a smooth residual (the NaN trap of changing the set inside the line search
+// cannot arise). `ipopt` is coupled the same way: Ipopt solves each outer iterate's QP, which
+// fixes the active set; the equality-constrained Newton solve with multipliers finishes it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "constraints/constraint_strategy.hpp"
+#include "constraints/contact_set.hpp"
+#include "core/results.hpp"
+#include "nonlinear/finite_strain_system.hpp"
+#include "nonlinear/newton_solver.hpp"
+
+namespace c2d::nonlinear {
+
+/// One outer iteration of a load step with contact.
+struct ContactIteration {
+  int outer = 0;
+  int strategy_iterations = 0;  ///< the strategy's own iterations on the linearised problem
+  SolveStatus strategy_status = SolveStatus::kConverged;
+  double strategy_step = 0.0;   ///< ‖Δu‖∞ the strategy asked for
+  int rows = 0, active = 0, entering = 0, leaving = 0;
+  double penalty = 0.0;         ///< largest penalty stiffness in use (0: none)
+  NewtonReport newton;          ///< KINSOL with the set fixed (no iterations: the step confirmed)
+  double max_penetration = 0.0; ///< after the KINSOL solve
+  double max_force = 0.0;       ///< largest row force after the KINSOL solve
+  double max_pressure = 0.0;    ///< largest recovered pressure then (0 without a slave surface)
+};
+
+/// What a converged state carries into the next load step: per row slot, closed or not.
+using ContactMemory = std::vector<char>;
+
+struct ContactStepInput {
+  VecX u_free;          ///< converged free displacements of the previous step
+  VecX u_prev_full;     ///< the same state as a full vector (previous prescribed values)
+  ContactMemory memory; ///< active set of the previous step, by slot
+  NewtonOptions newton; ///< tolerance and limits; the residual scale is set per step
+  double floor_scale = 0.0;  ///< smallest residual scale (stress-free, displacement-driven)
+  int max_outer = 15;
+};
+
+struct ContactStepResult {
+  SolveStatus status = SolveStatus::kFailed;
+  std::string message;
+  VecX u_free;
+  ContactMemory memory;
+  std::vector<ContactIteration> iterations;
+  NewtonReport newton;  ///< the KINSOL solves of the step combined (iterations, norms)
+  std::vector<constraints::GapRow> rows;   ///< at the converged state
+  constraints::ConstraintSolution state;   ///< gaps, forces, active set, penalties there
+};
+
+/// One load step to the load factor and prescribed values set on `system`, from the converged
+/// state in `in`. Never throws for numerical trouble; the caller keeps `in` as its snapshot.
+ContactStepResult solve_contact_step(FiniteStrainSystem& system,
+                                     const constraints::ContactSet& contact,
+                                     constraints::ConstraintStrategy& strategy,
+                                     const ContactStepInput& in);
+
+/// The contact quantities of a report as result globals (contact_pressure_max, contact_length,
+/// contact_force, contact_penetration) and point fields (contact_gap, contact_pressure,
+/// contact_force) for the VTU output and probes.
+void store_contact_results(const constraints::ContactReport& report, int num_nodes,
+                           core::Results& results);
+
+}  // namespace c2d::nonlinear

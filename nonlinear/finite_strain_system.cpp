@@ -1,0 +1,91 @@
+#include "nonlinear/finite_strain_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/finite_strain_kernels.hpp"
+
+namespace c2d::nonlinear {
+
+using namespace c2d::core;
+
+FiniteStrainSystem::FiniteStrainSystem(const Model& model)
+    : model_(model), assembler_(model.mesh, model.dofs),
+      f_ext_free_(model.dofs.restrict(model.external_force)) {}
+
+void FiniteStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
+  lambda_ = lambda;
+  u_prescribed_ = u_prescribed;
+}
+
+VecX FiniteStrainSystem::full(const VecX& u_free) const {
+  VecX u = u_prescribed_;
+  for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof) {
+    const int eq = model_.dofs.equation(dof);
+    if (eq >= 0) u[dof] = u_free[eq];
+  }
+  return u;
+}
+
+bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {
+  const Mesh& mesh = model_.mesh;
+  const int nn = mesh.nodes_per_element();
+  f = VecX::Zero(mesh.num_dofs());
+  LocalVector ue(2 * nn), fe;
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    for (int i = 0; i < nn; ++i) ue.segment<2>(2 * i) = u.segment<2>(2 * mesh.elements[e][i]);
+    if (!finite_strain_element(mesh.element_coords(e), ue,
+                               model_.materials[mesh.element_material[e]], &fe, nullptr))
+      return false;
+    for (int i = 0; i < nn; ++i) f.segment<2>(2 * mesh.elements[e][i]) += fe.segment<2>(2 * i);
+  }
+  return true;
+}
+
+bool FiniteStrainSystem::assemble(const VecX& u, const VecX* du_constrained, VecX* lift) {
+  const Mesh& mesh = model_.mesh;
+  const int nn = mesh.nodes_per_element();
+  bool ok = true;
+  LocalVector ue(2 * nn);
+  assembler_.assemble(
+      [&](int e, LocalMatrix& ke) {
+        for (int i = 0; i < nn; ++i) ue.segment<2>(2 * i) = u.segment<2>(2 * mesh.elements[e][i]);
+        if (!finite_strain_element(mesh.element_coords(e), ue,
+                                   model_.materials[mesh.element_material[e]], nullptr, &ke)) {
+          ok = false;
+          ke = LocalMatrix::Zero(2 * nn, 2 * nn);
+        }
+      },
+      du_constrained, lift);
+  return ok;
+}
+
+double FiniteStrainSystem::reaction_scale(const VecX& u_free) const {
+  VecX f;
+  double scale = 0.0;
+  if (!internal_force(full(u_free), f)) return scale;
+  for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
+    if (model_.dofs.is_constrained(dof)) scale = std::max(scale, std::abs(f[dof]));
+  return scale;
+}
+
+bool FiniteStrainSystem::residual(const VecX& u_free, VecX& r) {
+  VecX f;
+  if (!internal_force(full(u_free), f)) return false;
+  r = model_.dofs.restrict(f) - lambda_ * f_ext_free_;
+  return true;
+}
+
+bool FiniteStrainSystem::factorize_jacobian(const VecX& u_free) {
+  return assemble(full(u_free)) && factorize_jacobian_assembled();
+}
+
+bool FiniteStrainSystem::factorize_jacobian_assembled() {
+  return solver_.factorize(matrix()) == SolveStatus::kConverged;
+}
+
+bool FiniteStrainSystem::solve(const VecX& b, VecX& x) {
+  return solver_.solve(b, x) == SolveStatus::kConverged;
+}
+
+}  // namespace c2d::nonlinear

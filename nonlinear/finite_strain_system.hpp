@@ -1,0 +1,50 @@
+// The discrete updated-Lagrangian St. Venant–Kirchhoff problem on the free DOFs:
+// R(u_f) = f_int(u) − λ f_ext with u the full vector (prescribed values of the current load
+// factor), and its tangent K_T = K_D + K_σ.
+#pragma once
+
+#include "core/assembler.hpp"
+#include "core/model.hpp"
+#include "core/spd_solver.hpp"
+#include "nonlinear/newton_solver.hpp"
+
+namespace c2d::nonlinear {
+
+class FiniteStrainSystem final : public NewtonSystem {
+ public:
+  explicit FiniteStrainSystem(const core::Model& model);
+
+  /// The load factor and the full vector carrying the prescribed values at it.
+  void set_state(double lambda, const VecX& u_prescribed);
+  double load_factor() const { return lambda_; }
+  const core::Model& model() const { return model_; }
+  /// Full displacement from the free values and the current prescribed values.
+  VecX full(const VecX& u_free) const;
+  /// Full internal force vector at a full displacement; false if an element is inverted.
+  bool internal_force(const VecX& u_full, VecX& f) const;
+  /// Assembles K_T,ff at u (full) into matrix(); with `du_constrained`, also lift = K_fc du_c.
+  /// False if an element is inverted.
+  bool assemble(const VecX& u_full, const VecX* du_constrained = nullptr, VecX* lift = nullptr);
+  /// Largest support reaction |f_int| on the prescribed DOFs at the free values u_free (0 if an
+  /// element is inverted): the force scale of supports that carry the load.
+  double reaction_scale(const VecX& u_free) const;
+  const SpMat& matrix() const { return assembler_.matrix(); }
+  const VecX& f_ext_free() const { return f_ext_free_; }
+
+  // NewtonSystem: the unconstrained problem, factorised with CHOLMOD (symbolic analysis kept).
+  bool residual(const VecX& u_free, VecX& r) override;
+  bool factorize_jacobian(const VecX& u_free) override;
+  /// Factorises the matrix last assembled.
+  bool factorize_jacobian_assembled();
+  bool solve(const VecX& b, VecX& x) override;
+  const core::SpdSolveReport& linear_report() const { return solver_.report(); }
+
+ private:
+  const core::Model& model_;
+  core::Assembler assembler_;
+  core::SpdSolver solver_;
+  VecX f_ext_free_, u_prescribed_;
+  double lambda_ = 0.0;
+};
+
+}  // namespace c2d::nonlinear
