@@ -119,6 +119,10 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
     os << "ZZ error   " << 100.0 * s["error"]["relative_error"].get<double>()
        << " % (global parameter " << s["error"]["global_parameter"].get<double>() << " for target "
        << 100.0 * s["error"]["target"].get<double>() << " %)\n";
+  if (s.contains("load_factor"))
+    os << "steps      " << s["steps"] << " load steps converged (load factor "
+       << s["load_factor"].get<double>() << "), " << s["newton_iterations"]
+       << " Newton iterations\n";
   if (s.contains("contact") && !s["contact"].is_null()) {
     const auto& c = s["contact"];
     os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
@@ -136,7 +140,9 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
   for (const auto& [name, value] : s["probes"].items())
     os << "probe      " << name << " = " << (value.is_null() ? std::string("null") : value.dump())
        << '\n';
-  os << "results    " << out_dir << "/ (summary.json, results.pvd, nodes.csv, deformed.png)\n";
+  os << "results    " << out_dir << "/ (summary.json, results.pvd, nodes.csv, deformed.png"
+     << (s.contains("load_factor") ? ", trace.csv; charts: contact2d trace " + out_dir : std::string())
+     << ")\n";
   return os.str();
 }
 

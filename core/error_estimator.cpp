@@ -1,5 +1,6 @@
 #include "core/error_estimator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/triangle.hpp"
@@ -50,9 +51,14 @@ ErrorEstimate estimate_error(const Mesh& mesh, const std::vector<Material>& mate
   for (double ee : est.element_error) err2 += ee * ee;
   est.error_norm = std::sqrt(err2);
   est.energy_norm = std::sqrt(energy2);
-  const double denom = target * est.energy_norm;
+  // A stress-free state (a rigid motion, an unloaded body) has nothing to estimate: its
+  // relative error would be round-off over round-off. Below 1e-10 E the field counts as zero.
+  double young = 0.0;
+  for (const auto& m : materials) young = std::max(young, m.young);
+  const bool stress_free = smoothed.size() == 0 || smoothed.cwiseAbs().maxCoeff() <= 1e-10 * young;
+  const double denom = stress_free ? 0.0 : target * est.energy_norm;
   est.global_parameter = denom > 0 ? est.error_norm / denom : 0.0;
-  est.relative_error = est.energy_norm > 0 ? est.error_norm / est.energy_norm : 0.0;
+  est.relative_error = denom > 0 ? est.error_norm / est.energy_norm : 0.0;
   const double sqrt_n = std::sqrt(static_cast<double>(mesh.num_elements()));
   est.local_parameter.resize(mesh.num_elements());
   for (int e = 0; e < mesh.num_elements(); ++e)

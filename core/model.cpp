@@ -179,6 +179,22 @@ std::vector<int> select_edges(const Model& model, const SelectionSpec& s) {
   return out;
 }
 
+namespace {
+Vec2 rotated(const Vec2& x, const Vec2& c, double angle) {
+  const double co = std::cos(angle), si = std::sin(angle);
+  const Vec2 d = x - c;
+  return c + Vec2(co * d.x() - si * d.y(), si * d.x() + co * d.y());
+}
+}  // namespace
+
+VecX prescribed_displacement(const Model& model, double lambda) {
+  VecX u = model.dofs.expand(VecX::Zero(model.dofs.num_free()), lambda);
+  for (const auto& r : model.rotations)
+    for (int n : r.nodes)
+      u.segment<2>(2 * n) = rotated(model.mesh.nodes[n], r.center, lambda * r.angle) - model.mesh.nodes[n];
+  return u;
+}
+
 Model build_model(const Scene& scene) {
   Model model;
   const auto t0 = std::chrono::steady_clock::now();
@@ -220,10 +236,15 @@ Model build_model(const Scene& scene) {
 
   model.dofs = DofMap(model.mesh.num_dofs());
   for (const auto& s : scene.supports) {
-    for (int n : select_nodes(model, s.on)) {
+    const std::vector<int> nodes = select_nodes(model, s.on);
+    if (s.rotate) model.rotations.push_back({nodes, s.rotate->center, s.rotate->angle});
+    for (int n : nodes) {
+      Vec2 turned = Vec2::Zero();
+      if (s.rotate)
+        turned = rotated(model.mesh.nodes[n], s.rotate->center, s.rotate->angle) - model.mesh.nodes[n];
       for (int c = 0; c < 2; ++c) {
         const auto& v = c == 0 ? s.ux : s.uy;
-        if (v && !model.dofs.constrain(2 * n + c, *v))
+        if (v && !model.dofs.constrain(2 * n + c, s.rotate ? turned[c] : *v))
           throw InputError(s.at.where + ": node " + std::to_string(n + 1) +
                            " already has a different prescribed " + (c == 0 ? "ux" : "uy"));
       }

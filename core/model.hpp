@@ -11,6 +11,13 @@
 
 namespace c2d::core {
 
+/// Nodes whose prescribed displacement follows a rigid rotation (a `rotate` support).
+struct PrescribedRotation {
+  std::vector<int> nodes;
+  Vec2 center = Vec2::Zero();
+  double angle = 0.0;  ///< at load factor 1
+};
+
 struct Model {
   Mesh mesh;
   std::vector<Material> materials;
@@ -20,7 +27,13 @@ struct Model {
   std::vector<int> node_material;  ///< material of (one of) the elements at each node
   double model_size = 1.0;  ///< bounding-box diagonal
   double mesh_seconds = 0.0;
+  std::vector<PrescribedRotation> rotations;
 };
+
+/// The full vector of prescribed displacements at load factor λ (zero on free DOFs): λ × the
+/// supports' values, except on rotated supports, which follow the rotation through λθ exactly
+/// (not λ times its chord), so a load-stepped analysis turns them along the arc.
+VecX prescribed_displacement(const Model& model, double lambda);
 
 /// Meshes the bodies (or takes the legacy mesh), applies supports and loads. Throws InputError
 /// when a selection matches nothing or a support conflicts.

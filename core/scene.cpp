@@ -265,7 +265,7 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   };
 
   for (const auto& s : root["support"].tables()) {
-    s.check_keys({"on", "fix", "ux", "uy"});
+    s.check_keys({"on", "fix", "ux", "uy", "rotate"});
     SupportSpec ss;
     ss.at.where = s.where();
     ss.on = parse_selection(s["on"]);
@@ -282,7 +282,19 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
       if (ss.uy) s["uy"].fail_message("uy is both fixed and prescribed");
       ss.uy = s["uy"].number();
     }
-    if (!ss.ux && !ss.uy) s.fail("'fix = [\"ux\", \"uy\"]' or a prescribed 'ux'/'uy'");
+    if (s.has("rotate")) {
+      if (ss.ux || ss.uy)
+        s["rotate"].fail_message("a rotated support cannot also fix or prescribe ux/uy");
+      const TomlView r = s["rotate"];
+      r.check_keys({"center", "angle_deg"});
+      RotationSpec rot;
+      rot.center = r["center"].vec2();
+      rot.angle = r["angle_deg"].number() * M_PI / 180.0;
+      ss.rotate = rot;
+      ss.ux = ss.uy = 0.0;  // both components prescribed (values from the rotation)
+    }
+    if (!ss.ux && !ss.uy)
+      s.fail("'fix = [\"ux\", \"uy\"]', a prescribed 'ux'/'uy' or 'rotate = { center, angle_deg }'");
     scene.supports.push_back(ss);
   }
 

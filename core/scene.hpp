@@ -65,9 +65,16 @@ struct SelectionSpec {
   SourceRef at;
 };
 
+/// A rigid rotation prescribed on a support: the nodes follow u(λ) = (R(λθ) − I)(X − c).
+struct RotationSpec {
+  Vec2 center = Vec2::Zero();
+  double angle = 0.0;  ///< θ in radians at load factor 1
+};
+
 struct SupportSpec {
   SelectionSpec on;
   std::optional<double> ux, uy;  ///< prescribed values (fix = 0)
+  std::optional<RotationSpec> rotate;
   SourceRef at;
 };
 

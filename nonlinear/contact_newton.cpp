@@ -193,7 +193,9 @@ ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSe
         if (s.active[i]) lambda_hat[i] = s.contact_force[i] + k[i] * s.gap[i];
     if (exact && same_set)
       for (int i = 0; i < m; ++i) start_force[i] = force_by_slot[rows[i].slot];
-    ActiveSetSystem sys(system, exact, qp, c, s.active, k, lambda_hat, saddle_point_scale(qp));
+    // Without active rows the exact methods' system is K_T alone: CHOLMOD, not the saddle point.
+    const bool multipliers = exact && std::find(s.active.begin(), s.active.end(), 1) != s.active.end();
+    ActiveSetSystem sys(system, multipliers, qp, c, s.active, k, lambda_hat, saddle_point_scale(qp));
     VecX x = sys.pack(same_set ? u : VecX(u + s.u), start_force);
     NewtonOptions newton = in.newton;
     newton.residual_scale = std::max({newton.residual_scale, inf_norm(s.contact_force),
@@ -221,7 +223,7 @@ ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSe
     // bounds the test from below.
     if (same_set) {
       VecX r;
-      double k_max = exact ? saddle_point_scale(qp) : 0.0;
+      double k_max = multipliers ? saddle_point_scale(qp) : 0.0;
       for (int i = 0; i < m; ++i)
         if (s.active[i]) k_max = std::max(k_max, k[i]);
       const double floor = 16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale * k_max;

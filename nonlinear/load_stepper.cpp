@@ -32,7 +32,7 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
   auto prescribe = [&](double lambda) {
     VecX u = VecX::Zero(mesh.num_dofs());
     if (options.prescribe) options.prescribe(lambda, u);
-    else u = dofs.expand(VecX::Zero(dofs.num_free()), lambda);
+    else u = prescribed_displacement(model, lambda);
     return u;
   };
   FiniteStrainSystem system(model);
@@ -110,6 +110,7 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
     }
     rec.seconds = seconds_since(t_step);
     const bool ok = rec.newton.status == SolveStatus::kConverged;
+    bool give_up = false;
     if (ok) {
       ++converged_steps;
       u_free = trial;
@@ -124,9 +125,13 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
       // After a cutback, grow back toward the nominal increment once a step comes easily.
       if (cutbacks > 0 && rec.newton.iterations <= 4) increment = std::min(nominal, 2.0 * increment);
       cutbacks = 0;
+    } else if (rec.newton.status == SolveStatus::kIllConditioned) {
+      give_up = true;  // a penalty beyond what double precision resolves: no step size cures it
     } else if (cutbacks < options.max_cutbacks) {
       ++cutbacks;
       increment *= 0.5;
+    } else {
+      give_up = true;
     }
     rec.step = converged_steps;
     if (with_contact) {
@@ -146,10 +151,10 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
     }
     if (trace) trace->push_back(rec);
     if (options.on_step) options.on_step(rec);
-    if (!ok && rec.attempt >= options.max_cutbacks) {
+    if (!ok && give_up) {
       r.status = rec.newton.status;
       r.message = "load step to λ = " + std::to_string(target) + " failed after " +
-                  std::to_string(options.max_cutbacks) + " cutbacks (" + rec.newton.message + ")";
+                  std::to_string(cutbacks) + " cutbacks (" + rec.newton.message + ")";
       break;
     }
   }

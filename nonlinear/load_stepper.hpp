@@ -33,7 +33,8 @@ struct StepperOptions {
   int max_cutbacks = 8;      ///< halvings of a failed increment before giving up
   NewtonOptions newton;
   /// Prescribed displacements at load factor λ (full vector; only constrained DOFs are read).
-  /// Default: λ × the model's prescribed values.
+  /// Default: core::prescribed_displacement (λ × the supports' values; rotated supports turn
+  /// through λθ).
   std::function<void(double lambda, VecX& u_full)> prescribe;
   /// Called after every attempt (progress display).
   std::function<void(const StepRecord&)> on_step;
