@@ -1,19 +1,25 @@
 // End to end through the executable: exit codes, summary.json, VTU consistency.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
+#include <vector>
 
 namespace fs = std::filesystem;
 
 namespace {
 
 int run(const std::string& args, std::string* output = nullptr) {
-  const fs::path log = fs::temp_directory_path() / "c2d_cli_test.log";
+  // One log per process: CTest runs the tests of this file in parallel processes.
+  const fs::path log =
+      fs::temp_directory_path() / ("c2d_cli_test_" + std::to_string(::getpid()) + ".log");
   const std::string cmd = std::string(C2D_BINARY) + " " + args + " > " + log.string() + " 2>&1";
   const int rc = std::system(cmd.c_str());
   if (output) {
@@ -79,7 +85,7 @@ TEST(Cli, UnsupportedBodyFailsWithExitOneAndKeepsSummary) {
 }
 
 TEST(Cli, HelpForEveryVerb) {
-  for (const char* verb : {"run", "mesh", "info"}) {
+  for (const char* verb : {"run", "mesh", "info", "trace"}) {
     std::string output;
     EXPECT_EQ(run(std::string(verb) + " --help", &output), 0);
     EXPECT_NE(output.find("usage: contact2d"), std::string::npos);
@@ -109,11 +115,59 @@ TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header, "node,x,y,gap,force,pressure,active,penalty");
-  EXPECT_TRUE(fs::exists(out / "trace.csv"));
+  // Five load steps (the scene's); contact closes at the third (λ = 0.6, after the
+  // Euler-Bernoulli closing load λ_c = 0.41), so the trace's active count rises from 0 to >= 1.
+  EXPECT_EQ(s["steps"].get<int>(), 5);
+  std::ifstream trace(out / "trace.csv");
+  std::string line;
+  std::getline(trace, line);
+  EXPECT_EQ(line,
+            "step,load_factor,attempt,outer,iteration,residual,increment_norm,active,entering,"
+            "leaving,max_penetration,max_pressure,penalty,status");
+  std::map<int, int> active_at_step;
+  while (std::getline(trace, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 14u) << line;
+    if (cells[13] == "converged") active_at_step[std::stoi(cells[0])] = std::stoi(cells[7]);
+  }
+  EXPECT_EQ(active_at_step[1], 0);
+  EXPECT_EQ(active_at_step[2], 0);
+  EXPECT_GE(active_at_step[3], 1);
+  EXPECT_GE(active_at_step[5], 1);
+  EXPECT_TRUE(fs::exists(out / "contact_steps.csv"));
+  // The trace verb draws the activation, force and residual charts as PNG and SVG.
+  std::string output;
+  ASSERT_EQ(run("trace " + out.string(), &output), 0) << output;
+  for (const char* stem : {"activation", "contact_force", "residuals"}) {
+    std::ifstream png(out / (std::string(stem) + ".png"), std::ios::binary);
+    char sig[8] = {};
+    png.read(sig, 8);
+    EXPECT_EQ(std::string(sig + 1, 3), "PNG") << stem;
+    std::ifstream svg(out / (std::string(stem) + ".svg"));
+    std::stringstream text;
+    text << svg.rdbuf();
+    EXPECT_NE(text.str().find("<svg"), std::string::npos) << stem;
+  }
   std::ifstream vtu(out / "step_0001.vtu");
   std::stringstream ss;
   ss << vtu.rdbuf();
   EXPECT_NE(ss.str().find("Name=\"contact_pressure\""), std::string::npos);
+}
+
+TEST(Cli, TraceNamesWhatIsMissing) {
+  std::string output;
+  EXPECT_EQ(run("trace /nonexistent/c2d_run", &output), 2);
+  EXPECT_NE(output.find("/nonexistent/c2d_run: expected the output folder of a run"),
+            std::string::npos)
+      << output;
+  const fs::path dir = fs::temp_directory_path() / "c2d_cli_bad_trace";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "trace.csv") << "step,load_factor,attempt,outer,iteration,residual\n1,0.5,0,1\n";
+  EXPECT_EQ(run("trace " + dir.string(), &output), 2);
+  EXPECT_NE(output.find("trace.csv:2: expected 6 cells, found 4"), std::string::npos) << output;
 }
 
 TEST(Cli, ContactMethodErrorsAndIllConditionedPenalty) {
