@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "constraints/kkt_solver.hpp"
+#include "constraints/saddle_point_solver.hpp"
 
 namespace c2d::constraints {
 
@@ -213,14 +213,13 @@ void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_
   std::vector<char> active = initially_closed(p);
   ActiveSetTracker tracker;
   tracker.record(active);
-  KktSolver kkt;
+  SaddlePointSolver kkt(p, scale);
   s.status = SolveStatus::kMaxIterations;
   s.message = "active set still changing after " + std::to_string(max_iterations) + " " + step +
               "s";
   for (int it = 1; it <= max_iterations; ++it) {
     VecX x;
-    SolveStatus st = kkt.factorize(saddle_point_matrix(p, active, scale, all_rows),
-                                   all_rows && it > 1);
+    SolveStatus st = kkt.factorize(active, all_rows, all_rows && it > 1);
     if (st == SolveStatus::kConverged)
       st = kkt.solve(saddle_point_rhs(p, active, scale, all_rows), x);
     if (st != SolveStatus::kConverged) {

@@ -2,6 +2,7 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
+#include <algorithm>
 #include <cmath>
 
 namespace c2d::core {
@@ -26,14 +27,16 @@ constexpr double kSingularPivotRatio = 1e-14;
 struct SpdSolver::Impl {
   Backend preferred;
   Backend active;
+  bool fallback = true;
   Cholmod cholmod;
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt;
   Eigen::Index analysed_rows = -1, analysed_nnz = -1;
   const SpMat* matrix = nullptr;
 };
 
-SpdSolver::SpdSolver(Backend preferred) : impl_(std::make_unique<Impl>()) {
+SpdSolver::SpdSolver(Backend preferred, bool fallback) : impl_(std::make_unique<Impl>()) {
   impl_->preferred = preferred;
+  impl_->fallback = fallback;
   impl_->active = preferred;
   impl_->cholmod.setMode(Eigen::CholmodAuto);
 }
@@ -78,7 +81,7 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
   };
   bool ok = try_backend(m.preferred);
   m.active = m.preferred;
-  if (!ok && m.preferred == Backend::kCholmod) {
+  if (!ok && m.preferred == Backend::kCholmod && m.fallback) {
     // CHOLMOD stops at the first non-positive pivot; LDLT tells us the pivots, so a singular or
     // indefinite matrix is named rather than guessed.
     ok = try_backend(Backend::kEigenLdlt);
@@ -121,6 +124,33 @@ SolveStatus SpdSolver::solve(const VecX& b, VecX& x) {
   } else if (report_.relative_residual > 1e-6) {
     report_.status = SolveStatus::kIllConditioned;
     report_.message = "relative residual " + std::to_string(report_.relative_residual) +
+                      " after the direct solve (ill-conditioned stiffness matrix)";
+  }
+  return report_.status;
+}
+
+SolveStatus SpdSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) {
+  Impl& m = *impl_;
+  if (b.size() == 0) {
+    x.resize(b.rows(), b.cols());
+    return SolveStatus::kConverged;
+  }
+  if (report_.status != SolveStatus::kConverged) return report_.status;
+  x = m.active == Backend::kCholmod ? Eigen::MatrixXd(m.cholmod.solve(b))
+                                    : Eigen::MatrixXd(m.ldlt.solve(b));
+  const Eigen::MatrixXd r = (*m.matrix).selfadjointView<Eigen::Lower>() * x - b;
+  double worst = 0.0;
+  for (Eigen::Index c = 0; c < b.cols(); ++c) {
+    const double bn = b.col(c).norm();
+    worst = std::max(worst, bn > 0 ? r.col(c).norm() / bn : r.col(c).norm());
+  }
+  report_.relative_residual = worst;
+  if (!x.allFinite() || !std::isfinite(worst)) {
+    report_.status = SolveStatus::kSingular;
+    report_.message = "solution is not finite (singular stiffness matrix)";
+  } else if (worst > 1e-6) {
+    report_.status = SolveStatus::kIllConditioned;
+    report_.message = "relative residual " + std::to_string(worst) +
                       " after the direct solve (ill-conditioned stiffness matrix)";
   }
   return report_.status;

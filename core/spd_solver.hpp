@@ -24,7 +24,10 @@ struct SpdSolveReport {
 class SpdSolver {
  public:
   enum class Backend { kCholmod, kEigenLdlt };
-  explicit SpdSolver(Backend preferred = Backend::kCholmod);
+  /// With `fallback`, a matrix CHOLMOD cannot factorise is retried with Eigen's LDLT, which
+  /// names singular and indefinite matrices by their pivots; without it the failure returns at
+  /// once (for callers that have a better plan B).
+  explicit SpdSolver(Backend preferred = Backend::kCholmod, bool fallback = true);
   ~SpdSolver();
   SpdSolver(const SpdSolver&) = delete;
   SpdSolver& operator=(const SpdSolver&) = delete;
@@ -35,6 +38,9 @@ class SpdSolver {
   SolveStatus factorize(const SpMat& k);
   /// Solves K x = b with the last factorization; checks the residual and finiteness.
   SolveStatus solve(const VecX& b, VecX& x);
+  /// Solves K X = B for several right-hand sides at once; checks finiteness and the largest
+  /// relative column residual.
+  SolveStatus solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x);
   const SpdSolveReport& report() const { return report_; }
   /// Forgets the symbolic analysis (call when the pattern changed).
   void reset_pattern();

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <set>
 
-#include "constraints/kkt_solver.hpp"
+#include "constraints/saddle_point_solver.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::nonlinear {
@@ -17,9 +18,11 @@ namespace {
 /// The nonlinear equations of one outer iteration: the active rows fixed, their gaps linear in
 /// the free displacements, g(u) = c + G u (the linearisation about the detection state).
 ///   penalty-type:  R(u)    = f_int(u) − λ f − G_Aᵀ (λ̂ − k g_A(u))             (CHOLMOD)
-///   exact:         R(u, z) = [ f_int(u) − λ f − s G_Aᵀ z_A ;  −s g_A(u) ;  s z_I ] (UMFPACK)
+///   exact:         R(u, z) = [ f_int(u) − λ f − s G_Aᵀ z_A ;  −s g_A(u) ;  s z_I ]
 /// with z = λ/s the multipliers scaled to the stiffness (s = mean diag K) and the inactive rows
-/// kept as z = 0, so the saddle-point pattern is analysed once per outer iteration.
+/// kept as z = 0. The exact methods' Newton systems go to the SaddlePointSolver: a Cholesky of
+/// K_T and the Schur complement of the active rows, or UMFPACK on the saddle point when K_T
+/// alone is singular (a body held only by its contacts).
 class ActiveSetSystem final : public NewtonSystem {
  public:
   ActiveSetSystem(FiniteStrainSystem& base, bool multipliers, const ConstrainedProblem& qp,
@@ -34,6 +37,7 @@ class ActiveSetSystem final : public NewtonSystem {
       problem_.load = VecX::Zero(n_);
       problem_.eq_jacobian = SpMat(0, n_);
       problem_.eq_rhs = VecX();
+      saddle_ = std::make_unique<SaddlePointSolver>(problem_, s_);
     } else {
       VecX ka = VecX::Zero(m_);
       for (int i = 0; i < m_; ++i)
@@ -73,15 +77,16 @@ class ActiveSetSystem final : public NewtonSystem {
     if (!base_.assemble(base_.full(x.head(n_)))) return false;
     if (multipliers_) {
       problem_.stiffness = base_.matrix();
-      const bool ok = kkt_.factorize(saddle_point_matrix(problem_, active_, s_, true), true) ==
-                      SolveStatus::kConverged;
+      saddle_->stiffness_changed();
+      const bool ok = saddle_->factorize(active_, true, analysed_) == SolveStatus::kConverged;
+      analysed_ = true;
       return ok;
     }
     jacobian_ = base_.matrix() + penalty_;  // the solver keeps a reference for its residual check
     return spd_.factorize(jacobian_) == SolveStatus::kConverged;
   }
   bool solve(const VecX& b, VecX& x) override {
-    return (multipliers_ ? kkt_.solve(b, x) : spd_.solve(b, x)) == SolveStatus::kConverged;
+    return (multipliers_ ? saddle_->solve(b, x) : spd_.solve(b, x)) == SolveStatus::kConverged;
   }
 
  private:
@@ -94,8 +99,9 @@ class ActiveSetSystem final : public NewtonSystem {
   double s_;
   int n_, m_;
   ConstrainedProblem problem_;
-  KktSolver kkt_;
-  core::SpdSolver spd_;
+  std::unique_ptr<SaddlePointSolver> saddle_;
+  bool analysed_ = false;
+  core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
 };
 
 double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }

@@ -1,0 +1,181 @@
+#include "constraints/saddle_point_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "constraints/strategy_common.hpp"
+
+namespace c2d::constraints {
+
+namespace {
+constexpr int kMaxSchurRows = 400;
+constexpr double kMaxSchurEntries = 4e7;  ///< n × rows doubles of W (320 MB)
+constexpr double kMinSchurRcond = 1e-13;
+const char* kDependentRows =
+    "saddle-point matrix is singular: linearly dependent constraint rows or an unsupported body";
+}  // namespace
+
+SaddlePointSolver::SaddlePointSolver(const ConstrainedProblem& p, double s) : p_(p), s_(s) {
+  const int n = p.num_unknowns(), me = p.num_equalities(), m = p.num_gaps();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(p.eq_jacobian.nonZeros() + p.gap_jacobian.nonZeros());
+  for (int c = 0; c < p.eq_jacobian.outerSize(); ++c)
+    for (SpMat::InnerIterator it(p.eq_jacobian, c); it; ++it)
+      t.emplace_back(it.col(), it.row(), it.value());
+  for (int c = 0; c < p.gap_jacobian.outerSize(); ++c)
+    for (SpMat::InnerIterator it(p.gap_jacobian, c); it; ++it)
+      t.emplace_back(it.col(), me + it.row(), it.value());
+  ct_ = SpMat(n, me + m);
+  ct_.setFromTriplets(t.begin(), t.end());
+  w_columns_.resize(me + m);
+}
+
+SaddlePointSolver::~SaddlePointSolver() = default;
+
+void SaddlePointSolver::stiffness_changed() {
+  path_ = Path::kUnknown;
+  for (auto& w : w_columns_) w.resize(0);
+}
+
+SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool all_rows,
+                                         bool same_pattern) {
+  const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
+  all_rows_ = all_rows;
+  rows_.clear();
+  positions_.clear();
+  size_ = n + me;
+  for (int j = 0; j < me; ++j) rows_.push_back(j), positions_.push_back(n + j);
+  for (int i = 0; i < m; ++i) {
+    if (active[i]) rows_.push_back(me + i), positions_.push_back(size_);
+    if (all_rows || active[i]) ++size_;
+  }
+  if (path_ == Path::kUnknown) {
+    path_ = chol_.factorize(p_.stiffness) == SolveStatus::kConverged ? Path::kSchur : Path::kLu;
+    ++report_.numeric_factorizations;
+  }
+  const int k = static_cast<int>(rows_.size());
+  if (path_ == Path::kSchur && k <= kMaxSchurRows &&
+      static_cast<double>(n) * k <= kMaxSchurEntries)
+    return factorize_schur(active, all_rows);
+  // LU of the whole saddle point.
+  const SolveStatus st =
+      lu_.factorize(saddle_point_matrix(p_, active, s_, all_rows), same_pattern && path_ == Path::kLu);
+  path_ = Path::kLu;
+  const int factorizations = report_.numeric_factorizations + 1;
+  report_ = lu_.report();
+  report_.numeric_factorizations = factorizations;
+  return st;
+}
+
+SolveStatus SaddlePointSolver::factorize_schur(const std::vector<char>&, bool) {
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
+  report_.message.clear();
+  // W columns of the rows new to the system: one multi-column solve.
+  std::vector<int> missing;
+  for (int j : rows_)
+    if (w_columns_[j].size() == 0) missing.push_back(j);
+  if (!missing.empty()) {
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, static_cast<int>(missing.size()));
+    for (size_t c = 0; c < missing.size(); ++c)
+      for (SpMat::InnerIterator it(ct_, missing[c]); it; ++it) rhs(it.row(), c) = it.value();
+    Eigen::MatrixXd sol;
+    const SolveStatus st = chol_.solve(rhs, sol);
+    if (st != SolveStatus::kConverged) {
+      report_.status = st;
+      report_.message = chol_.report().message;
+      return st;
+    }
+    for (size_t c = 0; c < missing.size(); ++c) w_columns_[missing[c]] = sol.col(static_cast<int>(c));
+  }
+  w_.resize(n, k);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int r = 0; r < k; ++r) {
+    w_.col(r) = w_columns_[rows_[r]];
+    for (SpMat::InnerIterator it(ct_, rows_[r]); it; ++it) t.emplace_back(r, it.row(), it.value());
+  }
+  c_rows_ = SpMat(k, n);
+  c_rows_.setFromTriplets(t.begin(), t.end());
+  report_.status = SolveStatus::kConverged;
+  report_.rcond = 1.0;
+  if (k == 0) return report_.status;
+  Eigen::MatrixXd schur = c_rows_ * w_;  // C K⁻¹ Cᵀ
+  schur = 0.5 * (schur + schur.transpose()).eval();
+  schur_.compute(schur);
+  // Eigen's LDLᵀ condition estimate misses an exactly zero pivot (it reports 0.5 for
+  // [[1, 1], [1, 1]]), so the pivot ratio bounds it as well.
+  report_.rcond = 0.0;
+  if (schur_.info() == Eigen::Success) {
+    const VecX d = schur_.vectorD().cwiseAbs();
+    const double dmax = d.maxCoeff();
+    report_.rcond = dmax > 0 ? std::min(schur_.rcond(), d.minCoeff() / dmax) : 0.0;
+  }
+  if (!(report_.rcond > kMinSchurRcond)) {
+    report_.status = SolveStatus::kSingular;
+    report_.message = std::string(kDependentRows) + " (Schur complement rcond " +
+                      std::to_string(report_.rcond) + ")";
+  }
+  return report_.status;
+}
+
+SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
+  if (path_ != Path::kSchur) {
+    const SolveStatus st = lu_.solve(b, x);
+    report_.status = lu_.report().status;
+    report_.message = lu_.report().message;
+    report_.relative_residual = lu_.report().relative_residual;
+    return st;
+  }
+  if (report_.status != SolveStatus::kConverged) return report_.status;
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
+  const int me = p_.num_equalities();
+  x = VecX::Zero(size_);
+  VecX y;
+  SolveStatus st = chol_.solve(VecX(b.head(n)), y);
+  if (st != SolveStatus::kConverged) {
+    report_.status = st;
+    report_.message = chol_.report().message;
+    return st;
+  }
+  // Inactive rows kept in the system: s z_i = b_i.
+  if (all_rows_) {
+    int pos = n + me;
+    std::vector<char> in_system(p_.num_gaps(), 0);
+    for (int r = 0; r < k; ++r)
+      if (rows_[r] >= me) in_system[rows_[r] - me] = 1;
+    for (int i = 0; i < p_.num_gaps(); ++i, ++pos)
+      if (!in_system[i]) x[pos] = b[pos] / s_;
+  }
+  VecX z = VecX::Zero(k);
+  if (k > 0) {
+    VecX rhs = c_rows_ * y;
+    for (int r = 0; r < k; ++r) rhs[r] = -(b[positions_[r]] + s_ * rhs[r]) / (s_ * s_);
+    z = schur_.solve(rhs);
+    y += s_ * (w_ * z);
+    for (int r = 0; r < k; ++r) x[positions_[r]] = z[r];
+  }
+  x.head(n) = y;
+  // Residual of the rows in the system (the others are exact by construction).
+  VecX ru = p_.stiffness * y - b.head(n);
+  if (k > 0) ru -= s_ * (c_rows_.transpose() * z);
+  double r2 = ru.squaredNorm(), b2 = b.head(n).squaredNorm();
+  if (k > 0) {
+    const VecX cy = c_rows_ * y;
+    for (int r = 0; r < k; ++r) {
+      const double rc = -s_ * cy[r] - b[positions_[r]];
+      r2 += rc * rc;
+      b2 += b[positions_[r]] * b[positions_[r]];
+    }
+  }
+  report_.relative_residual = std::sqrt(r2) / (b2 > 0 ? std::sqrt(b2) : 1.0);
+  if (!x.allFinite()) {
+    report_.status = SolveStatus::kFailed;
+    report_.message = "Schur-complement solve produced non-finite values";
+    x.setZero(size_);
+  } else if (report_.relative_residual > 1e-6) {
+    report_.status = SolveStatus::kIllConditioned;
+    report_.message = "saddle-point solve residual " + std::to_string(report_.relative_residual);
+  }
+  return report_.status;
+}
+
+}  // namespace c2d::constraints

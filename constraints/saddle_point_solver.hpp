@@ -1,0 +1,72 @@
+// The saddle-point systems of the multiplier methods,
+//
+//   [ K        −s Cᵀ ] [ u ]   [ b_u ]       C = the equality rows A and the active gap rows G_A,
+//   [ −s C      0    ] [ z ]ᵀ= [ b_c ]       z = multipliers / s,
+//
+// laid out as saddle_point_matrix() lays them out (with `all_rows`, inactive gap rows stay as
+// s z_i = b_i). Two ways to solve them:
+//
+//  - Schur complement, when CHOLMOD can factorise K (a supported structure) and C has at most a
+//    few hundred rows: K is factorised once for the solver's lifetime, W = K⁻¹ Cᵀ is computed
+//    column by column as rows first enter (one multi-column solve per batch, kept while the row
+//    stays in the problem), and each active set costs only the small dense S = C W and its LDLᵀ.
+//    An active-set loop then costs one Cholesky plus a few solves: contact at the price of a
+//    linear solve.
+//  - LU of the whole saddle point (UMFPACK), when K is singular (a body held only by its
+//    contacts) or C is large; the symbolic analysis is kept while the pattern is.
+//
+// Both report redundant constraint rows as singular (S's condition estimate, UMFPACK's rcond).
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <vector>
+
+#include "constraints/constrained_problem.hpp"
+#include "constraints/kkt_solver.hpp"
+#include "core/spd_solver.hpp"
+
+namespace c2d::constraints {
+
+class SaddlePointSolver {
+ public:
+  /// `p` (K, A, G) is referenced and must outlive the solver; `s` is the row scale.
+  SaddlePointSolver(const ConstrainedProblem& p, double s);
+  ~SaddlePointSolver();
+  SaddlePointSolver(const SaddlePointSolver&) = delete;
+  SaddlePointSolver& operator=(const SaddlePointSolver&) = delete;
+
+  /// Prepares the system of the gap rows marked in `active`. With `same_pattern` (all_rows and
+  /// an unchanged K pattern) the LU path keeps its symbolic analysis.
+  SolveStatus factorize(const std::vector<char>& active, bool all_rows, bool same_pattern);
+  /// Call after changing p.stiffness: the Cholesky factor and W are recomputed on the next
+  /// factorize().
+  void stiffness_changed();
+  /// Solves with the last factorisation; checks finiteness and the relative residual.
+  SolveStatus solve(const VecX& b, VecX& x);
+
+  const KktSolveReport& report() const { return report_; }
+  bool uses_schur() const { return path_ == Path::kSchur; }
+
+ private:
+  enum class Path { kUnknown, kSchur, kLu };
+  SolveStatus factorize_schur(const std::vector<char>& active, bool all_rows);
+
+  const ConstrainedProblem& p_;
+  double s_;
+  Path path_ = Path::kUnknown;
+  bool all_rows_ = false;
+  core::SpdSolver chol_{core::SpdSolver::Backend::kCholmod, false};
+  KktSolver lu_;
+  SpMat ct_;                        ///< Cᵀ of every row, n × (m_eq + m): equality rows first
+  std::vector<VecX> w_columns_;     ///< K⁻¹ c_j, empty until row j has been in the system
+  std::vector<int> rows_;           ///< constraint indices in the current system
+  std::vector<int> positions_;      ///< their positions in the saddle-point vector
+  int size_ = 0;                    ///< saddle-point vector length
+  Eigen::MatrixXd w_;               ///< W = K⁻¹ C_rowsᵀ
+  SpMat c_rows_;                    ///< C_rows
+  Eigen::LDLT<Eigen::MatrixXd> schur_;
+  KktSolveReport report_;
+};
+
+}  // namespace c2d::constraints
