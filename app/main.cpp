@@ -14,6 +14,7 @@
 
 #include "app/charts.hpp"
 #include "app/run_report.hpp"
+#include "app/studies.hpp"
 #include "app/trace_charts.hpp"
 #include "constraints/contact_scene.hpp"
 #include "core/errors.hpp"
@@ -38,6 +39,8 @@ const char* kMainHelp =
     "  run SCENE      solve a scene (TOML, or a legacy .dat data file) and write results\n"
     "  mesh SCENE     mesh the scene's bodies and write mesh.vtu\n"
     "  info SCENE     list bodies, materials, node/edge sets, supports, loads and probes\n"
+    "  compare SCENE  every contact method on the same model, over refinement levels: table,\n"
+    "                 verdict, accuracy-against-time, pressure and penetration charts\n"
     "  trace OUTDIR   charts of a finished run: contact activation per load step, contact\n"
     "                 force against load factor, Newton residual history\n"
     "\n"
@@ -82,12 +85,35 @@ const char* kTraceHelp =
     "  contact_force  total contact force and active node count against load factor\n"
     "  residuals      Newton residual history of every load step\n";
 
+const char* kCompareHelp =
+    "usage: contact2d compare SCENE [--methods a,b,...] [--levels N] [--jobs J]\n"
+    "                        [--set key=value ...] [--out DIR] [--quiet]\n"
+    "\nRuns every chosen contact method (default: all six) on the same scene, on N meshes:\n"
+    "level 0 is the scene's, each further level halves every mesh size (analysis.mesh_scale).\n"
+    "Each run is a `contact2d run` in DIR/levelK/METHOD; J of them at a time. Writes:\n"
+    "  compare.csv      one row per method and level: DOFs, status, iterations, times, p_max,\n"
+    "                   contact length, force, penetration, errors against [reference]\n"
+    "  compare.md       a verdict computed from the table, then the table\n"
+    "  accuracy_time    accuracy against solve time, one line per method (PNG, SVG)\n"
+    "  pressure_profiles  every method's pressure on the finest level (with Hertz's)\n"
+    "  penetration      largest penetration per method and level\n"
+    "The table is rewritten after every finished run, so an interrupted study keeps its rows.\n";
+
 struct Options {
   std::string verb, scene;
   std::vector<std::string> sets;
-  std::string out, method;
+  std::string out, method, methods;
+  int levels = 1, jobs = 1;
   bool quiet = false, help = false;
 };
+
+int parse_count(const std::string& flag, const std::string& text) {
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < 1 || v > 1000)
+    throw InputError(flag + ": expected a positive integer, found '" + text + "'");
+  return static_cast<int>(v);
+}
 
 Options parse_args(int argc, char** argv) {
   Options o;
@@ -104,6 +130,12 @@ Options parse_args(int argc, char** argv) {
     else if (a.rfind("--set=", 0) == 0) o.sets.push_back(a.substr(6));
     else if (a == "--out") o.out = value(a);
     else if (a == "--method") o.method = value(a);
+    else if (a == "--methods") o.methods = value(a);
+    else if (a.rfind("--methods=", 0) == 0) o.methods = a.substr(10);
+    else if (a == "--levels") o.levels = parse_count(a, value(a));
+    else if (a.rfind("--levels=", 0) == 0) o.levels = parse_count("--levels", a.substr(9));
+    else if (a == "--jobs") o.jobs = parse_count(a, value(a));
+    else if (a.rfind("--jobs=", 0) == 0) o.jobs = parse_count("--jobs", a.substr(7));
     else if (a.rfind("--method=", 0) == 0) o.method = a.substr(9);
     else if (a.rfind("--out=", 0) == 0) o.out = a.substr(6);
     else if (a == "--quiet" || a == "-q") o.quiet = true;
@@ -238,6 +270,20 @@ int cmd_run(const Options& o) {
   return ok ? kExitOk : kExitSolveFailed;
 }
 
+int cmd_compare(const Options& o) {
+  app::CompareOptions c;
+  c.scene = o.scene;
+  std::stringstream list(o.methods);
+  for (std::string m; std::getline(list, m, ',');)
+    if (!m.empty()) c.methods.push_back(m);
+  c.levels = o.levels;
+  c.jobs = o.jobs;
+  c.sets = o.sets;
+  c.out = o.out;
+  c.quiet = o.quiet;
+  return app::run_compare(c);
+}
+
 int cmd_trace(const Options& o) {
   const app::TraceCharts charts = app::draw_trace_charts(o.scene);
   for (const auto& [stem, what] : charts.written)
@@ -315,9 +361,11 @@ int main(int argc, char** argv) {
                        : o.verb == "mesh" ? kMeshHelp
                        : o.verb == "info" ? kInfoHelp
                        : o.verb == "trace" ? kTraceHelp
+                       : o.verb == "compare" ? kCompareHelp
                                           : nullptr;
     if (!help)
-      throw InputError(o.verb + ": unknown verb; expected run, mesh, info or trace (see --help)");
+      throw InputError(o.verb +
+                       ": unknown verb; expected run, mesh, info, compare or trace (see --help)");
     if (o.help) {
       std::cout << help;
       return kExitOk;
@@ -327,6 +375,7 @@ int main(int argc, char** argv) {
                        (o.verb == "trace" ? "an output folder" : "a scene file") + ", found none");
     if (o.verb == "run") return cmd_run(o);
     if (o.verb == "trace") return cmd_trace(o);
+    if (o.verb == "compare") return cmd_compare(o);
     if (o.verb == "mesh") return cmd_mesh(o);
     return cmd_info(o);
   } catch (const InputError& e) {

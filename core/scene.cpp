@@ -147,7 +147,7 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
   if (!v.exists()) return;
   v.require_table();
   v.check_keys({"kind", "element", "geometric_nonlinearity", "steps", "smoothing", "target_error",
-                "solver"});
+                "solver", "mesh_scale"});
   a.state = v["kind"].choice_or({"plane_stress", "plane_strain"}, "plane_stress") == "plane_strain"
                 ? PlaneState::kPlaneStrain
                 : PlaneState::kPlaneStress;
@@ -165,6 +165,7 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
   if (!(a.target_error > 0 && a.target_error < 1))
     v["target_error"].fail("a relative error in (0, 1), e.g. 0.05");
   a.solver = v["solver"].choice_or({"cholmod", "ldlt"}, "cholmod");
+  if (v.has("mesh_scale")) a.mesh_scale = v["mesh_scale"].positive();
 }
 
 ProbeSpec parse_probe(const TomlView& v) {
@@ -249,8 +250,11 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
         mesh["file"].fail("an existing .msh file (looked for " + bs.msh_file + ")");
     } else {
       bs.shape = parse_shape(b["shape"]);
-      bs.mesh_size = mesh["size"].positive();
-      for (const auto& r : mesh["refine"].items()) bs.refine.push_back(parse_refine(r));
+      bs.mesh_size = mesh["size"].positive() * scene.analysis.mesh_scale;
+      for (const auto& r : mesh["refine"].items()) {
+        bs.refine.push_back(parse_refine(r));
+        bs.refine.back().size *= scene.analysis.mesh_scale;
+      }
       bs.algorithm = mesh["algorithm"].choice_or({"frontal", "delaunay"}, "frontal");
     }
     scene.bodies.push_back(bs);

@@ -103,6 +103,9 @@ struct AnalysisSpec {
   Smoothing smoothing = Smoothing::kGlobalL2;
   double target_error = 0.05;
   std::string solver = "cholmod";
+  /// Multiplies every body's mesh size and refinement sizes (not their radii): the knob of
+  /// refinement studies (`contact2d compare --levels` halves it level by level).
+  double mesh_scale = 1.0;
 };
 
 /// An explicit mesh (legacy data files): used instead of meshing bodies.

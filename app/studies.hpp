@@ -1,0 +1,53 @@
+// Studies over many runs of one scene: `contact2d compare` (methods × refinement levels) and
+// `contact2d sweep` (a scene key over a range). Each case is a separate `contact2d run` process
+// (up to --jobs at a time): cases cannot disturb one another (gmsh keeps global state; a crash
+// in one case is that case's status), every case writes its own folder, and the table is
+// rewritten after each finished case, so an interrupted study keeps its finished rows.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace c2d::app {
+
+/// One `contact2d run` of a study.
+struct StudyCase {
+  std::vector<std::string> args;  ///< after "run": scene, --method, --set ..., --out, --quiet
+  std::string out_dir;
+};
+
+struct CaseOutcome {
+  int exit_code = -1;
+  bool has_summary = false;
+  nlohmann::json summary;          ///< the case's summary.json (null when none was written)
+  double wall_seconds = 0.0;
+};
+
+/// Runs the cases with at most `jobs` concurrent processes of this executable; `on_done` is
+/// called once per case as it finishes, never concurrently.
+void run_cases(const std::vector<StudyCase>& cases, int jobs,
+               const std::function<void(size_t, const CaseOutcome&)>& on_done);
+
+struct CompareOptions {
+  std::string scene;
+  std::vector<std::string> methods;  ///< empty: all six
+  int levels = 1;
+  int jobs = 1;
+  std::vector<std::string> sets;
+  std::string out;
+  bool quiet = false;
+};
+
+/// `contact2d compare`: writes compare.csv, compare.md (verdict first), accuracy_time,
+/// pressure_profiles and penetration charts. Returns the exit code (0 when every case ran,
+/// converged or not; 1 when a case crashed or a chart failed).
+int run_compare(const CompareOptions& o);
+
+/// Relative L2 error of a pressure profile against Hertz's p0 √(1 − x²/b²) over the sampled
+/// range |x| ≤ 1.5 b within the nodes' span (linear interpolation between sorted nodes;
+/// x measured along the surface's main direction from the reference's centre at 0).
+double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b);
+
+}  // namespace c2d::app
