@@ -41,6 +41,8 @@ const char* kMainHelp =
     "  info SCENE     list bodies, materials, node/edge sets, supports, loads and probes\n"
     "  compare SCENE  every contact method on the same model, over refinement levels: table,\n"
     "                 verdict, accuracy-against-time, pressure and penetration charts\n"
+    "  sweep SCENE    one scene key over a range (e.g. the penalty stiffness): table, the\n"
+    "                 range meeting an accuracy, charts\n"
     "  trace OUTDIR   charts of a finished run: contact activation per load step, contact\n"
     "                 force against load factor, Newton residual history\n"
     "\n"
@@ -99,11 +101,25 @@ const char* kCompareHelp =
     "  penetration      largest penetration per method and level\n"
     "The table is rewritten after every finished run, so an interrupted study keeps its rows.\n";
 
+const char* kSweepHelp =
+    "usage: contact2d sweep SCENE --set key=a:b:log:n [--method M] [--accuracy 0.01]\n"
+    "                      [--jobs J] [--set key=value ...] [--out DIR] [--quiet]\n"
+    "\nRuns SCENE once per value of one key (a:b:log:n, a:b:lin:n or v1,v2,...), e.g.\n"
+    "  contact2d sweep examples/hertz_rigid.toml --method penalty \\\n"
+    "      --set contact.penalty.k=1e3:1e13:log:11\n"
+    "Each run is a `contact2d run` in DIR/caseK; J at a time. Writes:\n"
+    "  sweep.csv   value, status, iterations, solve time, p_max and its error, penetration,\n"
+    "              force, the factorisation's pivot ratio, penalty, max|K_ij|\n"
+    "  sweep.md    the range of values that converge with |p_max error| <= accuracy, and (for\n"
+    "              penalty.k) where the seed's rule k = 1e4 max|K_ij| falls; then the table\n"
+    "  sweep.png   error, penetration, iterations, time and pivot ratio against the value\n";
+
 struct Options {
   std::string verb, scene;
   std::vector<std::string> sets;
   std::string out, method, methods;
   int levels = 1, jobs = 1;
+  double accuracy = 0.01;
   bool quiet = false, help = false;
 };
 
@@ -135,6 +151,13 @@ Options parse_args(int argc, char** argv) {
     else if (a == "--levels") o.levels = parse_count(a, value(a));
     else if (a.rfind("--levels=", 0) == 0) o.levels = parse_count("--levels", a.substr(9));
     else if (a == "--jobs") o.jobs = parse_count(a, value(a));
+    else if (a == "--accuracy") {
+      const std::string v = value(a);
+      char* end = nullptr;
+      o.accuracy = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !(o.accuracy > 0 && o.accuracy < 1))
+        throw InputError("--accuracy: expected a relative error in (0, 1), found '" + v + "'");
+    }
     else if (a.rfind("--jobs=", 0) == 0) o.jobs = parse_count("--jobs", a.substr(7));
     else if (a.rfind("--method=", 0) == 0) o.method = a.substr(9);
     else if (a.rfind("--out=", 0) == 0) o.out = a.substr(6);
@@ -284,6 +307,18 @@ int cmd_compare(const Options& o) {
   return app::run_compare(c);
 }
 
+int cmd_sweep(const Options& o) {
+  app::SweepOptions w;
+  w.scene = o.scene;
+  w.method = o.method;
+  w.sets = o.sets;
+  w.accuracy = o.accuracy;
+  w.jobs = o.jobs;
+  w.out = o.out;
+  w.quiet = o.quiet;
+  return app::run_sweep(w);
+}
+
 int cmd_trace(const Options& o) {
   const app::TraceCharts charts = app::draw_trace_charts(o.scene);
   for (const auto& [stem, what] : charts.written)
@@ -362,10 +397,11 @@ int main(int argc, char** argv) {
                        : o.verb == "info" ? kInfoHelp
                        : o.verb == "trace" ? kTraceHelp
                        : o.verb == "compare" ? kCompareHelp
+                       : o.verb == "sweep" ? kSweepHelp
                                           : nullptr;
     if (!help)
       throw InputError(o.verb +
-                       ": unknown verb; expected run, mesh, info, compare or trace (see --help)");
+                       ": unknown verb; expected run, mesh, info, compare, sweep or trace (see --help)");
     if (o.help) {
       std::cout << help;
       return kExitOk;
@@ -376,6 +412,7 @@ int main(int argc, char** argv) {
     if (o.verb == "run") return cmd_run(o);
     if (o.verb == "trace") return cmd_trace(o);
     if (o.verb == "compare") return cmd_compare(o);
+    if (o.verb == "sweep") return cmd_sweep(o);
     if (o.verb == "mesh") return cmd_mesh(o);
     return cmd_info(o);
   } catch (const InputError& e) {

@@ -43,6 +43,8 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
                         {"rows", contact->rows},
                         {"slave_nodes", contact->nodes.size()},
                         {"seconds", contact->seconds},
+                        {"pivot_ratio", number(contact->pivot_ratio)},
+                        {"stiffness_max", number(contact->stiffness_max)},
                         {"pressure_recovered", contact->has_surface}};
     double k_max = 0;
     for (const auto& n : contact->nodes) k_max = std::max(k_max, n.penalty);

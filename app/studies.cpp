@@ -526,3 +526,279 @@ int run_compare(const CompareOptions& o) {
 }
 
 }  // namespace c2d::app
+
+// ---------------------------------------------------------------------------------------------
+// Sweep
+
+namespace c2d::app {
+
+std::vector<double> parse_range(const std::string& spec, const std::string& where) {
+  auto number = [&](const std::string& t) {
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || *end != '\0' || !std::isfinite(v))
+      throw InputError(where + ": expected a number, found '" + t + "'");
+    return v;
+  };
+  std::vector<std::string> parts;
+  std::stringstream ss(spec);
+  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+  std::vector<double> values;
+  if (parts.size() == 4) {
+    const double a = number(parts[0]), b = number(parts[1]);
+    const double n = number(parts[3]);
+    if (n < 2 || n > 1000 || n != std::floor(n))
+      throw InputError(where + ": expected a count from 2 to 1000 after the last ':', found '" +
+                       parts[3] + "'");
+    if (parts[2] == "log") {
+      if (!(a > 0 && b > 0))
+        throw InputError(where + ": a log range needs positive ends, found " + parts[0] + " and " +
+                         parts[1]);
+      for (int i = 0; i < n; ++i) values.push_back(a * std::pow(b / a, i / (n - 1)));
+    } else if (parts[2] == "lin") {
+      for (int i = 0; i < n; ++i) values.push_back(a + (b - a) * i / (n - 1));
+    } else {
+      throw InputError(where + ": expected 'log' or 'lin' as the range's third field, found '" +
+                       parts[2] + "'");
+    }
+  } else if (parts.size() == 1) {
+    std::stringstream list(spec);
+    for (std::string v; std::getline(list, v, ',');) values.push_back(number(v));
+    if (values.size() < 2)
+      throw InputError(where + ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" +
+                       spec + "'");
+  } else {
+    throw InputError(where + ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" +
+                     spec + "'");
+  }
+  return values;
+}
+
+namespace {
+
+struct SweepRow {
+  bool done = false;
+  double value = 0.0;
+  int exit_code = -1;
+  std::string status = "not run";
+  double dofs = std::nan(""), iterations = std::nan(""), t_solve = std::nan(""),
+         p_max = std::nan(""), err_p0 = std::nan(""), penetration = std::nan(""),
+         force = std::nan(""), pivot = std::nan(""), penalty = std::nan(""),
+         stiffness_max = std::nan("");
+  bool converged() const { return status == "converged"; }
+};
+
+std::string sweep_csv(const std::string& key, const std::vector<SweepRow>& rows) {
+  std::ostringstream os;
+  os << "value,key,status,exit_code,dofs,iterations,time_solve,p_max,error_p_max,"
+        "max_penetration,total_force,pivot_ratio,penalty_max,stiffness_max\n";
+  for (const auto& r : rows) {
+    if (!r.done) continue;
+    std::string status = r.status;
+    std::replace(status.begin(), status.end(), '"', '\'');
+    std::replace(status.begin(), status.end(), '\n', ' ');
+    os << cell(r.value) << ',' << key << ",\"" << status << "\"," << r.exit_code << ','
+       << cell(r.dofs) << ',' << cell(r.iterations) << ',' << cell(r.t_solve) << ','
+       << cell(r.p_max) << ',' << cell(r.err_p0) << ',' << cell(r.penetration) << ','
+       << cell(r.force) << ',' << cell(r.pivot) << ',' << cell(r.penalty) << ','
+       << cell(r.stiffness_max) << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& o) {
+  // The one ranged --set; the others are fixed overrides.
+  std::string key, spec;
+  std::vector<std::string> fixed;
+  for (const auto& s : o.sets) {
+    const auto eq = s.find('=');
+    const std::string value = eq == std::string::npos ? "" : s.substr(eq + 1);
+    const bool ranged = value.find(':') != std::string::npos ||
+                        (value.find(',') != std::string::npos && value.find('[') == std::string::npos);
+    if (!ranged) {
+      fixed.push_back(s);
+      continue;
+    }
+    if (!key.empty())
+      throw InputError("--set " + s + ": a sweep varies one key; '" + key + "' is already swept");
+    key = s.substr(0, eq);
+    spec = value;
+  }
+  if (key.empty())
+    throw InputError("sweep: expected one --set key=a:b:log:n (or a:b:lin:n, or v1,v2,...), found none");
+  const std::vector<double> values = parse_range(spec, "--set " + key);
+  // Validate the scene and the key once, with the first value.
+  const core::Scene scene = [&] {
+    std::vector<std::string> sets = fixed;
+    sets.push_back(key + "=" + cell(values.front()));
+    return core::load_scene(o.scene, sets);
+  }();
+  if (o.jobs < 1) throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
+  const std::string out = o.out.empty() ? "out/sweep_" + fs::path(o.scene).stem().string() : o.out;
+  fs::create_directories(out);
+  std::vector<StudyCase> cases;
+  std::vector<SweepRow> rows(values.size());
+  for (size_t i = 0; i < values.size(); ++i) {
+    StudyCase c;
+    c.out_dir = out + "/case" + std::to_string(i);
+    c.args = {o.scene};
+    if (!o.method.empty()) c.args.insert(c.args.end(), {"--method", o.method});
+    for (const auto& s : fixed) c.args.insert(c.args.end(), {"--set", s});
+    c.args.insert(c.args.end(),
+                  {"--set", key + "=" + cell(values[i]), "--out", c.out_dir, "--quiet"});
+    cases.push_back(c);
+    rows[i].value = values[i];
+  }
+  if (!o.quiet)
+    std::cout << "sweep      " << key << " over " << values.size() << " values ("
+              << cell(values.front()) << " .. " << cell(values.back()) << "), " << o.jobs
+              << " at a time -> " << out << "\n";
+  size_t finished = 0;
+  bool crashed = false;
+  run_cases(cases, o.jobs, [&](size_t i, const CaseOutcome& c) {
+    SweepRow& r = rows[i];
+    r.done = true;
+    r.exit_code = c.exit_code;
+    if (c.has_summary) {
+      const auto& s = c.summary;
+      r.status = s.value("status", std::string("unknown"));
+      r.dofs = json_number(s, {"mesh", "dofs"});
+      r.iterations = json_number(s, {"contact", "iterations"});
+      r.t_solve = json_number(s, {"time_s", "solve"});
+      r.p_max = json_number(s, {"contact", "p_max"});
+      r.err_p0 = json_number(s, {"reference", "relative_error", "p_max"});
+      r.penetration = json_number(s, {"contact", "max_penetration"});
+      r.force = json_number(s, {"contact", "total_force"});
+      r.pivot = json_number(s, {"contact", "pivot_ratio"});
+      r.penalty = json_number(s, {"contact", "penalty_max"});
+      r.stiffness_max = json_number(s, {"contact", "stiffness_max"});
+      if (!r.converged()) r.p_max = r.err_p0 = r.penetration = r.force = std::nan("");
+    } else {
+      r.status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
+      crashed = true;
+    }
+    ++finished;
+    core::write_file_atomic(out + "/sweep.csv", sweep_csv(key, rows));
+    if (!o.quiet)
+      std::cout << "[" << finished << "/" << cases.size() << "] " << key << " = " << std::left
+                << std::setw(12) << cell(r.value) << std::right << r.status
+                << (std::isfinite(r.err_p0) ? ", p_max error " + percent(r.err_p0) : std::string())
+                << (std::isfinite(r.penetration) ? ", penetration " + cell(r.penetration) : std::string())
+                << std::endl;
+  });
+
+  // The range that converges and meets the accuracy; the seed's rule k = 1e4 max|K_ij|.
+  std::ostringstream md;
+  md << "# contact2d sweep: " << key << " on " << o.scene << "\n\n";
+  double lo = std::nan(""), hi = std::nan("");
+  bool has_error = false;
+  for (const auto& r : rows) {
+    has_error = has_error || std::isfinite(r.err_p0);
+    if (r.converged() && std::isfinite(r.err_p0) && std::abs(r.err_p0) <= o.accuracy) {
+      lo = std::isfinite(lo) ? std::min(lo, r.value) : r.value;
+      hi = std::isfinite(hi) ? std::max(hi, r.value) : r.value;
+    }
+  }
+  // Failed values grouped by their status word (the full messages are in the table).
+  std::vector<std::string> failed;
+  std::map<std::string, std::string> by_status;
+  for (const auto& r : rows) {
+    if (r.converged()) continue;
+    std::string word = r.status;
+    if (word.rfind("failed: ", 0) == 0) word = word.substr(8);
+    word = word.substr(0, word.find(':'));
+    auto& list = by_status[word];
+    list += (list.empty() ? "" : ", ") + cell(r.value);
+  }
+  for (const auto& [word, list] : by_status) failed.push_back(list + " (" + word + ")");
+  if (!has_error)
+    md << "The scene has no p_max reference, so no accuracy range is reported. ";
+  else if (std::isfinite(lo))
+    md << "Converged with |p_max error| <= " << percent(o.accuracy, 2) << " for " << key << " from "
+       << cell(lo) << " to " << cell(hi) << " (of the values swept). ";
+  else
+    md << "No swept value met |p_max error| <= " << percent(o.accuracy, 2) << ". ";
+  if (!failed.empty()) {
+    md << "Not converged: ";
+    for (size_t i = 0; i < failed.size(); ++i) md << (i ? "; " : "") << failed[i];
+    md << ". ";
+  }
+  double seed_k = std::nan("");
+  const bool penalty_k = key.size() >= 9 && key.compare(key.size() - 9, 9, "penalty.k") == 0;
+  for (const auto& r : rows)
+    if (std::isfinite(r.stiffness_max)) seed_k = 1e4 * r.stiffness_max;
+  if (penalty_k && std::isfinite(seed_k)) {
+    const SweepRow* nearest = nullptr;
+    for (const auto& r : rows)
+      if (!nearest || std::abs(std::log(r.value / seed_k)) < std::abs(std::log(nearest->value / seed_k)))
+        nearest = &r;
+    md << "The seed's rule k = 1e4 x max|K_ij| gives k = " << cell(seed_k) << " here";
+    if (std::isfinite(lo))
+      md << ((seed_k >= lo && seed_k <= hi) ? ", inside" : ", outside") << " that range";
+    md << "; the nearest swept value, " << cell(nearest->value) << ", " << nearest->status
+       << (std::isfinite(nearest->err_p0) ? " with p_max error " + percent(nearest->err_p0) : std::string())
+       << ".";
+  }
+  md << "\n\n| " << key << " | status | iterations | solve | p_max | p_max error | max penetration | "
+                           "pivot ratio |\n|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows)
+    md << "| " << cell(r.value) << " | " << r.status << " | " << cell(r.iterations) << " | "
+       << seconds(r.t_solve) << " | " << cell(r.p_max) << " | " << percent(r.err_p0) << " | "
+       << cell(r.penetration) << " | " << cell(r.pivot) << " |\n";
+
+  // One figure, five panels against the swept value; failed values as red dashed lines.
+  std::ostringstream data;
+  data << std::setprecision(12);
+  for (const auto& r : rows)
+    if (r.converged())
+      data << r.value << ' ' << std::max(std::abs(r.err_p0), 1e-12) << ' '
+           << std::max(r.penetration, 1e-20) << ' ' << r.iterations << ' ' << r.t_solve << ' '
+           << (std::isfinite(r.pivot) ? std::max(r.pivot, 1e-30) : std::nan("")) << '\n';
+  const std::string data_path = out + "/sweep.dat";
+  core::write_file_atomic(data_path, data.str());
+  bool log_x = true;
+  for (double v : values) log_x = log_x && v > 0;
+  std::ostringstream marks;
+  for (const auto& r : rows)
+    if (!r.converged())
+      marks << "set arrow from " << r.value << ", graph 0 to " << r.value
+            << ", graph 1 nohead lc rgb 'red' dt 2 lw 1.5\n";
+  if (penalty_k && std::isfinite(seed_k))
+    marks << "set arrow from " << seed_k << ", graph 0 to " << seed_k
+          << ", graph 1 nohead lc rgb '#1a9850' dt 3 lw 1.5\n";
+  std::ostringstream plot;
+  plot << "set multiplot layout 3,2 title '" << key << " sweep (red: not converged"
+       << (penalty_k && std::isfinite(seed_k) ? "; green: the seed rule 1e4 max|K_ij|" : "")
+       << ")' noenhanced\nset grid\nunset key\n" << (log_x ? "set logscale x\n" : "")
+       << "set format x '10^{%L}'\n" << marks.str();
+  auto panel = [&](int col, const std::string& label, bool log_y) {
+    plot << (log_y ? "set logscale y\nset format y '10^{%L}'\n" : "unset logscale y\nset format y '%g'\n")
+         << "set xlabel '" << key << "' noenhanced\nset ylabel '" << label << "' noenhanced\nplot '"
+         << data_path << "' using 1:" << col << " with linespoints pt 7 lw 2\n";
+  };
+  if (has_error) panel(2, "|p_max error|", true);
+  panel(3, "max penetration", true);
+  panel(4, "iterations", false);
+  panel(5, "solve time (s)", false);
+  panel(6, "pivot ratio (conditioning)", true);
+  plot << "unset multiplot\n";
+  std::string chart_error;
+  if (!data.str().empty()) chart_error = plot_png_and_svg(out, "sweep", plot.str());
+  fs::remove(data_path);
+  if (chart_error.empty() && !data.str().empty()) md << "\n![sweep](sweep.png)\n";
+  core::write_file_atomic(out + "/sweep.md", md.str());
+  if (!o.quiet) {
+    std::stringstream summary(md.str());
+    std::string line;
+    std::getline(summary, line);
+    std::getline(summary, line);
+    std::getline(summary, line);
+    std::cout << "\n" << line << "\n\nwrote " << out << "/sweep.csv, sweep.md, sweep.png/svg\n";
+    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
+  }
+  return crashed || !chart_error.empty() ? 1 : 0;
+}
+
+}  // namespace c2d::app

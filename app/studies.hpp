@@ -45,6 +45,26 @@ struct CompareOptions {
 /// converged or not; 1 when a case crashed or a chart failed).
 int run_compare(const CompareOptions& o);
 
+struct SweepOptions {
+  std::string scene;
+  std::string method;                ///< empty: the scene's
+  std::vector<std::string> sets;     ///< exactly one of them a range: key=a:b:log:n,
+                                     ///< key=a:b:lin:n or key=v1,v2,...
+  double accuracy = 0.01;            ///< relative p_max error a value must meet
+  int jobs = 1;
+  std::string out;
+  bool quiet = false;
+};
+
+/// The values of a range spec (a:b:log:n, a:b:lin:n or a comma list); throws InputError naming
+/// `where` on a malformed spec.
+std::vector<double> parse_range(const std::string& spec, const std::string& where);
+
+/// `contact2d sweep`: writes sweep.csv, sweep.md and sweep.png/svg (p_max error, penetration,
+/// iterations, solve time and the factorisation's pivot ratio against the swept value, failed
+/// values marked). Returns the exit code.
+int run_sweep(const SweepOptions& o);
+
 /// Relative L2 error of a pressure profile against Hertz's p0 √(1 − x²/b²) over the sampled
 /// range |x| ≤ 1.5 b within the nodes' span (linear interpolation between sorted nodes;
 /// x measured along the surface's main direction from the reference's centre at 0).

@@ -51,6 +51,7 @@ ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
     }
   }
   s.factorizations = solver.factorizations();
+  s.pivot_ratio = solver.linear_report().pivot_ratio;
   s.contact_force = lambda;
   s.eq_multiplier = mu;
   s.active.assign(p.num_gaps(), 0);

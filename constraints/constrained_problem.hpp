@@ -10,6 +10,7 @@
 // and μ the force a multipoint constraint exerts on the structure.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,9 @@ struct ConstraintSolution {
   std::vector<char> active;   ///< m: 1 where the row carries force
   int iterations = 0;
   int factorizations = 0;
+  /// Conditioning of the last factorisation: CHOLMOD's pivot ratio (penalty-type methods) or the
+  /// saddle point's reciprocal condition estimate (lagrange, ssn); NaN where the method has none.
+  double pivot_ratio = std::numeric_limits<double>::quiet_NaN();
   double max_penetration = 0; ///< max(0, −g)
   double max_eq_violation = 0;///< max |A u − b|
   double seconds = 0;

@@ -2,6 +2,7 @@
 // strategies solve, and the report (gaps, forces, a consistently recovered pressure).
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,8 @@ struct ContactReport {
   double max_penetration = 0.0;
   double total_force = 0.0;     ///< Σ normal forces
   double seconds = 0.0;         ///< time in the backend
+  double pivot_ratio = std::numeric_limits<double>::quiet_NaN();  ///< of the last solve
+  double stiffness_max = std::numeric_limits<double>::quiet_NaN(); ///< max |K_ij| (linear runs)
   bool has_surface = false;     ///< pressures recovered on slave edges
   std::vector<IterationRecord> history;
   std::vector<double> penalty_history;

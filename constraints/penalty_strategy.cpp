@@ -63,6 +63,7 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   s.status = outcome.status;
   s.message = outcome.message;
   s.factorizations = solver.factorizations();
+  s.pivot_ratio = solver.linear_report().pivot_ratio;
   // A penalty many orders above the element stiffness leaves the factorization nothing but
   // round-off: say so instead of returning what it produced.
   const double ratio = penalty_ratio(p, k_gap, k_eq);

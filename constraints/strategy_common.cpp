@@ -248,6 +248,7 @@ void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_
   }
   s.active = active;
   s.factorizations = kkt.report().numeric_factorizations;
+  s.pivot_ratio = kkt.report().rcond;
   if (s.status != SolveStatus::kConverged && s.status != SolveStatus::kCycling &&
       s.status != SolveStatus::kMaxIterations)
     s.u = VecX::Zero(p.num_unknowns());

@@ -68,6 +68,8 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
   }
   report.status = s.status;
   report.message = s.message;
+  report.pivot_ratio = s.pivot_ratio;
+  report.stiffness_max = k_ff.nonZeros() ? k_ff.coeffs().cwiseAbs().maxCoeff() : 0.0;
   contact.report(rows, s, report);
   r.status = s.status;
   r.message = s.message;

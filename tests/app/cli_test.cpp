@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 namespace fs = std::filesystem;
@@ -303,4 +304,76 @@ TEST(Studies, HertzProfileErrorOfTheExactProfileIsZero) {
   }
   EXPECT_LT(c2d::app::hertz_profile_error(exact, 100.0, 1.0), 1e-3);
   EXPECT_NEAR(c2d::app::hertz_profile_error(high, 100.0, 1.0), 0.1, 1e-3);
+}
+
+TEST(Cli, PenaltySweepShowsPenetrationFallingUntilIllConditioning) {
+  // hertz_rigid (coarse, mesh_scale 8) with penalty k = 1e2 ... 1e20: the penetration falls
+  // monotonically as long as the runs converge; from some k on the factorisation has no
+  // significant digits left and every run reports ill_conditioned. Above k = 1e6 (penetration
+  // below 1e-4 mm, small against the 0.4 mm contact elements, so the contact zone no longer
+  // changes) the penetration is the force over k, 10-fold less per decade (20 % slack), and the
+  // p_max error falls with it to the discretisation's own (1e-3 slack for round-off).
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_sweep";
+  fs::remove_all(out);
+  std::string output;
+  ASSERT_EQ(run("sweep " + example("hertz_rigid.toml") +
+                    " --method penalty --set analysis.mesh_scale=8"
+                    " --set contact.penalty.k=1e2:1e20:log:19 --jobs 2 --quiet --out " +
+                    out.string(),
+                &output),
+            0)
+      << output;
+  std::ifstream csv(out / "sweep.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line.rfind("value,key,status,exit_code,dofs,iterations,time_solve,p_max,error_p_max,"
+                       "max_penetration", 0),
+            0u);
+  std::vector<std::tuple<double, std::string, double, double>> rows;  // k, status, error, pen
+  while (std::getline(csv, line)) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) c.push_back(x);
+    ASSERT_GE(c.size(), 10u) << line;
+    const bool ok = c[2] == "\"converged\"";
+    rows.emplace_back(std::stod(c[0]), c[2], ok ? std::stod(c[8]) : NAN, ok ? std::stod(c[9]) : NAN);
+  }
+  ASSERT_EQ(rows.size(), 19u);
+  std::sort(rows.begin(), rows.end());
+  size_t first_failure = rows.size();
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (std::get<1>(rows[i]) != "\"converged\"") {
+      first_failure = i;
+      break;
+    }
+  ASSERT_LT(first_failure, rows.size()) << "k = 1e20 must be flagged";
+  ASSERT_GT(first_failure, 8u) << "k up to 1e10 must converge";
+  for (size_t i = first_failure; i < rows.size(); ++i)
+    EXPECT_EQ(std::get<1>(rows[i]).rfind("\"failed: ill_conditioned", 0), 0u)
+        << std::get<0>(rows[i]) << " " << std::get<1>(rows[i]);
+  for (size_t i = 1; i < first_failure; ++i) {
+    EXPECT_LT(std::get<3>(rows[i]), std::get<3>(rows[i - 1])) << std::get<0>(rows[i]);
+    if (std::get<0>(rows[i]) > 1e6) {
+      EXPECT_NEAR(std::get<3>(rows[i - 1]) / std::get<3>(rows[i]), 10.0, 2.0) << std::get<0>(rows[i]);
+      EXPECT_LE(std::abs(std::get<2>(rows[i])), std::abs(std::get<2>(rows[i - 1])) * (1 + 1e-3))
+          << std::get<0>(rows[i]);
+    }
+  }
+  std::ifstream md(out / "sweep.md");
+  std::stringstream text;
+  text << md.rdbuf();
+  EXPECT_NE(text.str().find("Converged with |p_max error| <= 1 % for contact.penalty.k from"),
+            std::string::npos);
+  EXPECT_NE(text.str().find("The seed's rule k = 1e4 x max|K_ij| gives k ="), std::string::npos);
+  std::ifstream png(out / "sweep.png", std::ios::binary);
+  char sig[8] = {};
+  png.read(sig, 8);
+  EXPECT_EQ(std::string(sig + 1, 3), "PNG");
+  // A sweep needs exactly one ranged key.
+  EXPECT_EQ(run("sweep " + example("hertz_rigid.toml") + " --set contact.penalty.k=1e3", &output), 2);
+  EXPECT_NE(output.find("expected one --set key=a:b:log:n"), std::string::npos) << output;
+  EXPECT_EQ(run("sweep " + example("hertz_rigid.toml") + " --set contact.penalty.k=1e3:1e5:cubic:3",
+                &output),
+            2);
+  EXPECT_NE(output.find("expected 'log' or 'lin'"), std::string::npos) << output;
 }
