@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "app/charts.hpp"
+#include "app/calibrate.hpp"
 #include "app/run_report.hpp"
+#include "app/solve_scene.hpp"
 #include "app/studies.hpp"
 #include "app/trace_charts.hpp"
 #include "constraints/contact_scene.hpp"
@@ -43,6 +45,7 @@ const char* kMainHelp =
     "                 verdict, accuracy-against-time, pressure and penetration charts\n"
     "  sweep SCENE    one scene key over a range (e.g. the penalty stiffness): table, the\n"
     "                 range meeting an accuracy, charts\n"
+    "  calibrate SCENE  fit scene parameters to measured probe values (Ceres least squares)\n"
     "  trace OUTDIR   charts of a finished run: contact activation per load step, contact\n"
     "                 force against load factor, Newton residual history\n"
     "\n"
@@ -114,10 +117,23 @@ const char* kSweepHelp =
     "              penalty.k) where the seed's rule k = 1e4 max|K_ij| falls; then the table\n"
     "  sweep.png   error, penetration, iterations, time and pivot ratio against the value\n";
 
+const char* kCalibrateHelp =
+    "usage: contact2d calibrate SCENE --data measured.csv --fit key[,key...] [--method M]\n"
+    "                          [--set key=value ...] [--out DIR] [--quiet]\n"
+    "\nFits scene parameters so the scene's [[probe]] values match measured ones (Ceres,\n"
+    "Levenberg-Marquardt; residuals relative to the measured values, times the weights).\n"
+    "  measured.csv   columns probe,value[,weight]; probe names the scene's [[probe]]s\n"
+    "  --fit          scene keys as for --set; E, nu, thickness mean material.E, ...; a vector\n"
+    "                 component as load[0].total_force[1]; bounds as key=lower:upper[:log|lin]\n"
+    "                 (default: the scene value / 100 .. x 100, log scale)\n"
+    "Writes calibrate.json and calibrate.md: fitted values with standard deviations from the\n"
+    "covariance, residuals, and the solver's summary.\n";
+
 struct Options {
   std::string verb, scene;
   std::vector<std::string> sets;
-  std::string out, method, methods;
+  std::string out, method, methods, data;
+  std::vector<std::string> fits;
   int levels = 1, jobs = 1;
   double accuracy = 0.01;
   bool quiet = false, help = false;
@@ -147,6 +163,12 @@ Options parse_args(int argc, char** argv) {
     else if (a == "--out") o.out = value(a);
     else if (a == "--method") o.method = value(a);
     else if (a == "--methods") o.methods = value(a);
+    else if (a == "--data") o.data = value(a);
+    else if (a == "--fit") {
+      std::stringstream list(value(a));
+      for (std::string f; std::getline(list, f, ',');)
+        if (!f.empty()) o.fits.push_back(f);
+    }
     else if (a.rfind("--methods=", 0) == 0) o.methods = a.substr(10);
     else if (a == "--levels") o.levels = parse_count(a, value(a));
     else if (a.rfind("--levels=", 0) == 0) o.levels = parse_count("--levels", a.substr(9));
@@ -201,47 +223,13 @@ int cmd_run(const Options& o) {
   const core::Scene scene = core::load_scene(o.scene, o.sets);
   const std::string out = default_out(o, scene);
   fs::create_directories(out);
-  rep.phase("meshing " + std::to_string(scene.bodies.size()) + " bod" +
-            (scene.bodies.size() == 1 ? "y" : "ies"));
-  const constraints::ContactSceneSpec contact_spec =
-      constraints::parse_contact_scene(scene, o.method);
-  const core::Model model = core::build_model(scene);
-  std::unique_ptr<constraints::ContactSet> contact;
-  if (!contact_spec.empty() || (scene.explicit_model && !scene.explicit_model->gaps.empty()))
-    contact = std::make_unique<constraints::ContactSet>(model, contact_spec, scene);
-  if (!o.method.empty() && !contact)
-    throw InputError("--method " + o.method + ": the scene has no [[contact]] to enforce");
-  rep.phase("solving " + std::to_string(model.dofs.num_free()) + " equations" +
-            (contact ? " with " + contact_spec.options.method + " contact (" +
-                           std::to_string(contact->num_slave_nodes()) + " slave nodes)"
-                     : std::string()));
-  constraints::ContactReport contact_report;
-  std::vector<nonlinear::StepRecord> steps;
-  core::Results results;
-  if (scene.analysis.geometric_nonlinearity) {
-    nonlinear::StepperOptions so;
-    so.steps = scene.analysis.steps;
-    so.on_step = [&](const nonlinear::StepRecord& s) {
-      char line[200];
-      std::snprintf(line, sizeof line, "step %d  lambda %.4g  %s in %d Newton iterations", s.step,
-                    s.load_factor, to_string(s.newton.status), s.newton.iterations);
-      std::string text = line;
-      if (!s.contact.empty()) {
-        std::snprintf(line, sizeof line, ", %zu outer, %d active (+%d -%d)", s.contact.size(),
-                      s.contact.back().active, s.contact.front().entering,
-                      s.contact.front().leaving);
-        text += line;
-      }
-      if (s.attempt > 0) text += " (after a cutback)";
-      rep.phase(text);
-    };
-    results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, so, &steps, contact.get(),
-                                                   &contact_report);
-  } else {
-    results = nonlinear::solve_linear_static(model, scene.analysis, contact.get(), &contact_report);
-  }
+  const auto solved = app::solve_scene(scene, o.method, [&](const std::string& line) { rep.phase(line); });
+  const core::Model& model = solved->model;
+  const constraints::ContactSet* contact = solved->contact.get();
+  const constraints::ContactReport& contact_report = solved->contact_report;
+  const std::vector<nonlinear::StepRecord>& steps = solved->steps;
+  core::Results& results = solved->results;
   const bool ok = results.status == SolveStatus::kConverged;
-  if (ok) results.probes = core::evaluate_probes(scene, model, results);
 
   const auto t_out = std::chrono::steady_clock::now();
   rep.phase("writing results to " + out);
@@ -317,6 +305,18 @@ int cmd_sweep(const Options& o) {
   w.out = o.out;
   w.quiet = o.quiet;
   return app::run_sweep(w);
+}
+
+int cmd_calibrate(const Options& o) {
+  app::CalibrateOptions c;
+  c.scene = o.scene;
+  c.data = o.data;
+  c.fits = o.fits;
+  c.method = o.method;
+  c.sets = o.sets;
+  c.out = o.out;
+  c.quiet = o.quiet;
+  return app::run_calibrate(c);
 }
 
 int cmd_trace(const Options& o) {
@@ -398,10 +398,12 @@ int main(int argc, char** argv) {
                        : o.verb == "trace" ? kTraceHelp
                        : o.verb == "compare" ? kCompareHelp
                        : o.verb == "sweep" ? kSweepHelp
+                       : o.verb == "calibrate" ? kCalibrateHelp
                                           : nullptr;
     if (!help)
       throw InputError(o.verb +
-                       ": unknown verb; expected run, mesh, info, compare, sweep or trace (see --help)");
+                       ": unknown verb; expected run, mesh, info, compare, sweep, calibrate or trace "
+                       "(see --help)");
     if (o.help) {
       std::cout << help;
       return kExitOk;
@@ -413,6 +415,7 @@ int main(int argc, char** argv) {
     if (o.verb == "trace") return cmd_trace(o);
     if (o.verb == "compare") return cmd_compare(o);
     if (o.verb == "sweep") return cmd_sweep(o);
+    if (o.verb == "calibrate") return cmd_calibrate(o);
     if (o.verb == "mesh") return cmd_mesh(o);
     return cmd_info(o);
   } catch (const InputError& e) {

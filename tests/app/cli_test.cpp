@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
@@ -376,4 +377,55 @@ TEST(Cli, PenaltySweepShowsPenetrationFallingUntilIllConditioning) {
                 &output),
             2);
   EXPECT_NE(output.find("expected 'log' or 'lin'"), std::string::npos) << output;
+}
+
+TEST(Cli, CalibrationRecoversYoungsModulusAndLoadFromNoisySyntheticData) {
+  // The cantilever solved with E = 2.6e6 and a 3.9 t tip load gives the "measurements"; they
+  // are perturbed by +0.2 % (tip deflection), -0.1 % (support reaction) and +0.15 % (root
+  // stress). From E = 2.1e6 and 3 t, the fit must recover E and the load within 1 % (the noise
+  // moves E by about the deflection's 0.2 % and the load by the reaction's 0.1 %).
+  const fs::path dir = fs::temp_directory_path() / "c2d_cli_calibrate";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  ASSERT_EQ(run("run " + example("cantilever.toml") +
+                " --set material.E=2.6e6 --set 'load[0].total_force=[0.0, -3.9]' --quiet --out " +
+                (dir / "truth").string()),
+            0);
+  std::ifstream in(dir / "truth" / "summary.json");
+  const nlohmann::json truth = nlohmann::json::parse(in);
+  {
+    std::ofstream csv(dir / "measured.csv");
+    csv << std::setprecision(12) << "probe,value,weight\n"
+        << "tip_uy," << truth["probes"]["tip_uy"].get<double>() * 1.002 << ",1\n"
+        << "reaction_y," << truth["probes"]["reaction_y"].get<double>() * 0.999 << ",1\n"
+        << "sx_max_root," << truth["probes"]["sx_max_root"].get<double>() * 1.0015 << ",1\n";
+  }
+  std::string output;
+  ASSERT_EQ(run("calibrate " + example("cantilever.toml") + " --data " +
+                    (dir / "measured.csv").string() +
+                    " --fit E,load[0].total_force[1]=-10:-1:lin --quiet --out " + (dir / "fit").string(),
+                &output),
+            0)
+      << output;
+  std::ifstream fin(dir / "fit" / "calibrate.json");
+  const nlohmann::json fit = nlohmann::json::parse(fin);
+  EXPECT_EQ(fit["status"], "converged");
+  ASSERT_EQ(fit["parameters"].size(), 2u);
+  EXPECT_NEAR(fit["parameters"][0]["fitted"].get<double>() / 2.6e6, 1.0, 0.01);
+  EXPECT_NEAR(fit["parameters"][1]["fitted"].get<double>() / -3.9, 1.0, 0.01);
+  // Three data for two parameters: standard deviations exist and are of the noise's order.
+  for (const auto& p : fit["parameters"]) {
+    ASSERT_TRUE(p["sigma"].is_number()) << p;
+    EXPECT_LT(p["sigma"].get<double>() / std::abs(p["fitted"].get<double>()), 0.01) << p;
+  }
+  // Bad input: an unknown probe names the file and line.
+  {
+    std::ofstream csv(dir / "bad.csv");
+    csv << "probe,value\ntip_ux,1.0\n";
+  }
+  EXPECT_EQ(run("calibrate " + example("cantilever.toml") + " --data " + (dir / "bad.csv").string() +
+                    " --fit E",
+                &output),
+            2);
+  EXPECT_NE(output.find("bad.csv:2: expected the name of a [[probe]]"), std::string::npos) << output;
 }

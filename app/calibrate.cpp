@@ -1,0 +1,436 @@
+#include "app/calibrate.hpp"
+
+#include <ceres/ceres.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "app/solve_scene.hpp"
+#include "app/trace_charts.hpp"
+#include "core/errors.hpp"
+#include "core/writers.hpp"
+
+namespace fs = std::filesystem;
+
+namespace c2d::app {
+
+// ---------------------------------------------------------------------------------------------
+// Hertz profile fit
+
+namespace {
+
+struct HertzResidual {
+  HertzResidual(double x, double p) : x_(x), p_(p) {}
+  template <typename T>
+  bool operator()(const T* const p0, const T* const b, const T* const x0, T* r) const {
+    const T s = (T(x_) - x0[0]) / b[0];
+    const T arg = T(1.0) - s * s;
+    const T model = arg > T(1e-14) ? p0[0] * sqrt(arg) : T(0.0) * p0[0];
+    r[0] = T(p_) - model;
+    return true;
+  }
+  double x_, p_;
+};
+
+}  // namespace
+
+HertzFit fit_hertz_profile(const std::vector<std::pair<double, double>>& x_p) {
+  HertzFit fit;
+  double pmax = 0.0, xmin = 1e300, xmax = -1e300, lo = 1e300, hi = -1e300;
+  for (const auto& [x, p] : x_p) {
+    xmin = std::min(xmin, x), xmax = std::max(xmax, x);
+    if (p > pmax) pmax = p;
+    if (p > 0) lo = std::min(lo, x), hi = std::max(hi, x);
+  }
+  if (!(pmax > 0) || x_p.size() < 3) {
+    fit.message = "no positive pressure to fit";
+    return fit;
+  }
+  const double span = xmax - xmin;
+  const bool half = xmin >= -1e-9 * span || xmax <= 1e-9 * span;  // nodes on one side of 0
+  double p0 = pmax, x0 = half ? 0.0 : 0.5 * (lo + hi);
+  double b = half ? std::max(std::abs(lo), std::abs(hi)) : 0.5 * (hi - lo);
+  b = std::max(b * 1.05, 1e-9 * span);
+  ceres::Problem problem;
+  for (const auto& [x, p] : x_p)
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<HertzResidual, 1, 1, 1, 1>(new HertzResidual(x, p)),
+        nullptr, &p0, &b, &x0);
+  problem.SetParameterLowerBound(&b, 0, 1e-6 * span);
+  problem.SetParameterLowerBound(&p0, 0, 0.0);
+  if (half) problem.SetParameterBlockConstant(&x0);
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.logging_type = ceres::SILENT;
+  options.max_num_iterations = 100;
+  options.function_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-12;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  fit.ok = summary.IsSolutionUsable() && std::isfinite(p0) && std::isfinite(b);
+  fit.p0 = p0;
+  fit.b = b;
+  fit.x0 = x0;
+  fit.iterations = static_cast<int>(summary.iterations.size());
+  fit.message = summary.BriefReport();
+  ceres::Covariance::Options co;
+  ceres::Covariance covariance(co);
+  std::vector<std::pair<const double*, const double*>> blocks{{&p0, &p0}, {&b, &b}};
+  const int m = static_cast<int>(x_p.size()), n = half ? 2 : 3;
+  if (fit.ok && m > n && covariance.Compute(blocks, &problem)) {
+    double cpp = 0.0, cbb = 0.0;
+    covariance.GetCovarianceBlock(&p0, &p0, &cpp);
+    covariance.GetCovarianceBlock(&b, &b, &cbb);
+    const double variance = 2.0 * summary.final_cost / (m - n);
+    fit.sigma_p0 = std::sqrt(std::max(0.0, cpp * variance));
+    fit.sigma_b = std::sqrt(std::max(0.0, cbb * variance));
+  }
+  return fit;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Calibration
+
+namespace {
+
+struct Parameter {
+  std::string key;         ///< as given
+  std::string path;        ///< scene path of the value (without a component index)
+  int component = -1;      ///< index into a vector value (load[0].total_force[1]), else -1
+  std::vector<double> vector_value;  ///< the vector the component belongs to
+  double initial = 0.0, lower = 0.0, upper = 0.0;
+  bool log = true;
+};
+
+/// The scene value at a --set style path (first entry of arrays of tables unless an index or
+/// an entry name picks one); null when absent.
+const toml::node* lookup(const toml::table& root, const std::string& path) {
+  std::vector<std::string> keys;
+  std::stringstream ss(path);
+  for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
+  const toml::node* node = &root;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (!node || !node->is_table()) return nullptr;
+    std::string key = keys[i];
+    int index = -1;
+    if (const auto lb = key.find('['); lb != std::string::npos && key.back() == ']') {
+      index = std::atoi(key.substr(lb + 1, key.size() - lb - 2).c_str());
+      key = key.substr(0, lb);
+    }
+    node = node->as_table()->get(key);
+    if (node && node->is_array() && i + 1 < keys.size()) {
+      const auto& arr = *node->as_array();
+      const toml::node* pick = nullptr;
+      if (index >= 0) {
+        pick = index < static_cast<int>(arr.size()) ? &arr[index] : nullptr;
+      } else {
+        for (const auto& e : arr)
+          if (e.is_table() && (*e.as_table())["name"].value<std::string>() == keys[i + 1]) {
+            pick = &e;
+            ++i;
+            break;
+          }
+        if (!pick && !arr.empty()) pick = &arr[0];
+      }
+      node = pick;
+    } else if (node && node->is_array() && index >= 0) {
+      const auto& arr = *node->as_array();
+      node = index < static_cast<int>(arr.size()) ? &arr[index] : nullptr;
+    }
+  }
+  return node;
+}
+
+std::string format(double v) {
+  std::ostringstream os;
+  os << std::setprecision(12) << v;
+  return os.str();
+}
+
+Parameter parse_parameter(const std::string& spec, const core::Scene& scene) {
+  Parameter p;
+  const auto eq = spec.find('=');
+  p.key = spec.substr(0, eq);
+  const std::string where = "--fit " + spec;
+  static const std::map<std::string, std::string> alias{
+      {"E", "material.E"}, {"nu", "material.nu"}, {"thickness", "material.thickness"}};
+  p.path = alias.count(p.key) ? alias.at(p.key) : p.key;
+  // A trailing [i] on a vector value: fit one component.
+  if (const auto lb = p.path.rfind('['); lb != std::string::npos && p.path.back() == ']' &&
+                                         p.path.find('.', lb) == std::string::npos) {
+    const toml::node* whole = lookup(*scene.raw, p.path.substr(0, lb));
+    if (whole && whole->is_array()) {
+      p.component = std::atoi(p.path.substr(lb + 1).c_str());
+      for (const auto& v : *whole->as_array()) p.vector_value.push_back(v.value<double>().value_or(0.0));
+      if (p.component < 0 || p.component >= static_cast<int>(p.vector_value.size()))
+        throw InputError(where + ": component index out of range of the vector " +
+                         p.path.substr(0, lb));
+      p.path = p.path.substr(0, lb);
+    }
+  }
+  std::optional<double> current;
+  if (p.component >= 0) {
+    current = p.vector_value[p.component];
+  } else if (const toml::node* n = lookup(*scene.raw, p.path)) {
+    current = n->value<double>();
+  }
+  if (eq != std::string::npos) {
+    std::vector<std::string> parts;
+    std::stringstream ss(spec.substr(eq + 1));
+    for (std::string part; std::getline(ss, part, ':');) parts.push_back(part);
+    if (parts.size() < 2 || parts.size() > 3)
+      throw InputError(where + ": expected key=lower:upper[:log|lin], found '" + spec.substr(eq + 1) + "'");
+    char* end = nullptr;
+    p.lower = std::strtod(parts[0].c_str(), &end);
+    if (*end) throw InputError(where + ": expected a number as the lower bound, found '" + parts[0] + "'");
+    p.upper = std::strtod(parts[1].c_str(), &end);
+    if (*end) throw InputError(where + ": expected a number as the upper bound, found '" + parts[1] + "'");
+    if (!(p.upper > p.lower)) throw InputError(where + ": expected lower < upper");
+    p.log = p.lower > 0;
+    if (parts.size() == 3) {
+      if (parts[2] != "log" && parts[2] != "lin")
+        throw InputError(where + ": expected 'log' or 'lin', found '" + parts[2] + "'");
+      p.log = parts[2] == "log";
+      if (p.log && !(p.lower > 0)) throw InputError(where + ": a log scale needs a positive lower bound");
+    }
+    p.initial = current && *current >= p.lower && *current <= p.upper
+                    ? *current
+                    : (p.log ? std::sqrt(p.lower * p.upper) : 0.5 * (p.lower + p.upper));
+  } else {
+    if (!current)
+      throw InputError(where + ": the scene has no number at '" + p.path +
+                       "'; give bounds as " + p.key + "=lower:upper");
+    p.initial = *current;
+    if (p.initial > 0) p.lower = p.initial / 100, p.upper = p.initial * 100, p.log = true;
+    else if (p.initial < 0) p.lower = p.initial * 100, p.upper = p.initial / 100, p.log = false;
+    else throw InputError(where + ": the scene's value is 0; give bounds as " + p.key + "=lower:upper");
+  }
+  return p;
+}
+
+/// The --set assignment of a parameter at value v.
+std::string assignment(const Parameter& p, double v) {
+  if (p.component < 0) return p.path + "=" + format(v);
+  std::string text = p.path + "=[";
+  for (size_t i = 0; i < p.vector_value.size(); ++i)
+    text += (i ? ", " : "") + format(static_cast<int>(i) == p.component ? v : p.vector_value[i]);
+  return text + "]";
+}
+
+struct Datum {
+  std::string probe;
+  double value = 0.0, weight = 1.0, scale = 1.0;
+};
+
+struct CalibrationModel {
+  const CalibrateOptions& o;
+  const std::vector<Parameter>& params;
+  const std::vector<Datum>& data;
+  int evaluations = 0;
+  std::string last_failure;
+
+  double value(int j, double theta) const { return params[j].log ? std::exp(theta) : theta; }
+
+  /// Probe values at the parameters θ; false when the solve fails.
+  bool probes(const double* theta, std::vector<double>& out) {
+    ++evaluations;
+    std::vector<std::string> sets = o.sets;
+    for (size_t j = 0; j < params.size(); ++j)
+      sets.push_back(assignment(params[j], value(static_cast<int>(j), theta[j])));
+    const core::Scene scene = core::load_scene(o.scene, sets);
+    const auto run = solve_scene(scene, o.method, {});
+    if (run->results.status != SolveStatus::kConverged) {
+      last_failure = run->results.message;
+      return false;
+    }
+    out.clear();
+    for (const auto& d : data) out.push_back(run->results.probes.at(d.probe));
+    return true;
+  }
+};
+
+struct CalibrationCost {
+  CalibrationModel* model;
+  bool operator()(double const* const* theta, double* residuals) const {
+    std::vector<double> values;
+    if (!model->probes(theta[0], values)) return false;
+    for (size_t i = 0; i < values.size(); ++i) {
+      const Datum& d = model->data[i];
+      residuals[i] = d.weight * (values[i] - d.value) / d.scale;
+    }
+    return true;
+  }
+};
+
+}  // namespace
+
+int run_calibrate(const CalibrateOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const core::Scene scene = core::load_scene(o.scene, o.sets);
+  if (o.fits.empty()) throw InputError("calibrate: expected --fit key[,key...], found none");
+  if (o.data.empty()) throw InputError("calibrate: expected --data measured.csv, found none");
+  std::vector<Parameter> params;
+  for (const auto& f : o.fits) params.push_back(parse_parameter(f, scene));
+  // Measured data.
+  const CsvTable table = read_csv(o.data);
+  const int c_probe = table.column("probe"), c_value = table.column("value");
+  const auto w_it = std::find(table.columns.begin(), table.columns.end(), "weight");
+  std::vector<Datum> data;
+  for (size_t r = 0; r < table.rows.size(); ++r) {
+    Datum d;
+    d.probe = table.rows[r][c_probe];
+    const bool known = std::any_of(scene.probes.begin(), scene.probes.end(),
+                                   [&](const core::ProbeSpec& p) { return p.name == d.probe; });
+    if (!known) {
+      std::string names;
+      for (const auto& p : scene.probes) names += (names.empty() ? "" : ", ") + p.name;
+      throw InputError(o.data + ":" + std::to_string(r + 2) + ": expected the name of a [[probe]] of " +
+                       o.scene + " (" + names + "), found '" + d.probe + "'");
+    }
+    d.value = table.number(r, c_value);
+    if (!std::isfinite(d.value))
+      throw InputError(o.data + ":" + std::to_string(r + 2) + ": expected a measured value");
+    if (w_it != table.columns.end()) {
+      const double w = table.number(r, static_cast<int>(w_it - table.columns.begin()));
+      d.weight = std::isfinite(w) ? w : 1.0;
+      if (!(d.weight >= 0))
+        throw InputError(o.data + ":" + std::to_string(r + 2) + ": expected a weight >= 0");
+    }
+    d.scale = std::abs(d.value) > 0 ? std::abs(d.value) : 1.0;
+    data.push_back(d);
+  }
+  if (data.empty()) throw InputError(o.data + ": expected at least one measured probe value");
+  const std::string out = o.out.empty() ? "out/calibrate_" + fs::path(o.scene).stem().string() : o.out;
+  fs::create_directories(out);
+
+  CalibrationModel model{o, params, data, 0, {}};
+  const int n = static_cast<int>(params.size()), m = static_cast<int>(data.size());
+  std::vector<double> theta(n);
+  for (int j = 0; j < n; ++j) theta[j] = params[j].log ? std::log(params[j].initial) : params[j].initial;
+  const std::vector<double> theta0 = theta;
+  std::vector<double> initial_probes;
+  if (!model.probes(theta.data(), initial_probes))
+    throw InputError(o.scene + ": the scene does not solve at the initial parameters (" +
+                     model.last_failure + ")");
+
+  ceres::Problem problem;
+  auto* cost = new ceres::DynamicNumericDiffCostFunction<CalibrationCost, ceres::CENTRAL>(
+      new CalibrationCost{&model});
+  cost->AddParameterBlock(n);
+  cost->SetNumResiduals(m);
+  problem.AddResidualBlock(cost, nullptr, theta.data());
+  for (int j = 0; j < n; ++j) {
+    problem.SetParameterLowerBound(theta.data(), j, params[j].log ? std::log(params[j].lower) : params[j].lower);
+    problem.SetParameterUpperBound(theta.data(), j, params[j].log ? std::log(params[j].upper) : params[j].upper);
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::DENSE_QR;
+  options.logging_type = ceres::SILENT;
+  options.max_num_iterations = o.max_iterations;
+  options.function_tolerance = 1e-12;
+  options.gradient_tolerance = 1e-14;
+  options.parameter_tolerance = 1e-10;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+
+  // Standard deviations: Ceres's covariance of θ, scaled by the residual variance.
+  std::vector<double> sigma(n, std::nan(""));
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.null_space_rank = -1;
+  ceres::Covariance covariance(co);
+  std::vector<std::pair<const double*, const double*>> blocks{{theta.data(), theta.data()}};
+  std::string covariance_note;
+  if (m <= n) {
+    covariance_note = "not estimated: as many data as parameters leave no residual variance";
+  } else if (summary.IsSolutionUsable() && covariance.Compute(blocks, &problem)) {
+    std::vector<double> c(n * n);
+    covariance.GetCovarianceBlock(theta.data(), theta.data(), c.data());
+    const double variance = 2.0 * summary.final_cost / (m - n);
+    covariance_note = "from the covariance, scaled by the residual variance";
+    for (int j = 0; j < n; ++j) {
+      const double s_theta = std::sqrt(std::max(0.0, c[j * n + j] * variance));
+      sigma[j] = params[j].log ? model.value(j, theta[j]) * s_theta : s_theta;
+    }
+  } else {
+    covariance_note = "not available (rank-deficient Jacobian: the data do not determine every parameter)";
+  }
+  std::vector<double> fitted_probes;
+  const bool solved = model.probes(theta.data(), fitted_probes);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  nlohmann::json j;
+  j["scene"] = o.scene;
+  j["data"] = o.data;
+  j["status"] = summary.IsSolutionUsable() && solved ? "converged" : "failed";
+  j["ceres"] = {{"termination", ceres::TerminationTypeToString(summary.termination_type)},
+                {"message", summary.message},
+                {"iterations", static_cast<int>(summary.iterations.size())},
+                {"initial_cost", summary.initial_cost},
+                {"final_cost", summary.final_cost},
+                {"solves", model.evaluations},
+                {"seconds", seconds}};
+  j["covariance"] = covariance_note;
+  for (int k = 0; k < n; ++k)
+    j["parameters"].push_back({{"key", params[k].key},
+                               {"initial", params[k].initial},
+                               {"fitted", model.value(k, theta[k])},
+                               {"sigma", std::isfinite(sigma[k]) ? nlohmann::json(sigma[k]) : nlohmann::json()},
+                               {"lower", params[k].lower},
+                               {"upper", params[k].upper},
+                               {"scale", params[k].log ? "log" : "lin"}});
+  for (int i = 0; i < m; ++i)
+    j["residuals"].push_back({{"probe", data[i].probe},
+                              {"measured", data[i].value},
+                              {"weight", data[i].weight},
+                              {"initial", initial_probes[i]},
+                              {"fitted", solved ? nlohmann::json(fitted_probes[i]) : nlohmann::json()},
+                              {"relative_residual",
+                               solved ? nlohmann::json((fitted_probes[i] - data[i].value) / data[i].scale)
+                                      : nlohmann::json()}});
+  core::write_file_atomic(out + "/calibrate.json", j.dump(2) + "\n");
+
+  std::ostringstream md;
+  md << std::setprecision(6) << "# contact2d calibrate: " << o.scene << " against " << o.data
+     << "\n\nCeres (Levenberg-Marquardt, central differences, one solve per evaluation): "
+     << ceres::TerminationTypeToString(summary.termination_type) << " after "
+     << summary.iterations.size() << " iterations and " << model.evaluations << " solves ("
+     << seconds << " s); cost " << summary.initial_cost << " -> " << summary.final_cost
+     << ". Standard deviations: " << covariance_note << ".\n\n| parameter | initial | fitted | ± σ | bounds |\n|---|---|---|---|---|\n";
+  for (int k = 0; k < n; ++k)
+    md << "| " << params[k].key << " | " << params[k].initial << " | " << model.value(k, theta[k])
+       << " | " << (std::isfinite(sigma[k]) ? format(sigma[k]) : "–") << " | [" << params[k].lower
+       << ", " << params[k].upper << "] " << (params[k].log ? "log" : "lin") << " |\n";
+  md << "\n| probe | measured | initial | fitted | relative residual |\n|---|---|---|---|---|\n";
+  for (int i = 0; i < m; ++i)
+    md << "| " << data[i].probe << " | " << data[i].value << " | " << initial_probes[i] << " | "
+       << (solved ? format(fitted_probes[i]) : "–") << " | "
+       << (solved ? format((fitted_probes[i] - data[i].value) / data[i].scale) : "–") << " |\n";
+  core::write_file_atomic(out + "/calibrate.md", md.str());
+  if (!o.quiet) {
+    std::cout << "calibrate  " << j["status"].get<std::string>() << ": "
+              << ceres::TerminationTypeToString(summary.termination_type) << ", "
+              << summary.iterations.size() << " iterations, " << model.evaluations << " solves, "
+              << std::setprecision(3) << seconds << " s\n";
+    for (int k = 0; k < n; ++k)
+      std::cout << "parameter  " << params[k].key << " = " << std::setprecision(8)
+                << model.value(k, theta[k]) << (std::isfinite(sigma[k]) ? " ± " + format(sigma[k]) : "")
+                << " (initial " << params[k].initial << ")\n";
+    for (int i = 0; i < m; ++i)
+      std::cout << "probe      " << data[i].probe << ": measured " << data[i].value << ", fitted "
+                << (solved ? format(fitted_probes[i]) : "–") << "\n";
+    std::cout << "wrote " << out << "/calibrate.json, calibrate.md\n";
+  }
+  return j["status"] == "converged" ? 0 : 1;
+}
+
+}  // namespace c2d::app

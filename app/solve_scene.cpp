@@ -1,0 +1,58 @@
+#include "app/solve_scene.hpp"
+
+#include <cstdio>
+
+#include "core/errors.hpp"
+#include "core/probes.hpp"
+#include "nonlinear/linear_static.hpp"
+
+namespace c2d::app {
+
+std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::string& method,
+                                      const std::function<void(const std::string&)>& progress) {
+  auto say = [&](const std::string& text) {
+    if (progress) progress(text);
+  };
+  auto run = std::make_unique<SceneRun>();
+  say("meshing " + std::to_string(scene.bodies.size()) + " bod" +
+      (scene.bodies.size() == 1 ? "y" : "ies"));
+  run->contact_spec = constraints::parse_contact_scene(scene, method);
+  run->model = core::build_model(scene);
+  const core::Model& model = run->model;
+  if (!run->contact_spec.empty() || (scene.explicit_model && !scene.explicit_model->gaps.empty()))
+    run->contact = std::make_unique<constraints::ContactSet>(model, run->contact_spec, scene);
+  if (!method.empty() && !run->contact)
+    throw InputError("--method " + method + ": the scene has no [[contact]] to enforce");
+  say("solving " + std::to_string(model.dofs.num_free()) + " equations" +
+      (run->contact ? " with " + run->contact_spec.options.method + " contact (" +
+                          std::to_string(run->contact->num_slave_nodes()) + " slave nodes)"
+                    : std::string()));
+  if (scene.analysis.geometric_nonlinearity) {
+    nonlinear::StepperOptions so;
+    so.steps = scene.analysis.steps;
+    so.on_step = [&](const nonlinear::StepRecord& s) {
+      char line[200];
+      std::snprintf(line, sizeof line, "step %d  lambda %.4g  %s in %d Newton iterations", s.step,
+                    s.load_factor, to_string(s.newton.status), s.newton.iterations);
+      std::string text = line;
+      if (!s.contact.empty()) {
+        std::snprintf(line, sizeof line, ", %zu outer, %d active (+%d -%d)", s.contact.size(),
+                      s.contact.back().active, s.contact.front().entering,
+                      s.contact.front().leaving);
+        text += line;
+      }
+      if (s.attempt > 0) text += " (after a cutback)";
+      say(text);
+    };
+    run->results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, so, &run->steps,
+                                                        run->contact.get(), &run->contact_report);
+  } else {
+    run->results = nonlinear::solve_linear_static(model, scene.analysis, run->contact.get(),
+                                                  &run->contact_report);
+  }
+  if (run->results.status == SolveStatus::kConverged)
+    run->results.probes = core::evaluate_probes(scene, model, run->results);
+  return run;
+}
+
+}  // namespace c2d::app
