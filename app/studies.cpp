@@ -18,6 +18,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app/calibrate.hpp"
 #include "app/charts.hpp"
 #include "app/trace_charts.hpp"
 #include "constraints/constraint_strategy.hpp"
@@ -184,6 +185,8 @@ struct CompareRow {
          penetration = std::nan("");
   double err_p0 = std::nan(""), err_b = std::nan(""), err_profile = std::nan(""),
          zz = std::nan("");
+  double fit_p0 = std::nan(""), fit_b = std::nan(""), err_fit_p0 = std::nan(""),
+         err_fit_b = std::nan("");  ///< Hertz form fitted to the nodal pressures (Ceres)
   std::vector<std::pair<double, double>> profile;
   bool converged() const { return status == "converged"; }
 };
@@ -191,7 +194,8 @@ struct CompareRow {
 const char* kCompareHeader =
     "level,method,mesh_scale,dofs,status,exit_code,iterations,newton_iterations,time_mesh,"
     "time_assemble,time_solve,time_total,wall,p_max,contact_length,total_force,max_penetration,"
-    "error_p_max,error_contact_length,error_profile_l2,zz_error\n";
+    "error_p_max,error_contact_length,error_profile_l2,zz_error,fit_p0,fit_b,error_fit_p0,"
+    "error_fit_b\n";
 
 std::string compare_csv(const std::vector<CompareRow>& rows) {
   std::ostringstream os;
@@ -207,7 +211,8 @@ std::string compare_csv(const std::vector<CompareRow>& rows) {
        << cell(r.t_total) << ',' << cell(r.wall) << ',' << cell(r.p_max) << ','
        << cell(r.length) << ',' << cell(r.force) << ',' << cell(r.penetration) << ','
        << cell(r.err_p0) << ',' << cell(r.err_b) << ',' << cell(r.err_profile) << ','
-       << cell(r.zz) << '\n';
+       << cell(r.zz) << ',' << cell(r.fit_p0) << ',' << cell(r.fit_b) << ','
+       << cell(r.err_fit_p0) << ',' << cell(r.err_fit_b) << '\n';
   }
   return os.str();
 }
@@ -302,16 +307,20 @@ std::string compare_md(const CompareOptions& o, const std::vector<CompareRow>& r
   os << "# contact2d compare: " << o.scene << "\n\n" << verdict(rows, methods, metric) << "\n\n";
   os << "Times are the solve phase (contact iterations included), from each run's summary.json; "
      << "errors are against the scene's [reference].\n\n";
+  os << "Fitted p0 and b: the Hertz form p0 √(1 − ((x − x0)/b)²) fitted to the nodal pressures "
+        "(Ceres), a contact width that does not depend on where the nodes fall.\n\n";
   os << "| level | method | DOFs | status | iterations | solve | total | p_max | contact length | "
-        "total force | max penetration | p_max error | length error | profile L2 error |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "total force | max penetration | p_max error | length error | profile L2 error | "
+        "fitted p0 | fitted b | fitted b error |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     if (!r.done) continue;
     os << "| " << r.level << " | " << r.method << " | " << cell(r.dofs) << " | " << r.status
        << " | " << cell(r.iterations) << " | " << seconds(r.t_solve) << " | "
        << seconds(r.t_total) << " | " << cell(r.p_max) << " | " << cell(r.length) << " | "
        << cell(r.force) << " | " << cell(r.penetration) << " | " << percent(r.err_p0) << " | "
-       << percent(r.err_b) << " | " << percent(r.err_profile) << " |\n";
+       << percent(r.err_b) << " | " << percent(r.err_profile) << " | " << cell(r.fit_p0)
+       << " | " << cell(r.fit_b) << " | " << percent(r.err_fit_b) << " |\n";
   }
   if (!charts.empty()) os << "\n" << charts;
   return os.str();
@@ -422,6 +431,15 @@ int run_compare(const CompareOptions& o) {
       if (r.converged()) {
         r.profile = read_profile(cases[i].out_dir);
         if (hertz) r.err_profile = hertz_profile_error(r.profile, p0->second, b->second);
+        const HertzFit fit = fit_hertz_profile(r.profile);
+        if (fit.ok) {
+          r.fit_p0 = fit.p0;
+          r.fit_b = fit.b;
+          if (hertz) {
+            r.err_fit_p0 = fit.p0 / p0->second - 1.0;
+            r.err_fit_b = fit.b / b->second - 1.0;
+          }
+        }
       }
     } else {
       r.status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
