@@ -30,6 +30,7 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
   if (scene.analysis.geometric_nonlinearity) {
     nonlinear::StepperOptions so;
     so.steps = scene.analysis.steps;
+    so.newton.max_iterations = scene.analysis.max_newton_iterations;
     so.on_step = [&](const nonlinear::StepRecord& s) {
       char line[200];
       std::snprintf(line, sizeof line, "step %d  lambda %.4g  %s in %d Newton iterations", s.step,

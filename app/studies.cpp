@@ -431,7 +431,7 @@ int run_compare(const CompareOptions& o) {
       if (r.converged()) {
         r.profile = read_profile(cases[i].out_dir);
         if (hertz) r.err_profile = hertz_profile_error(r.profile, p0->second, b->second);
-        const HertzFit fit = fit_hertz_profile(r.profile);
+        const HertzFit fit = hertz ? fit_hertz_profile(r.profile) : HertzFit{};
         if (fit.ok) {
           r.fit_p0 = fit.p0;
           r.fit_b = fit.b;

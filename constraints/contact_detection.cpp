@@ -159,7 +159,11 @@ SegmentProjection MasterSurfaceSearch::project(const Vec2& p, int exclude_node) 
     best.point = x_[node];
     best.weights = {0, 0, 0};
     best.weights[best.xi <= 0.0 ? 0 : 1] = 1.0;
-    if (mean.dot(d) > 0 && d.norm() > 1e-12 * cell_) {
+    // A free end of the master surface (one adjacent edge): the region beyond it is not
+    // bounded by the master, so a point there is outside, at its distance from the end (a slave
+    // beside a punch's corner, level with or above its face, is not under it).
+    const bool free_end = vertex_edges_[vertex_slot_[node]].size() == 1;
+    if ((free_end || mean.dot(d) > 0) && d.norm() > 1e-12 * cell_) {
       best.normal = d.normalized();
       best.gap = d.norm();
     } else {

@@ -65,7 +65,9 @@ SegmentProjection project_on_edge(const MasterEdge& edge, const std::vector<Vec2
 /// A point whose closest point is an edge end (a slave facing a master corner or sliding from
 /// one edge to the next) gets the vertex treatment: outside the body the normal is the
 /// direction from the vertex to the point and the gap its distance (continuous with the
-/// adjacent edges' gaps); inside, the normal is the mean of the adjacent edges' normals.
+/// adjacent edges' gaps); inside, the normal is the mean of the adjacent edges' normals. At a
+/// free end of the master surface (one adjacent edge) every point is outside: the region beyond
+/// the end is not bounded by the master.
 class MasterSurfaceSearch {
  public:
   MasterSurfaceSearch(std::vector<MasterEdge> edges, const std::vector<Vec2>& x,

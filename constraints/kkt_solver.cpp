@@ -2,6 +2,7 @@
 
 #include <Eigen/UmfPackSupport>
 #include <cmath>
+#include <cstdio>
 
 namespace c2d::constraints {
 
@@ -43,8 +44,9 @@ SolveStatus KktSolver::factorize(const SpMat& m, bool same_pattern) {
   report_.rcond = impl_->lu.rcond();
   if (impl_->lu.info() != Eigen::Success || !(report_.rcond > 1e-15)) {
     report_.status = SolveStatus::kSingular;
-    report_.message = "saddle-point matrix is singular (UMFPACK rcond " +
-                      std::to_string(report_.rcond) +
+    char rcond[32];
+    std::snprintf(rcond, sizeof rcond, "%.3g", report_.rcond);
+    report_.message = std::string("saddle-point matrix is singular (UMFPACK rcond ") + rcond +
                       "): linearly dependent constraint rows or an unsupported body";
     return report_.status;
   }

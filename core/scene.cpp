@@ -147,7 +147,7 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
   if (!v.exists()) return;
   v.require_table();
   v.check_keys({"kind", "element", "geometric_nonlinearity", "steps", "smoothing", "target_error",
-                "solver", "mesh_scale"});
+                "solver", "mesh_scale", "max_newton_iterations"});
   a.state = v["kind"].choice_or({"plane_stress", "plane_strain"}, "plane_stress") == "plane_strain"
                 ? PlaneState::kPlaneStrain
                 : PlaneState::kPlaneStress;
@@ -166,6 +166,10 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
     v["target_error"].fail("a relative error in (0, 1), e.g. 0.05");
   a.solver = v["solver"].choice_or({"cholmod", "ldlt"}, "cholmod");
   if (v.has("mesh_scale")) a.mesh_scale = v["mesh_scale"].positive();
+  if (v.has("max_newton_iterations")) {
+    a.max_newton_iterations = v["max_newton_iterations"].integer();
+    if (a.max_newton_iterations < 1) v["max_newton_iterations"].fail("an integer >= 1");
+  }
 }
 
 ProbeSpec parse_probe(const TomlView& v) {

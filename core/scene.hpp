@@ -106,6 +106,8 @@ struct AnalysisSpec {
   /// Multiplies every body's mesh size and refinement sizes (not their radii): the knob of
   /// refinement studies (`contact2d compare --levels` halves it level by level).
   double mesh_scale = 1.0;
+  /// Newton iterations per KINSOL solve before a load step is cut back.
+  int max_newton_iterations = 25;
 };
 
 /// An explicit mesh (legacy data files): used instead of meshing bodies.

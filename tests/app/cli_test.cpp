@@ -433,3 +433,75 @@ TEST(Cli, CalibrationRecoversYoungsModulusAndLoadFromNoisySyntheticData) {
             2);
   EXPECT_NE(output.find("bad.csv:2: expected the name of a [[probe]]"), std::string::npos) << output;
 }
+
+TEST(Cli, StressSuiteEndsEveryMethodWithANamedStatus) {
+  // examples/stress/: every method through `compare`; the statuses each scene's comment
+  // predicts, exit codes 0 or 1 (never a crash), no NaN or inf anywhere in the table, and the
+  // load carried where a method converges (1e-6 relative: equilibrium of the contact forces).
+  struct Expect {
+    const char* scene;
+    std::map<std::string, std::string> status;  // method -> status prefix
+    double load;                                // total force where converged (0: not checked)
+  };
+  const std::string ok = "\"converged", singular = "\"failed: singular",
+                    ill = "\"failed: ill_conditioned";
+  const std::vector<Expect> cases = {
+      {"penalty_ill_conditioned",
+       {{"penalty", ill}, {"adaptive_penalty", ok}, {"lagrange", ok}, {"auglag", ok}, {"ipopt", ok}, {"ssn", ok}},
+       1000.0},
+      {"redundant_rows",
+       {{"penalty", ok}, {"adaptive_penalty", ok}, {"lagrange", singular}, {"auglag", ok}, {"ipopt", ok}, {"ssn", singular}},
+       0.0},
+      {"unsupported_body",
+       {{"penalty", singular}, {"adaptive_penalty", singular}, {"lagrange", singular}, {"auglag", singular},
+        {"ipopt", ok}, {"ssn", singular}},
+       0.0},
+      {"big_step",
+       {{"penalty", ok}, {"adaptive_penalty", ok}, {"lagrange", ok}, {"auglag", ok}, {"ipopt", ok}, {"ssn", ok}},
+       0.0},
+      {"punch_edge",
+       {{"penalty", ok}, {"adaptive_penalty", ok}, {"lagrange", ok}, {"auglag", ok}, {"ipopt", ok}, {"ssn", ok}},
+       2000.0},
+  };
+  for (const auto& c : cases) {
+    const fs::path out = fs::temp_directory_path() / (std::string("c2d_stress_") + c.scene);
+    fs::remove_all(out);
+    std::string output;
+    ASSERT_EQ(run("compare " + std::string(C2D_SOURCE_DIR) + "/examples/stress/" + c.scene +
+                      ".toml --jobs 2 --quiet --out " + out.string(),
+                  &output),
+              0)
+        << c.scene << ": " << output;
+    std::ifstream csv(out / "compare.csv");
+    std::stringstream all;
+    all << csv.rdbuf();
+    std::string lower = all.str();
+    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    EXPECT_EQ(lower.find("nan"), std::string::npos) << c.scene;
+    EXPECT_EQ(lower.find("inf"), std::string::npos) << c.scene;
+    std::stringstream lines(all.str());
+    std::string line;
+    std::getline(lines, line);
+    int rows = 0;
+    while (std::getline(lines, line)) {
+      // level,method,mesh_scale,dofs,"status",exit_code,iterations,newton,4 times,wall,p_max,
+      // contact_length,total_force,...
+      const auto q1 = line.find('"'), q2 = line.find('"', q1 + 1);
+      const std::string status = line.substr(q1, q2 - q1 + 1);
+      std::vector<std::string> cells;
+      std::stringstream head(line.substr(0, q1)), tail(line.substr(q2 + 2));
+      for (std::string x; std::getline(head, x, ',');) cells.push_back(x);
+      const std::string method = cells[1];
+      std::vector<std::string> rest;
+      for (std::string x; std::getline(tail, x, ',');) rest.push_back(x);
+      const int exit_code = std::stoi(rest[0]);
+      EXPECT_EQ(status.rfind(c.status.at(method), 0), 0u) << c.scene << " " << method << ": " << status;
+      EXPECT_TRUE(exit_code == 0 || exit_code == 1) << c.scene << " " << method;
+      if (c.load > 0 && status == "\"converged\"") {
+        EXPECT_NEAR(std::stod(rest[10]), c.load, 1e-6 * c.load) << c.scene << " " << method;
+      }
+      ++rows;
+    }
+    EXPECT_EQ(rows, 6) << c.scene;
+  }
+}

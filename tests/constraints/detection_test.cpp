@@ -78,6 +78,31 @@ TEST(Detection, NodeFacingAConvexCorner) {
   EXPECT_LT(in.gap, 0.0);
 }
 
+TEST(Detection, PointBesideAFreeEndOfTheMasterIsOutside) {
+  // A master surface that ends (a punch's bottom face, normal (0,-1), from (0,0) to (1,0); the
+  // punch is above it). A slave point beside the end, level with the face or slightly above it,
+  // is beside the punch, not under it: gap = its distance from the end, normal from the end
+  // toward it (before, the mean-normal branch gave it gap 0 or a penetration, and a punch on an
+  // elastic foundation lost 7 % of its load to such fictitious rows).
+  const std::vector<Vec2> x = {{0, 0}, {1, 0}};
+  std::vector<MasterEdge> edges(1);
+  edges[0].nodes = {0, 1, -1};
+  const MasterSurfaceSearch search(edges, x, 2.0);
+  const auto level = search.project(Vec2(1.25, 0.0));
+  ASSERT_TRUE(level.found);
+  EXPECT_EQ(level.vertex, 1);
+  EXPECT_NEAR(level.gap, 0.25, 1e-14);
+  EXPECT_NEAR(level.normal.x(), 1.0, 1e-14);
+  const auto above = search.project(Vec2(1.3, 0.4));
+  EXPECT_NEAR(above.gap, 0.5, 1e-14);
+  EXPECT_NEAR(above.normal.x(), 0.6, 1e-14);
+  EXPECT_NEAR(above.normal.y(), 0.8, 1e-14);
+  // Under the face the edge itself answers: penetration 0.1 at x = 0.5.
+  const auto under = search.project(Vec2(0.5, 0.1));
+  EXPECT_EQ(under.vertex, -1);
+  EXPECT_NEAR(under.gap, -0.1, 1e-14);
+}
+
 TEST(Detection, CircleObstaclesOutsideAndInside) {
   Obstacle disk;
   disk.type = Obstacle::Type::kCircle;
