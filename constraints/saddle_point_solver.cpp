@@ -11,6 +11,7 @@ namespace {
 constexpr int kMaxSchurRows = 400;
 constexpr double kMaxSchurEntries = 4e7;  ///< n × rows doubles of W (320 MB)
 constexpr double kMinSchurRcond = 1e-13;
+constexpr double kMinCholeskyPivotRatio = 1e-11;
 const char* kDependentRows =
     "saddle-point matrix is singular: linearly dependent constraint rows or an unsupported body";
 }  // namespace
@@ -50,13 +51,20 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
     if (all_rows || active[i]) ++size_;
   }
   if (path_ == Path::kUnknown) {
-    path_ = chol_.factorize(p_.stiffness) == SolveStatus::kConverged ? Path::kSchur : Path::kLu;
+    // A K that CHOLMOD factorises but only barely (pivot ratio below 1e-11: a rigid-body mode
+    // left to round-off, as in a body held only by contact) would make W meaningless.
+    const bool spd = chol_.factorize(p_.stiffness) == SolveStatus::kConverged &&
+                     chol_.report().pivot_ratio > kMinCholeskyPivotRatio;
+    path_ = spd ? Path::kSchur : Path::kLu;
     ++report_.numeric_factorizations;
   }
   const int k = static_cast<int>(rows_.size());
   if (path_ == Path::kSchur && k <= kMaxSchurRows &&
-      static_cast<double>(n) * k <= kMaxSchurEntries)
-    return factorize_schur(active, all_rows);
+      static_cast<double>(n) * k <= kMaxSchurEntries) {
+    const SolveStatus st = factorize_schur(active, all_rows);
+    if (st == SolveStatus::kConverged || report_.rcond < kMinSchurRcond) return st;
+    path_ = Path::kLu;  // K's factor does not solve to precision: the saddle point by LU
+  }
   // LU of the whole saddle point.
   const SolveStatus st =
       lu_.factorize(saddle_point_matrix(p_, active, s_, all_rows), same_pattern && path_ == Path::kLu);
@@ -70,6 +78,7 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
 SolveStatus SaddlePointSolver::factorize_schur(const std::vector<char>&, bool) {
   const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
   report_.message.clear();
+  report_.rcond = 1.0;  // below kMinSchurRcond only when S itself is singular
   // W columns of the rows new to the system: one multi-column solve.
   std::vector<int> missing;
   for (int j : rows_)
