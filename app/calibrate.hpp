@@ -5,17 +5,14 @@
 #include <string>
 #include <vector>
 
+#include "app/studies.hpp"
+
 namespace c2d::app {
 
-struct CalibrateOptions {
-  std::string scene;
+struct CalibrateOptions : StudyOptions {
   std::string data;                ///< CSV: probe,value[,weight]
   std::vector<std::string> fits;   ///< key[=lo:hi[:log|lin]]; E, nu, thickness = material.*
-  std::string method;
-  std::vector<std::string> sets;
   int max_iterations = 30;
-  std::string out;
-  bool quiet = false;
 };
 
 /// Fits the parameters so the scene's probes match the data (residuals relative to the measured

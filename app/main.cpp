@@ -281,41 +281,38 @@ int cmd_run(const Options& o) {
   return ok ? kExitOk : kExitSolveFailed;
 }
 
+/// The options every study verb shares.
+void fill_study(const Options& o, app::StudyOptions& s) {
+  s.scene = o.scene;
+  s.method = o.method;
+  s.sets = o.sets;
+  s.jobs = o.jobs;
+  s.out = o.out;
+  s.quiet = o.quiet;
+}
+
 int cmd_compare(const Options& o) {
   app::CompareOptions c;
-  c.scene = o.scene;
+  fill_study(o, c);
   std::stringstream list(o.methods);
   for (std::string m; std::getline(list, m, ',');)
     if (!m.empty()) c.methods.push_back(m);
   c.levels = o.levels;
-  c.jobs = o.jobs;
-  c.sets = o.sets;
-  c.out = o.out;
-  c.quiet = o.quiet;
   return app::run_compare(c);
 }
 
 int cmd_sweep(const Options& o) {
   app::SweepOptions w;
-  w.scene = o.scene;
-  w.method = o.method;
-  w.sets = o.sets;
+  fill_study(o, w);
   w.accuracy = o.accuracy;
-  w.jobs = o.jobs;
-  w.out = o.out;
-  w.quiet = o.quiet;
   return app::run_sweep(w);
 }
 
 int cmd_calibrate(const Options& o) {
   app::CalibrateOptions c;
-  c.scene = o.scene;
+  fill_study(o, c);
   c.data = o.data;
   c.fits = o.fits;
-  c.method = o.method;
-  c.sets = o.sets;
-  c.out = o.out;
-  c.quiet = o.quiet;
   return app::run_calibrate(c);
 }
 

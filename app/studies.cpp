@@ -171,11 +171,9 @@ std::string seconds(double v) {
   return os.str();
 }
 
-struct CompareRow {
+/// What every study reads from a case's summary.json.
+struct RunFigures {
   bool done = false;
-  int level = 0;
-  std::string method;
-  double mesh_scale = 1.0;
   int exit_code = -1;
   std::string status = "not run";
   double dofs = std::nan(""), iterations = std::nan(""), newton = std::nan("");
@@ -183,12 +181,52 @@ struct CompareRow {
          t_total = std::nan(""), wall = std::nan("");
   double p_max = std::nan(""), length = std::nan(""), force = std::nan(""),
          penetration = std::nan("");
-  double err_p0 = std::nan(""), err_b = std::nan(""), err_profile = std::nan(""),
-         zz = std::nan("");
+  double err_p0 = std::nan(""), err_b = std::nan(""), zz = std::nan("");
+  double pivot = std::nan(""), penalty = std::nan(""), stiffness_max = std::nan("");
+  bool converged() const { return status == "converged"; }
+
+  /// Fills the figures from a finished case; false when it left no summary (a crash).
+  bool read(const CaseOutcome& c) {
+    done = true;
+    exit_code = c.exit_code;
+    wall = c.wall_seconds;
+    if (!c.has_summary) {
+      status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
+      return false;
+    }
+    const auto& s = c.summary;
+    status = s.value("status", std::string("unknown"));
+    dofs = json_number(s, {"mesh", "dofs"});
+    iterations = json_number(s, {"contact", "iterations"});
+    newton = json_number(s, {"newton_iterations"});
+    t_mesh = json_number(s, {"time_s", "mesh"});
+    t_assemble = json_number(s, {"time_s", "assemble"});
+    t_solve = json_number(s, {"time_s", "solve"});
+    t_total = json_number(s, {"time_s", "total"});
+    pivot = json_number(s, {"contact", "pivot_ratio"});
+    penalty = json_number(s, {"contact", "penalty_max"});
+    stiffness_max = json_number(s, {"contact", "stiffness_max"});
+    zz = json_number(s, {"error", "relative_error"});
+    if (converged()) {  // a failed run's contact figures are zeros, not results
+      p_max = json_number(s, {"contact", "p_max"});
+      length = json_number(s, {"contact", "length"});
+      force = json_number(s, {"contact", "total_force"});
+      penetration = json_number(s, {"contact", "max_penetration"});
+      err_p0 = json_number(s, {"reference", "relative_error", "p_max"});
+      err_b = json_number(s, {"reference", "relative_error", "contact_length"});
+    }
+    return true;
+  }
+};
+
+struct CompareRow : RunFigures {
+  int level = 0;
+  std::string method;
+  double mesh_scale = 1.0;
+  double err_profile = std::nan("");
   double fit_p0 = std::nan(""), fit_b = std::nan(""), err_fit_p0 = std::nan(""),
          err_fit_b = std::nan("");  ///< Hertz form fitted to the nodal pressures (Ceres)
   std::vector<std::pair<double, double>> profile;
-  bool converged() const { return status == "converged"; }
 };
 
 const char* kCompareHeader =
@@ -408,26 +446,8 @@ int run_compare(const CompareOptions& o) {
   bool crashed = false;
   run_cases(cases, o.jobs, [&](size_t i, const CaseOutcome& c) {
     CompareRow& r = rows[i];
-    r.done = true;
-    r.exit_code = c.exit_code;
-    r.wall = c.wall_seconds;
-    if (c.has_summary) {
-      const auto& s = c.summary;
-      r.status = s.value("status", std::string("unknown"));
-      r.dofs = json_number(s, {"mesh", "dofs"});
-      r.iterations = json_number(s, {"contact", "iterations"});
-      r.newton = json_number(s, {"newton_iterations"});
-      r.t_mesh = json_number(s, {"time_s", "mesh"});
-      r.t_assemble = json_number(s, {"time_s", "assemble"});
-      r.t_solve = json_number(s, {"time_s", "solve"});
-      r.t_total = json_number(s, {"time_s", "total"});
-      r.p_max = json_number(s, {"contact", "p_max"});
-      r.length = json_number(s, {"contact", "length"});
-      r.force = json_number(s, {"contact", "total_force"});
-      r.penetration = json_number(s, {"contact", "max_penetration"});
-      r.err_p0 = json_number(s, {"reference", "relative_error", "p_max"});
-      r.err_b = json_number(s, {"reference", "relative_error", "contact_length"});
-      r.zz = json_number(s, {"error", "relative_error"});
+    if (!r.read(c)) crashed = true;
+    {
       if (r.converged()) {
         r.profile = read_profile(cases[i].out_dir);
         if (hertz) r.err_profile = hertz_profile_error(r.profile, p0->second, b->second);
@@ -441,9 +461,6 @@ int run_compare(const CompareOptions& o) {
           }
         }
       }
-    } else {
-      r.status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
-      crashed = true;
     }
     ++finished;
     core::write_file_atomic(out + "/compare.csv", compare_csv(rows));
@@ -594,16 +611,8 @@ std::vector<double> parse_range(const std::string& spec, const std::string& wher
 
 namespace {
 
-struct SweepRow {
-  bool done = false;
+struct SweepRow : RunFigures {
   double value = 0.0;
-  int exit_code = -1;
-  std::string status = "not run";
-  double dofs = std::nan(""), iterations = std::nan(""), t_solve = std::nan(""),
-         p_max = std::nan(""), err_p0 = std::nan(""), penetration = std::nan(""),
-         force = std::nan(""), pivot = std::nan(""), penalty = std::nan(""),
-         stiffness_max = std::nan("");
-  bool converged() const { return status == "converged"; }
 };
 
 std::string sweep_csv(const std::string& key, const std::vector<SweepRow>& rows) {
@@ -677,26 +686,7 @@ int run_sweep(const SweepOptions& o) {
   bool crashed = false;
   run_cases(cases, o.jobs, [&](size_t i, const CaseOutcome& c) {
     SweepRow& r = rows[i];
-    r.done = true;
-    r.exit_code = c.exit_code;
-    if (c.has_summary) {
-      const auto& s = c.summary;
-      r.status = s.value("status", std::string("unknown"));
-      r.dofs = json_number(s, {"mesh", "dofs"});
-      r.iterations = json_number(s, {"contact", "iterations"});
-      r.t_solve = json_number(s, {"time_s", "solve"});
-      r.p_max = json_number(s, {"contact", "p_max"});
-      r.err_p0 = json_number(s, {"reference", "relative_error", "p_max"});
-      r.penetration = json_number(s, {"contact", "max_penetration"});
-      r.force = json_number(s, {"contact", "total_force"});
-      r.pivot = json_number(s, {"contact", "pivot_ratio"});
-      r.penalty = json_number(s, {"contact", "penalty_max"});
-      r.stiffness_max = json_number(s, {"contact", "stiffness_max"});
-      if (!r.converged()) r.p_max = r.err_p0 = r.penetration = r.force = std::nan("");
-    } else {
-      r.status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
-      crashed = true;
-    }
+    if (!r.read(c)) crashed = true;
     ++finished;
     core::write_file_atomic(out + "/sweep.csv", sweep_csv(key, rows));
     if (!o.quiet)

@@ -30,14 +30,19 @@ struct CaseOutcome {
 void run_cases(const std::vector<StudyCase>& cases, int jobs,
                const std::function<void(size_t, const CaseOutcome&)>& on_done);
 
-struct CompareOptions {
+/// What every study verb takes: the scene, overrides, the contact method, output.
+struct StudyOptions {
   std::string scene;
-  std::vector<std::string> methods;  ///< empty: all six
-  int levels = 1;
-  int jobs = 1;
+  std::string method;               ///< empty: the scene's
   std::vector<std::string> sets;
+  int jobs = 1;
   std::string out;
   bool quiet = false;
+};
+
+struct CompareOptions : StudyOptions {
+  std::vector<std::string> methods;  ///< empty: all six
+  int levels = 1;
 };
 
 /// `contact2d compare`: writes compare.csv, compare.md (verdict first), accuracy_time,
@@ -45,15 +50,9 @@ struct CompareOptions {
 /// converged or not; 1 when a case crashed or a chart failed).
 int run_compare(const CompareOptions& o);
 
-struct SweepOptions {
-  std::string scene;
-  std::string method;                ///< empty: the scene's
-  std::vector<std::string> sets;     ///< exactly one of them a range: key=a:b:log:n,
-                                     ///< key=a:b:lin:n or key=v1,v2,...
-  double accuracy = 0.01;            ///< relative p_max error a value must meet
-  int jobs = 1;
-  std::string out;
-  bool quiet = false;
+/// sets: exactly one of them a range, key=a:b:log:n, key=a:b:lin:n or key=v1,v2,...
+struct SweepOptions : StudyOptions {
+  double accuracy = 0.01;  ///< relative p_max error a value must meet
 };
 
 /// The values of a range spec (a:b:log:n, a:b:lin:n or a comma list); throws InputError naming

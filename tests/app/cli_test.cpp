@@ -505,3 +505,34 @@ TEST(Cli, StressSuiteEndsEveryMethodWithANamedStatus) {
     EXPECT_EQ(rows, 6) << c.scene;
   }
 }
+
+TEST(Cli, CompareGivesTheSameNumbersWhateverTheJobs) {
+  // punch_edge, all six methods, with 1 and with 2 concurrent runs: every column but the times
+  // is identical (each run is its own deterministic process; rows are kept in case order).
+  std::map<int, std::vector<std::string>> tables;
+  for (int jobs : {1, 2}) {
+    const fs::path out = fs::temp_directory_path() / ("c2d_jobs_" + std::to_string(jobs));
+    fs::remove_all(out);
+    ASSERT_EQ(run("compare " + std::string(C2D_SOURCE_DIR) +
+                  "/examples/stress/punch_edge.toml --quiet --jobs " + std::to_string(jobs) +
+                  " --out " + out.string()),
+              0);
+    std::ifstream csv(out / "compare.csv");
+    std::string header, line;
+    std::getline(csv, header);
+    std::vector<std::string> columns;
+    std::stringstream hs(header);
+    for (std::string c; std::getline(hs, c, ',');) columns.push_back(c);
+    while (std::getline(csv, line)) {
+      std::vector<std::string> cells;
+      std::stringstream ls(line);
+      for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+      std::string kept;
+      for (size_t i = 0; i < cells.size() && i < columns.size(); ++i)
+        if (columns[i].rfind("time_", 0) != 0 && columns[i] != "wall") kept += cells[i] + ",";
+      tables[jobs].push_back(kept);
+    }
+  }
+  ASSERT_EQ(tables[1].size(), 6u);
+  EXPECT_EQ(tables[1], tables[2]);
+}
