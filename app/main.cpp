@@ -339,7 +339,13 @@ int cmd_mesh(const Options& o) {
   std::cout << (model.mesh.order == 1 ? "T3" : "T6") << " mesh: " << model.mesh.num_nodes()
             << " nodes, " << model.mesh.num_elements() << " elements, " << model.mesh.num_dofs()
             << " DOFs (" << model.dofs.num_free() << " free), edge length " << hmin << " .. "
-            << hmax << ", " << model.mesh_seconds << " s\nwrote " << out << "/mesh.vtu\n";
+            << hmax << ", " << model.mesh_seconds << " s\n";
+  const auto [min_angle, skinny] = model.mesh.angle_quality();
+  std::cout << "quality    smallest angle " << min_angle << " deg";
+  if (skinny > 0)
+    std::cout << "; warning: " << skinny << " skinny triangle" << (skinny == 1 ? "" : "s")
+              << " (an angle below 15 deg)";
+  std::cout << "\nwrote " << out << "/mesh.vtu\n";
   return kExitOk;
 }
 

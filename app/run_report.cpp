@@ -58,6 +58,9 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
                  {"dofs", model->mesh.num_dofs()},
                  {"free_dofs", model->dofs.num_free()},
                  {"element", model->mesh.order == 1 ? "T3" : "T6"}};
+    const auto [min_angle, skinny] = model->mesh.angle_quality();
+    j["mesh"]["min_angle_deg"] = min_angle;
+    j["mesh"]["skinny_triangles"] = skinny;
   }
   if (r) {
     j["time_s"] = {{"mesh", r->time.mesh},         {"assemble", r->time.assemble},

@@ -98,6 +98,22 @@ void Mesh::append(const Mesh& other, int body_offset, int material_offset,
   }
 }
 
+std::pair<double, int> Mesh::angle_quality(double skinny_deg) const {
+  double smallest = 180.0;
+  int skinny = 0;
+  for (const auto& e : elements) {
+    double tri_min = 180.0;
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 a = nodes[e[(k + 1) % 3]] - nodes[e[k]], b = nodes[e[(k + 2) % 3]] - nodes[e[k]];
+      const double angle = std::atan2(std::abs(a.x() * b.y() - a.y() * b.x()), a.dot(b));
+      tri_min = std::min(tri_min, angle * 180.0 / M_PI);
+    }
+    smallest = std::min(smallest, tri_min);
+    skinny += tri_min < skinny_deg;
+  }
+  return {smallest, skinny};
+}
+
 std::pair<double, double> Mesh::edge_length_range() const {
   double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
   for (const auto& el : elements)

@@ -49,6 +49,9 @@ class Mesh {
   void append(const Mesh& other, int body_offset, int material_offset, const std::string& prefix);
   /// Smallest and largest corner-to-corner edge length.
   std::pair<double, double> edge_length_range() const;
+  /// Shape quality: the smallest interior angle (degrees) over the triangles' corners, and how
+  /// many triangles have an angle below `skinny_deg` (skinny: poor conditioning and accuracy).
+  std::pair<double, int> angle_quality(double skinny_deg = 15.0) const;
   /// Bounding box [xmin, ymin, xmax, ymax].
   Eigen::Vector4d bounding_box() const;
 };

@@ -37,6 +37,100 @@ struct NamedCurve {
   std::string name;
 };
 
+double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+/// Convex hull, counter-clockwise, corners only (points on its edges are inserted afterwards).
+/// Andrew's monotone chain, O(n log n).
+std::vector<Vec2> convex_hull(std::vector<Vec2> p, double tol) {
+  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Vec2> h;
+  for (int pass = 0; pass < 2; ++pass) {
+    const size_t start = h.size();
+    for (const Vec2& q : p) {
+      while (h.size() >= start + 2 && cross(h[h.size() - 2], h.back(), q) <= tol) h.pop_back();
+      h.push_back(q);
+    }
+    h.pop_back();
+    std::reverse(p.begin(), p.end());
+  }
+  return h;
+}
+
+/// Winding-number test of a point against a closed polygon.
+bool inside_polygon(const std::vector<Vec2>& polygon, const Vec2& q) {
+  int winding = 0;
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    const Vec2 &a = polygon[i], &b = polygon[(i + 1) % polygon.size()];
+    if (a.y() <= q.y()) {
+      if (b.y() > q.y() && cross(a, b, q) > 0) ++winding;
+    } else if (b.y() <= q.y() && cross(a, b, q) < 0) {
+      --winding;
+    }
+  }
+  return winding != 0;
+}
+
+/// The checked point cloud of a `points` shape: its boundary polygon (given, else the convex
+/// hull) with the cloud points on its edges inserted as vertices, and the interior points.
+/// Throws InputError for fewer than 3 distinct points, duplicates, a collinear cloud, or points
+/// outside the given boundary.
+void split_point_cloud(const ShapeSpec& s, std::vector<Vec2>& boundary, std::vector<Vec2>& interior) {
+  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+  for (const auto& q : s.points) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  for (const auto& q : s.boundary) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  const double size = (hi - lo).norm();
+  const double tol = 1e-9 * size;
+  std::vector<std::pair<Vec2, int>> sorted;
+  for (size_t i = 0; i < s.points.size(); ++i) sorted.emplace_back(s.points[i], static_cast<int>(i));
+  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) {
+    return a.first.x() < b.first.x() || (a.first.x() == b.first.x() && a.first.y() < b.first.y());
+  });
+  for (size_t i = 0; i < sorted.size(); ++i)
+    for (size_t j = i + 1; j < sorted.size() && sorted[j].first.x() - sorted[i].first.x() <= tol; ++j)
+      if ((sorted[j].first - sorted[i].first).norm() <= tol)
+        throw InputError("shape.points: points " + std::to_string(std::min(sorted[i].second, sorted[j].second) + 1) +
+                         " and " + std::to_string(std::max(sorted[i].second, sorted[j].second) + 1) +
+                         " coincide; expected distinct points");
+  std::vector<Vec2> polygon = s.boundary.empty() ? convex_hull(s.points, tol * size) : s.boundary;
+  double area = 0.0;
+  for (size_t i = 0; i < polygon.size(); ++i)
+    area += cross(Vec2::Zero(), polygon[i], polygon[(i + 1) % polygon.size()]);
+  if (std::abs(area) <= 1e-12 * size * size)
+    throw InputError(std::string(s.boundary.empty() ? "shape.points" : "shape.boundary") +
+                     ": the points are collinear (no area to triangulate); expected a 2D cloud");
+  if (area < 0) std::reverse(polygon.begin(), polygon.end());
+  // Each cloud point: a polygon vertex, on a polygon edge (inserted there), inside, or outside.
+  std::vector<std::vector<std::pair<double, Vec2>>> on_edge(polygon.size());
+  for (size_t k = 0; k < s.points.size(); ++k) {
+    const Vec2& q = s.points[k];
+    bool placed = false;
+    for (size_t i = 0; i < polygon.size() && !placed; ++i) {
+      const Vec2 &a = polygon[i], &b = polygon[(i + 1) % polygon.size()];
+      if ((q - a).norm() <= tol) {
+        placed = true;
+      } else if ((q - b).norm() > tol && std::abs(cross(a, b, q)) <= tol * (b - a).norm()) {
+        const double t = (q - a).dot(b - a) / (b - a).squaredNorm();
+        if (t > 0 && t < 1) on_edge[i].emplace_back(t, q), placed = true;
+      }
+    }
+    if (placed) continue;
+    if (!inside_polygon(polygon, q))
+      throw InputError("shape.points: point " + std::to_string(k + 1) + " (" + std::to_string(q.x()) +
+                       ", " + std::to_string(q.y()) + ") lies outside the boundary polygon");
+    interior.push_back(q);
+  }
+  for (size_t i = 0; i < polygon.size(); ++i) {
+    boundary.push_back(polygon[i]);
+    std::sort(on_edge[i].begin(), on_edge[i].end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [t, q] : on_edge[i]) boundary.push_back(q);
+  }
+}
+
 // Builds the primitive in gmsh's built-in (geo) kernel; returns the named boundary curves.
 std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
   namespace geo = gmsh::model::geo;
@@ -47,10 +141,15 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
     curves.push_back({c, name});
     loop.push_back(c);
   };
-  if (s.type == "rectangle" || s.type == "polygon") {
+  std::vector<Vec2> interior;
+  if (s.type == "rectangle" || s.type == "polygon" || s.type == "points") {
     std::vector<Vec2> pts = s.points;
     if (s.type == "rectangle")
       pts = {s.min, {s.max.x(), s.min.y()}, s.max, {s.min.x(), s.max.y()}};
+    if (s.type == "points") {
+      pts.clear();
+      split_point_cloud(s, pts, interior);
+    }
     std::vector<int> tags;
     for (const auto& p : pts) tags.push_back(geo::addPoint(p.x(), p.y(), 0.0));
     static const char* rect_names[] = {"bottom", "right", "top", "left"};
@@ -83,8 +182,11 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
     }
   }
   const int cl = geo::addCurveLoop(loop);
-  geo::addPlaneSurface({cl});
+  const int surface = geo::addPlaneSurface({cl});
+  std::vector<int> inside;
+  for (const auto& q : interior) inside.push_back(geo::addPoint(q.x(), q.y(), 0.0));
   geo::synchronize();
+  if (!inside.empty()) gmsh::model::mesh::embed(0, inside, 2, surface);
   return curves;
 }
 
@@ -191,19 +293,45 @@ Mesh mesh_body(const BodySpec& body, int order) {
       if ((order == 2) != has_t6) gmsh::model::mesh::setOrder(order);
     } else {
       named = build_geometry(body.shape);
+      // A point cloud is triangulated as given (Delaunay, no points added): a size far above
+      // the cloud's extent.
+      const bool cloud = body.shape.type == "points";
+      double extent = 0.0;
+      for (const auto& q : body.shape.points) extent = std::max(extent, q.norm());
+      for (const auto& q : body.shape.boundary) extent = std::max(extent, q.norm());
+      const double cloud_size = 1e3 * (1.0 + extent);
       gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
       gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeMax", body.mesh_size);
-      gmsh::option::setNumber("Mesh.Algorithm", body.algorithm == "delaunay" ? 5 : 6);
+      gmsh::option::setNumber("Mesh.MeshSizeMax", cloud ? cloud_size : body.mesh_size);
+      // A point cloud: MeshAdapt with the boundary imposed and the interior points embedded keeps
+      // exactly the given points (gmsh's Delaunay mesher inserted points into a 3 x 3 grid, and
+      // gmsh::model::mesh::triangulate drops hull edges); the triangulation respects the
+      // boundary but is not guaranteed Delaunay.
+      gmsh::option::setNumber("Mesh.Algorithm", cloud ? 1 : body.algorithm == "delaunay" ? 5 : 6);
       gmsh::option::setNumber("Mesh.ElementOrder", 1);
-      gmsh::model::mesh::setSizeCallback(
-          [&body](int, int, double x, double y, double) { return requested_size(body, {x, y}); });
+      gmsh::model::mesh::setSizeCallback([&body, cloud, cloud_size](int, int, double x, double y,
+                                                                    double) {
+        return cloud ? cloud_size : requested_size(body, {x, y});
+      });
       gmsh::model::mesh::generate(2);
       gmsh::model::mesh::removeSizeCallback();
       if (order == 2) gmsh::model::mesh::setOrder(2);
     }
     Mesh mesh = read_gmsh_model(order, named);
+    if (body.shape.type == "points" && body.msh_file.empty()) {
+      // The triangulation must use the cloud's points and no others.
+      std::vector<Vec2> boundary, interior;
+      split_point_cloud(body.shape, boundary, interior);
+      std::vector<char> corner(mesh.num_nodes(), 0);
+      for (const auto& e : mesh.elements)
+        for (int k = 0; k < 3; ++k) corner[e[k]] = 1;
+      const auto vertices = std::count(corner.begin(), corner.end(), 1);
+      if (vertices != static_cast<long>(boundary.size() + interior.size()))
+        throw InputError("shape.points: the triangulation has " + std::to_string(vertices) +
+                         " vertices for " + std::to_string(boundary.size() + interior.size()) +
+                         " points (gmsh added or dropped some)");
+    }
     if (!body.msh_file.empty()) {
       // Physical groups as node sets, mapped by coordinates (node tags were compacted).
       gmsh::vectorpair groups;

@@ -115,7 +115,7 @@ RefineSpec parse_refine(const TomlView& v) {
 ShapeSpec parse_shape(const TomlView& v) {
   v.require_table();
   ShapeSpec s;
-  s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment"});
+  s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment", "points"});
   if (s.type == "rectangle") {
     v.check_keys({"type", "min", "max"});
     s.min = v["min"].vec2();
@@ -126,6 +126,16 @@ ShapeSpec parse_shape(const TomlView& v) {
     v.check_keys({"type", "points"});
     s.points = v["points"].points();
     if (s.points.size() < 3) v["points"].fail("at least 3 points");
+  } else if (s.type == "points") {
+    // A point cloud triangulated as it is (Delaunay): the seed's pre-processor. The checks of
+    // the cloud itself (duplicates, collinear, outside the boundary) are the mesher's.
+    v.check_keys({"type", "points", "boundary"});
+    s.points = v["points"].points();
+    if (s.points.size() < 3) v["points"].fail("at least 3 points");
+    if (v.has("boundary")) {
+      s.boundary = v["boundary"].points();
+      if (s.boundary.size() < 3) v["boundary"].fail("a polygon of at least 3 points");
+    }
   } else {
     if (s.type == "disk")
       v.check_keys({"type", "center", "radius"});
@@ -242,7 +252,9 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
                          (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
     }
     const TomlView mesh = b["mesh"];
-    mesh.require_table();
+    const bool cloud = b["shape"].exists() && b["shape"]["type"].exists() &&
+                       b["shape"]["type"].string() == "points";
+    if (!(cloud && !mesh.exists())) mesh.require_table();
     mesh.check_keys({"size", "refine", "algorithm", "file"});
     if (mesh.has("file")) {
       if (b.has("shape")) b["shape"].fail_message("give either 'shape' or 'mesh.file', not both");
@@ -254,7 +266,8 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
         mesh["file"].fail("an existing .msh file (looked for " + bs.msh_file + ")");
     } else {
       bs.shape = parse_shape(b["shape"]);
-      bs.mesh_size = mesh["size"].positive() * scene.analysis.mesh_scale;
+      // A point cloud is meshed as given: no size (mesh_size stays 0).
+      if (!cloud) bs.mesh_size = mesh["size"].positive() * scene.analysis.mesh_scale;
       for (const auto& r : mesh["refine"].items()) {
         bs.refine.push_back(parse_refine(r));
         bs.refine.back().size *= scene.analysis.mesh_scale;
