@@ -3,6 +3,7 @@
 #include <gmsh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -258,6 +259,65 @@ Mesh read_gmsh_model(int order, const std::vector<NamedCurve>& named) {
   return mesh;
 }
 
+/// Lawson's edge flips on the (linear) triangles of the model's surface: an interior edge whose
+/// two opposite angles sum to more than π is replaced by the other diagonal, until none is left.
+/// The result is the Delaunay triangulation of the vertices, constrained by the boundary (whose
+/// edges have one triangle and are never flipped). Used for point clouds, which MeshAdapt
+/// triangulates with exactly the given points but not always Delaunay.
+void make_delaunay() {
+  gmsh::vectorpair surfaces;
+  gmsh::model::getEntities(surfaces, 2);
+  for (const auto& [dim, surface] : surfaces) {
+    std::vector<std::size_t> tags, nodes;
+    gmsh::model::mesh::getElementsByType(2, tags, nodes, surface);
+    std::map<std::size_t, Vec2> x;
+    for (std::size_t n : nodes) {
+      if (x.count(n)) continue;
+      std::vector<double> coord, param;
+      gmsh::model::mesh::getNode(n, coord, param);
+      x[n] = Vec2(coord[0], coord[1]);
+    }
+    std::vector<std::array<std::size_t, 3>> tri;
+    for (size_t k = 0; k + 2 < nodes.size(); k += 3) {
+      std::array<std::size_t, 3> t{nodes[k], nodes[k + 1], nodes[k + 2]};
+      if (cross(x[t[0]], x[t[1]], x[t[2]]) < 0) std::swap(t[1], t[2]);
+      tri.push_back(t);
+    }
+    auto angle_at = [&](std::size_t at, std::size_t a, std::size_t b) {
+      const Vec2 u = x[a] - x[at], v = x[b] - x[at];
+      return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v));
+    };
+    bool flipped = true;
+    for (int pass = 0; flipped && pass < 1000; ++pass) {
+      flipped = false;
+      std::map<std::pair<std::size_t, std::size_t>, std::vector<std::pair<int, int>>> edges;
+      for (int t = 0; t < static_cast<int>(tri.size()); ++t)
+        for (int k = 0; k < 3; ++k) {
+          const std::size_t a = tri[t][k], b = tri[t][(k + 1) % 3];
+          edges[{std::min(a, b), std::max(a, b)}].push_back({t, k});
+        }
+      std::vector<char> touched(tri.size(), 0);
+      for (const auto& [edge, sides] : edges) {
+        if (sides.size() != 2) continue;
+        const auto [t1, k1] = sides[0];
+        const auto [t2, k2] = sides[1];
+        if (touched[t1] || touched[t2]) continue;  // flip each triangle once per pass
+        const std::size_t a = tri[t1][k1], b = tri[t1][(k1 + 1) % 3], c = tri[t1][(k1 + 2) % 3];
+        const std::size_t d = tri[t2][(k2 + 2) % 3];
+        if (angle_at(c, a, b) + angle_at(d, a, b) <= std::numbers::pi * (1 + 1e-12)) continue;
+        tri[t1] = {a, d, c};
+        tri[t2] = {d, b, c};
+        touched[t1] = touched[t2] = 1;
+        flipped = true;
+      }
+    }
+    std::vector<std::size_t> flat;
+    for (const auto& t : tri) flat.insert(flat.end(), t.begin(), t.end());
+    gmsh::model::mesh::clear({{2, surface}});
+    gmsh::model::mesh::addElementsByType(surface, 2, {}, flat);
+  }
+}
+
 }  // namespace
 
 double requested_size(const BodySpec& body, const Vec2& p) {
@@ -306,8 +366,7 @@ Mesh mesh_body(const BodySpec& body, int order) {
       gmsh::option::setNumber("Mesh.MeshSizeMax", cloud ? cloud_size : body.mesh_size);
       // A point cloud: MeshAdapt with the boundary imposed and the interior points embedded keeps
       // exactly the given points (gmsh's Delaunay mesher inserted points into a 3 x 3 grid, and
-      // gmsh::model::mesh::triangulate drops hull edges); the triangulation respects the
-      // boundary but is not guaranteed Delaunay.
+      // gmsh::model::mesh::triangulate drops hull edges); Lawson flips then make it Delaunay.
       gmsh::option::setNumber("Mesh.Algorithm", cloud ? 1 : body.algorithm == "delaunay" ? 5 : 6);
       gmsh::option::setNumber("Mesh.ElementOrder", 1);
       gmsh::model::mesh::setSizeCallback([&body, cloud, cloud_size](int, int, double x, double y,
@@ -316,6 +375,7 @@ Mesh mesh_body(const BodySpec& body, int order) {
       });
       gmsh::model::mesh::generate(2);
       gmsh::model::mesh::removeSizeCallback();
+      if (cloud) make_delaunay();
       if (order == 2) gmsh::model::mesh::setOrder(2);
     }
     Mesh mesh = read_gmsh_model(order, named);

@@ -1,6 +1,6 @@
 // Point-cloud meshing (the seed's pre-processor): the triangulation uses exactly the given
-// points, respects a given boundary, rejects degenerate clouds, and is a body like any other
-// (a patch test on it).
+// points, is Delaunay, respects a given boundary, rejects degenerate clouds, and is a body like
+// any other (a patch test on it).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -64,10 +64,11 @@ TEST(PointCloud, SquareWithItsCentreGivesFourTriangles) {
   EXPECT_EQ(g.num_elements(), 8);
 }
 
-TEST(PointCloud, RandomCloudIsTriangulatedWithExactlyItsPoints) {
+TEST(PointCloud, RandomCloudIsItsDelaunayTriangulation) {
   // 300 random points in the unit square: every point a vertex and no other, 2n − h − 2
   // triangles (h hull vertices, Euler), no overlap (the areas sum to the hull's area, 1e-12),
-  // and the quality report names the slivers a random cloud produces.
+  // the Delaunay property on every interior edge (the two angles opposite it sum to at most π,
+  // 1e-9 slack), and the quality report names the slivers a random cloud produces.
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Vec2> pts;
@@ -93,6 +94,24 @@ TEST(PointCloud, RandomCloudIsTriangulatedWithExactlyItsPoints) {
     hull_area += 0.5 * (a.x() * b.y() - a.y() * b.x());
   }
   EXPECT_NEAR(area, std::abs(hull_area), 1e-12);
+  std::map<std::pair<int, int>, std::vector<int>> opposite;  // edge -> opposite vertices
+  for (const auto& e : m.elements)
+    for (int k = 0; k < 3; ++k) {
+      const int a = e[(k + 1) % 3], b = e[(k + 2) % 3];
+      opposite[{std::min(a, b), std::max(a, b)}].push_back(e[k]);
+    }
+  auto angle = [&](int at, int a, int b) {
+    const Vec2 u = m.nodes[a] - m.nodes[at], v = m.nodes[b] - m.nodes[at];
+    return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v));
+  };
+  int interior = 0;
+  for (const auto& [edge, opp] : opposite) {
+    if (opp.size() != 2) continue;
+    ++interior;
+    EXPECT_LE(angle(opp[0], edge.first, edge.second) + angle(opp[1], edge.first, edge.second),
+              M_PI + 1e-9);
+  }
+  EXPECT_EQ(interior, (3 * m.num_elements() - hull) / 2);
   const auto [min_angle, skinny] = m.angle_quality();
   EXPECT_GT(skinny, 0);
   EXPECT_LT(min_angle, 15.0);
