@@ -41,13 +41,18 @@ std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
   return err;
 }
 
+int spread_axis(const std::vector<Vec2>& points) {
+  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+  for (const auto& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  return hi.y() - lo.y() > hi.x() - lo.x() ? 1 : 0;
+}
+
 std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
                                    const core::Scene& scene) {
   // Abscissa: the reference coordinate along which the slave nodes spread most.
-  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-  for (const auto& n : c.nodes)
-    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], n.x[k]), hi[k] = std::max(hi[k], n.x[k]);
-  const int axis = hi[1] - lo[1] > hi[0] - lo[0] ? 1 : 0;
+  std::vector<Vec2> positions;
+  for (const auto& n : c.nodes) positions.push_back(n.x);
+  const int axis = spread_axis(positions);
   std::vector<std::pair<double, double>> pts;
   for (const auto& n : c.nodes) pts.emplace_back(n.x[axis], n.pressure);
   std::sort(pts.begin(), pts.end());
@@ -65,8 +70,8 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
                      p0 != scene.reference.end() && b != scene.reference.end();
   // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
   if (hertz)
-    cmd << "set xrange [" << std::max(lo[axis], -1.6 * b->second) << ":"
-        << std::min(hi[axis], 1.6 * b->second) << "]\nset samples 400\n";
+    cmd << "set xrange [" << std::max(pts.front().first, -1.6 * b->second) << ":"
+        << std::min(pts.back().first, 1.6 * b->second) << "]\nset samples 400\n";
   cmd << "plot '" << data_path << "' using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
   if (hertz)
     cmd << ", \\\n     (abs(x) < " << b->second << " ? " << p0->second << "*sqrt(1-(x/"

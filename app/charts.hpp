@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "constraints/contact_set.hpp"
 #include "core/model.hpp"
@@ -9,6 +10,10 @@
 #include "core/results.hpp"
 
 namespace c2d::app {
+
+/// The coordinate (0: x, 1: y) along which the points spread most: the abscissa for values
+/// along a slave surface.
+int spread_axis(const std::vector<Vec2>& points);
 
 /// Runs a gnuplot script; returns an empty string on success, else why it failed.
 std::string run_gnuplot(const std::string& script_path);

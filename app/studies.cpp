@@ -129,15 +129,10 @@ std::vector<std::pair<double, double>> read_profile(const std::string& dir) {
   std::vector<std::pair<double, double>> pts;
   if (!fs::exists(dir + "/contact.csv")) return pts;
   const CsvTable t = read_csv(dir + "/contact.csv");
-  const int cx = t.column("x"), cy = t.column("y"), cp = t.column("pressure");
-  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
-  for (size_t r = 0; r < t.rows.size(); ++r)
-    for (int k = 0; k < 2; ++k) {
-      const double v = t.number(r, k == 0 ? cx : cy);
-      lo[k] = std::min(lo[k], v), hi[k] = std::max(hi[k], v);
-    }
-  const int axis = hi[1] - lo[1] > hi[0] - lo[0] ? cy : cx;
-  for (size_t r = 0; r < t.rows.size(); ++r) pts.emplace_back(t.number(r, axis), t.number(r, cp));
+  const int cp = t.column("pressure");
+  const std::vector<Vec2> positions = t.points("x", "y");
+  const int axis = spread_axis(positions);
+  for (size_t r = 0; r < t.rows.size(); ++r) pts.emplace_back(positions[r][axis], t.number(r, cp));
   std::sort(pts.begin(), pts.end());
   return pts;
 }

@@ -45,6 +45,13 @@ double CsvTable::number(size_t row, int column) const {
   return v;
 }
 
+std::vector<Vec2> CsvTable::points(const std::string& x, const std::string& y) const {
+  const int cx = column(x), cy = column(y);
+  std::vector<Vec2> out;
+  for (size_t r = 0; r < rows.size(); ++r) out.emplace_back(number(r, cx), number(r, cy));
+  return out;
+}
+
 CsvTable read_csv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the file");
@@ -76,14 +83,9 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
             c_y = t.column("y"), c_force = t.column("force"), c_p = t.column("pressure"),
             c_active = t.column("active");
   // Position along the slave surface: the reference coordinate along which it spreads most.
-  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  const int axis = spread_axis(t.points("x", "y"));
   bool any_pressure = false;
-  for (size_t r = 0; r < t.rows.size(); ++r) {
-    const double xy[2] = {t.number(r, c_x), t.number(r, c_y)};
-    for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], xy[k]), hi[k] = std::max(hi[k], xy[k]);
-    any_pressure = any_pressure || t.number(r, c_p) != 0.0;
-  }
-  const int axis = hi[1] - lo[1] > hi[0] - lo[0] ? 1 : 0;
+  for (size_t r = 0; r < t.rows.size(); ++r) any_pressure = any_pressure || t.number(r, c_p) != 0.0;
   const int c_pos = axis ? c_y : c_x, c_colour = any_pressure ? c_p : c_force;
   std::ostringstream act;
   act << std::setprecision(12);

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/types.hpp"
+
 namespace c2d::app {
 
 /// A CSV table with a header row; numbers only (text cells such as a status are kept as text).
@@ -18,6 +20,8 @@ struct CsvTable {
   int column(const std::string& name) const;
   /// Number in a cell; throws InputError naming file, line and column when it is not one.
   double number(size_t row, int column) const;
+  /// Every row's (x, y) from two named columns.
+  std::vector<Vec2> points(const std::string& x, const std::string& y) const;
 };
 
 /// Reads a CSV file; throws InputError (file, line) on a missing file or a ragged row.
