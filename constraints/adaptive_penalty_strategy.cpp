@@ -56,8 +56,7 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
       break;
     }
   }
-  s.factorizations = solver.factorizations();
-  s.pivot_ratio = solver.linear_report().pivot_ratio;
+  solver.report_counts(s);
   if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kMaxIterations)
     penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
   s.penalty = k_gap;

@@ -50,8 +50,7 @@ ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
       break;
     }
   }
-  s.factorizations = solver.factorizations();
-  s.pivot_ratio = solver.linear_report().pivot_ratio;
+  solver.report_counts(s);
   s.contact_force = lambda;
   s.eq_multiplier = mu;
   s.active.assign(p.num_gaps(), 0);

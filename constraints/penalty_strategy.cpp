@@ -62,12 +62,11 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
                                     active, s.u, s.history, 1);
   s.status = outcome.status;
   s.message = outcome.message;
-  s.factorizations = solver.factorizations();
-  s.pivot_ratio = solver.linear_report().pivot_ratio;
+  solver.report_counts(s);
   // A penalty many orders above the element stiffness leaves the factorization nothing but
   // round-off: say so instead of returning what it produced.
   const double ratio = penalty_ratio(p, k_gap, k_eq);
-  const double pivot = solver.linear_report().pivot_ratio;
+  const double pivot = s.pivot_ratio;
   if (ratio > 1e6 && (s.status == SolveStatus::kSingular || pivot < 1e-12)) {
     char buf[200];
     std::snprintf(buf, sizeof buf,

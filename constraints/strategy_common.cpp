@@ -25,10 +25,12 @@ double penetration_tolerance(const StrategyOptions& o, const ConstrainedProblem&
   return o.tolerance > 0 ? o.tolerance : o.relative_tolerance * p.length_scale;
 }
 
+double touch_tolerance(const ConstrainedProblem& p) { return 1e-12 * p.model_size; }
+
 std::vector<char> initially_closed(const ConstrainedProblem& p) {
   if (static_cast<int>(p.initial_active.size()) == p.num_gaps()) return p.initial_active;
   std::vector<char> active(p.num_gaps(), 0);
-  const double touch = 1e-12 * p.model_size;
+  const double touch = touch_tolerance(p);
   for (int i = 0; i < p.num_gaps(); ++i) active[i] = p.gap0[i] <= touch;
   return active;
 }

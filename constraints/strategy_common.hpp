@@ -15,6 +15,9 @@ namespace c2d::constraints {
 /// Penetration tolerance: the absolute option, else relative × the problem's length scale.
 double penetration_tolerance(const StrategyOptions& options, const ConstrainedProblem& p);
 
+/// Gap below which a row counts as touching: 1e-12 × the model size.
+double touch_tolerance(const ConstrainedProblem& p);
+
 /// Rows closed at the start: the problem's warm start if it has one, else the rows with
 /// g0 ≤ 1e-12 × model size (touching or already penetrating).
 std::vector<char> initially_closed(const ConstrainedProblem& p);
@@ -52,7 +55,11 @@ class PenalizedSolver {
                 std::vector<IterationRecord>& history, int first_iteration);
 
   const core::SpdSolveReport& linear_report() const { return solver_.report(); }
-  int factorizations() const { return solver_.report().numeric_factorizations; }
+  /// The solution's factorisation count and the last factor's pivot ratio.
+  void report_counts(ConstraintSolution& s) const {
+    s.factorizations = solver_.report().numeric_factorizations;
+    s.pivot_ratio = solver_.report().pivot_ratio;
+  }
 
  private:
   const ConstrainedProblem& p_;
