@@ -110,43 +110,16 @@ struct Parameter {
   bool log = true;
 };
 
-/// The scene value at a --set style path (first entry of arrays of tables unless an index or
-/// an entry name picks one); null when absent.
-const toml::node* lookup(const toml::table& root, const std::string& path) {
+/// The scene value at a --set style path: on the first table the path leads to (see
+/// core::tables_on_path); null when absent.
+const toml::node* lookup(toml::table& root, const std::string& path) {
   std::vector<std::string> keys;
   std::stringstream ss(path);
   for (std::string k; std::getline(ss, k, '.');) keys.push_back(k);
-  const toml::node* node = &root;
-  for (size_t i = 0; i < keys.size(); ++i) {
-    if (!node || !node->is_table()) return nullptr;
-    std::string key = keys[i];
-    int index = -1;
-    if (const auto lb = key.find('['); lb != std::string::npos && key.back() == ']') {
-      index = std::atoi(key.substr(lb + 1, key.size() - lb - 2).c_str());
-      key = key.substr(0, lb);
-    }
-    node = node->as_table()->get(key);
-    if (node && node->is_array() && i + 1 < keys.size()) {
-      const auto& arr = *node->as_array();
-      const toml::node* pick = nullptr;
-      if (index >= 0) {
-        pick = index < static_cast<int>(arr.size()) ? &arr[index] : nullptr;
-      } else {
-        for (const auto& e : arr)
-          if (e.is_table() && (*e.as_table())["name"].value<std::string>() == keys[i + 1]) {
-            pick = &e;
-            ++i;
-            break;
-          }
-        if (!pick && !arr.empty()) pick = &arr[0];
-      }
-      node = pick;
-    } else if (node && node->is_array() && index >= 0) {
-      const auto& arr = *node->as_array();
-      node = index < static_cast<int>(arr.size()) ? &arr[index] : nullptr;
-    }
-  }
-  return node;
+  const std::string last = keys.back();
+  keys.pop_back();
+  const auto tables = core::tables_on_path(root, keys, false, "--fit " + path);
+  return tables.empty() ? nullptr : tables.front()->get(last);
 }
 
 std::string format(double v) {

@@ -372,6 +372,60 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
 
 }  // namespace
 
+std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<std::string>& keys,
+                                         bool create, const std::string& where) {
+  std::vector<toml::table*> current{&root};
+  for (size_t i = 0; i < keys.size(); ++i) {
+    std::string key = keys[i];
+    int index = -1;
+    if (const auto lb = key.find('['); lb != std::string::npos && key.back() == ']') {
+      try {
+        index = std::stoi(key.substr(lb + 1, key.size() - lb - 2));
+      } catch (const std::exception&) {
+        throw InputError(where + ": bad index in '" + key + "'");
+      }
+      key = key.substr(0, lb);
+    }
+    std::vector<toml::table*> next;
+    bool named = false;
+    for (toml::table* t : current) {
+      toml::node* child = t->get(key);
+      if (!child) {
+        if (!create) continue;
+        t->insert_or_assign(key, toml::table{});
+        next.push_back(t->get(key)->as_table());
+      } else if (child->is_table()) {
+        next.push_back(child->as_table());
+      } else if (child->is_array()) {
+        auto& arr = *child->as_array();
+        if (index >= 0) {
+          if (index >= static_cast<int>(arr.size()) || !arr[index].is_table())
+            throw InputError(where + ": '" + key + "' has no table at index " + std::to_string(index));
+          next.push_back(arr[index].as_table());
+          continue;
+        }
+        // By entry name (key.NAME.rest), else every entry.
+        bool found = false;
+        if (i + 1 < keys.size())
+          for (auto& entry : arr)
+            if (entry.is_table()) {
+              auto n = (*entry.as_table())["name"].value<std::string>();
+              if (n && *n == keys[i + 1]) next.push_back(entry.as_table()), found = true;
+            }
+        named = named || found;
+        if (!found)
+          for (auto& entry : arr)
+            if (entry.is_table()) next.push_back(entry.as_table());
+      } else {
+        throw InputError(where + ": '" + key + "' is a value, not a table");
+      }
+    }
+    if (named) ++i;  // consumed the name
+    current = std::move(next);
+  }
+  return current;
+}
+
 void apply_override(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -392,68 +446,12 @@ void apply_override(toml::table& root, const std::string& assignment) {
     if (k.empty()) throw InputError("--set " + assignment + ": empty key in path '" + path + "'");
     keys.push_back(k);
   }
-  // Walk the path; an array of tables fans out to every entry unless an index [i] or an entry
-  // name selects one.
-  std::vector<toml::table*> current{&root};
-  for (size_t i = 0; i < keys.size(); ++i) {
-    std::string key = keys[i];
-    int index = -1;
-    if (const auto lb = key.find('['); lb != std::string::npos && key.back() == ']') {
-      try {
-        index = std::stoi(key.substr(lb + 1, key.size() - lb - 2));
-      } catch (const std::exception&) {
-        throw InputError("--set " + assignment + ": bad index in '" + key + "'");
-      }
-      key = key.substr(0, lb);
-    }
-    const bool last = i + 1 == keys.size();
-    std::vector<toml::table*> next;
-    for (toml::table* t : current) {
-      if (last) {
-        if (index >= 0) throw InputError("--set " + assignment + ": an index on the last key");
-        t->insert_or_assign(key, value);
-        continue;
-      }
-      toml::node* child = t->get(key);
-      if (!child) {
-        t->insert_or_assign(key, toml::table{});
-        next.push_back(t->get(key)->as_table());
-      } else if (child->is_table()) {
-        next.push_back(child->as_table());
-      } else if (child->is_array()) {
-        auto& arr = *child->as_array();
-        if (index >= 0) {
-          if (index >= static_cast<int>(arr.size()) || !arr[index].is_table())
-            throw InputError("--set " + assignment + ": '" + key + "' has no table at index " +
-                             std::to_string(index));
-          next.push_back(arr[index].as_table());
-        } else {
-          // By entry name: key.NAME.rest
-          bool named = false;
-          if (i + 2 < keys.size()) {
-            for (auto& entry : arr)
-              if (entry.is_table()) {
-                auto n = (*entry.as_table())["name"].value<std::string>();
-                if (n && *n == keys[i + 1]) {
-                  next.push_back(entry.as_table());
-                  named = true;
-                }
-              }
-          }
-          if (named) {
-            ++i;  // consumed the name
-          } else {
-            for (auto& entry : arr)
-              if (entry.is_table()) next.push_back(entry.as_table());
-          }
-        }
-      } else {
-        throw InputError("--set " + assignment + ": '" + key + "' is a value, not a table");
-      }
-    }
-    if (last) break;
-    current = std::move(next);
-  }
+  const std::string last = keys.back();
+  if (last.find('[') != std::string::npos && last.back() == ']')
+    throw InputError("--set " + assignment + ": an index on the last key");
+  keys.pop_back();
+  for (toml::table* t : tables_on_path(root, keys, true, "--set " + assignment))
+    t->insert_or_assign(last, value);
 }
 
 Scene parse_scene(const std::string& text, const std::string& name,

@@ -154,4 +154,11 @@ SelectionSpec parse_selection(const TomlView& v);
 /// Applies one --set override to a TOML table (exposed for tests).
 void apply_override(toml::table& root, const std::string& assignment);
 
+/// The tables a dotted key path leads to (`keys`: every key but the value's own): an array of
+/// tables fans out to every entry unless an index `key[i]` or an entry name (`key.NAME`) picks
+/// one. Missing tables are created when `create`, else skipped. Throws InputError, prefixed by
+/// `where`, for a bad index or a key that holds a value, not a table.
+std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<std::string>& keys,
+                                         bool create, const std::string& where);
+
 }  // namespace c2d::core
