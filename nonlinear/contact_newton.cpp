@@ -139,12 +139,8 @@ ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSe
     const VecX u_full = system.full(u);
     VecX load;
     if (outer == 1) {
-      const VecX du_c = u_full - in.u_prev_full;  // zero on the free DOFs
-      VecX f_int, lift;
-      if (!system.internal_force(in.u_prev_full, f_int) ||
-          !system.assemble(in.u_prev_full, &du_c, &lift))
+      if (!system.step_predictor(in.u_prev_full, load))
         return fail(SolveStatus::kFailed, where + "an element is inverted");
-      load = system.load_factor() * system.f_ext_free() - dofs.restrict(f_int) - lift;
     } else {
       VecX r;
       if (!system.residual(u, r) || !system.assemble(u_full))
@@ -159,7 +155,7 @@ ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSe
     qp.initial_active.assign(m, 0);
     qp.initial_force = VecX::Zero(m);
     // Warm start: the rows closed at the last state, and rows touching or penetrating now.
-    const double touch = 1e-12 * contact.model_size();
+    const double touch = touch_tolerance(qp);
     for (int i = 0; i < m; ++i) {
       qp.initial_active[i] = previous[rows[i].slot] || qp.gap0[i] <= touch;
       qp.initial_force[i] = force_by_slot[rows[i].slot];

@@ -60,6 +60,15 @@ bool FiniteStrainSystem::assemble(const VecX& u, const VecX* du_constrained, Vec
   return ok;
 }
 
+bool FiniteStrainSystem::step_predictor(const VecX& u0, VecX& load) {
+  VecX du_c = VecX::Zero(u0.size()), f_int, lift;
+  for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
+    if (model_.dofs.is_constrained(dof)) du_c[dof] = u_prescribed_[dof] - u0[dof];
+  if (!internal_force(u0, f_int) || !assemble(u0, &du_c, &lift)) return false;
+  load = lambda_ * f_ext_free_ - model_.dofs.restrict(f_int) - lift;
+  return true;
+}
+
 double FiniteStrainSystem::reaction_scale(const VecX& u_free) const {
   VecX f;
   double scale = 0.0;

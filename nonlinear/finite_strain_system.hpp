@@ -29,6 +29,11 @@ class FiniteStrainSystem final : public NewtonSystem {
   /// element is inverted): the force scale of supports that carry the load.
   double reaction_scale(const VecX& u_free) const;
   const SpMat& matrix() const { return assembler_.matrix(); }
+  /// The load step's linearisation about the converged full state u0 (with its own prescribed
+  /// values): assembles K_T(u0) into matrix() and returns the out-of-balance force at the
+  /// current load factor, the prescribed increment carried as a lift:
+  /// λ f − f_int(u0) − K_fc (u_c − u0_c). False if an element is inverted.
+  bool step_predictor(const VecX& u0, VecX& load);
   const VecX& f_ext_free() const { return f_ext_free_; }
 
   // NewtonSystem: the unconstrained problem, factorised with CHOLMOD (symbolic analysis kept).

@@ -90,19 +90,10 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
       trial = cstep.u_free;
     } else {
       // Linear predictor from the last converged state: K_T Δu_f = λ f − f_int − K_fc Δu_c.
-      VecX guess = u_free;
-      {
-        VecX du = u_target - u_prev_full, lift, f_int;
-        for (int dof = 0; dof < mesh.num_dofs(); ++dof)
-          if (!dofs.is_constrained(dof)) du[dof] = 0.0;
-        if (system.internal_force(u_prev_full, f_int) &&
-            system.assemble(u_prev_full, &du, &lift) &&
-            system.factorize_jacobian_assembled()) {
-          VecX step;
-          const VecX rhs = target * system.f_ext_free() - dofs.restrict(f_int) - lift;
-          if (system.solve(rhs, step) && step.allFinite()) guess = u_free + step;
-        }
-      }
+      VecX guess = u_free, rhs, step;
+      if (system.step_predictor(u_prev_full, rhs) && system.factorize_jacobian_assembled() &&
+          system.solve(rhs, step) && step.allFinite())
+        guess = u_free + step;
       NewtonOptions newton = options.newton;
       newton.residual_scale = std::max({load_scale, system.reaction_scale(guess), floor_scale});
       trial = guess;
