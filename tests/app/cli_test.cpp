@@ -39,6 +39,18 @@ int run(const std::string& args, std::string* output = nullptr) {
 
 std::string example(const char* name) { return std::string(C2D_SOURCE_DIR) + "/examples/" + name; }
 
+/// A chart written as DIR/STEM.png (PNG signature) and DIR/STEM.svg (an <svg> document).
+void expect_chart(const fs::path& dir, const std::string& stem) {
+  std::ifstream png(dir / (stem + ".png"), std::ios::binary);
+  char sig[8] = {};
+  png.read(sig, 8);
+  EXPECT_EQ(std::string(sig + 1, 3), "PNG") << stem;
+  std::ifstream svg(dir / (stem + ".svg"));
+  std::stringstream text;
+  text << svg.rdbuf();
+  EXPECT_NE(text.str().find("<svg"), std::string::npos) << stem;
+}
+
 }  // namespace
 
 TEST(Cli, CantileverRunWritesSummaryAndValidVtu) {
@@ -146,16 +158,7 @@ TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
   // The trace verb draws the activation, force and residual charts as PNG and SVG.
   std::string output;
   ASSERT_EQ(run("trace " + out.string(), &output), 0) << output;
-  for (const char* stem : {"activation", "contact_force", "residuals"}) {
-    std::ifstream png(out / (std::string(stem) + ".png"), std::ios::binary);
-    char sig[8] = {};
-    png.read(sig, 8);
-    EXPECT_EQ(std::string(sig + 1, 3), "PNG") << stem;
-    std::ifstream svg(out / (std::string(stem) + ".svg"));
-    std::stringstream text;
-    text << svg.rdbuf();
-    EXPECT_NE(text.str().find("<svg"), std::string::npos) << stem;
-  }
+  for (const char* stem : {"activation", "contact_force", "residuals"}) expect_chart(out, stem);
   std::ifstream vtu(out / "step_0001.vtu");
   std::stringstream ss;
   ss << vtu.rdbuf();
@@ -283,13 +286,8 @@ TEST(Cli, CompareRunsEveryMethodOnEveryLevel) {
   EXPECT_NE(text.str().find("Every method that converged reached a relative L2 error of the "
                             "pressure profile of"),
             std::string::npos);
-  for (const char* stem : {"accuracy_time", "pressure_profiles", "penetration"}) {
-    std::ifstream png(out / (std::string(stem) + ".png"), std::ios::binary);
-    char sig[8] = {};
-    png.read(sig, 8);
-    EXPECT_EQ(std::string(sig + 1, 3), "PNG") << stem;
-    EXPECT_TRUE(fs::exists(out / (std::string(stem) + ".svg"))) << stem;
-  }
+  for (const char* stem : {"accuracy_time", "pressure_profiles", "penetration"})
+    expect_chart(out, stem);
   // Bad input names the option.
   EXPECT_EQ(run("compare " + example("hertz_rigid.toml") + " --methods lagrange,newton", &output), 2);
   EXPECT_NE(output.find("--methods: expected a comma-separated list of"), std::string::npos) << output;
@@ -370,10 +368,7 @@ TEST(Cli, PenaltySweepShowsPenetrationFallingUntilIllConditioning) {
   EXPECT_NE(text.str().find("Converged with |p_max error| <= 1 % for contact.penalty.k from"),
             std::string::npos);
   EXPECT_NE(text.str().find("The seed's rule k = 1e4 x max|K_ij| gives k ="), std::string::npos);
-  std::ifstream png(out / "sweep.png", std::ios::binary);
-  char sig[8] = {};
-  png.read(sig, 8);
-  EXPECT_EQ(std::string(sig + 1, 3), "PNG");
+  expect_chart(out, "sweep");
   // A sweep needs exactly one ranged key.
   EXPECT_EQ(run("sweep " + example("hertz_rigid.toml") + " --set contact.penalty.k=1e3", &output), 2);
   EXPECT_NE(output.find("expected one --set key=a:b:log:n"), std::string::npos) << output;
