@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "app/adapt.hpp"
 #include "app/charts.hpp"
 #include "app/calibrate.hpp"
 #include "app/run_report.hpp"
@@ -54,6 +55,7 @@ const char* kMainHelp =
 
 const char* kRunHelp =
     "usage: contact2d run SCENE [--method M] [--set key=value ...] [--out DIR] [--quiet]\n"
+    "                          [--adapt [target=0.05] [max_cycles=8]]\n"
     "\n"
     "Solves SCENE and writes into DIR (default: the scene's output.dir, else out/<scene>):\n"
     "  summary.json   status, mesh, times, error estimate, probes (stable keys)\n"
@@ -65,11 +67,17 @@ const char* kRunHelp =
     "  trace.csv      one row per Newton / active-set iteration of every load step: residual,\n"
     "                 active set, entering, leaving, penetration, pressure, status\n"
     "  contact_steps.csv  per load step and slave node: gap, force, pressure, active\n"
+    "  adapt.csv      adaptive runs: per cycle DOFs, xi_g, max xi_e, error, time, probes;\n"
+    "                 cycle_NN.vtu (listed in adapt.pvd) holds each cycle's mesh and fields\n"
     "\n"
     "  --method M       contact enforcement: penalty | adaptive_penalty | lagrange | auglag |\n"
     "                   ipopt | ssn (overrides the scene's [[contact]] method)\n"
     "  --set key=value  override a scene key, e.g. --set analysis.element=T3,\n"
     "                   --set body.beam.mesh.size=0.05 (array entries by index or name)\n"
+    "  --adapt          error-driven h-adaptivity (also the scene's [adapt] table): solve,\n"
+    "                   ZZ estimate, remesh with h_new = h / xi_e^(1/p), until xi_g <= 1 or\n"
+    "                   max_cycles solves; target is the relative energy-norm error;\n"
+    "                   max_shrink=0.2 and max_growth=2 bound h_new / h per cycle\n"
     "  --out DIR        output folder\n"
     "  --quiet          print nothing but errors\n";
 
@@ -183,6 +191,20 @@ Options parse_args(int argc, char** argv) {
     else if (a.rfind("--jobs=", 0) == 0) o.jobs = parse_count("--jobs", a.substr(7));
     else if (a.rfind("--method=", 0) == 0) o.method = a.substr(9);
     else if (a.rfind("--out=", 0) == 0) o.out = a.substr(6);
+    else if (a == "--adapt") {
+      // --adapt [target=0.05] [max_cycles=8] [max_shrink=0.2] [max_growth=2]: the [adapt] table.
+      o.sets.push_back("adapt.enabled=true");
+      while (i + 1 < argc) {
+        const std::string kv = argv[i + 1];
+        const auto eq = kv.find('=');
+        const std::string key = kv.substr(0, eq);
+        if (eq == std::string::npos ||
+            (key != "target" && key != "max_cycles" && key != "max_shrink" && key != "max_growth"))
+          break;
+        o.sets.push_back("adapt." + kv);
+        ++i;
+      }
+    }
     else if (a == "--quiet" || a == "-q") o.quiet = true;
     else if (!a.empty() && a[0] == '-') throw InputError(a + ": unknown option (see --help)");
     else if (o.scene.empty()) o.scene = a;
@@ -223,7 +245,33 @@ int cmd_run(const Options& o) {
   const core::Scene scene = core::load_scene(o.scene, o.sets);
   const std::string out = default_out(o, scene);
   fs::create_directories(out);
-  const auto solved = app::solve_scene(scene, o.method, [&](const std::string& line) { rep.phase(line); });
+  const auto phase = [&](const std::string& line) { rep.phase(line); };
+  std::unique_ptr<app::SceneRun> solved;
+  app::AdaptRun adapt;
+  if (scene.adapt.enabled) {
+    // Every cycle leaves its mesh and fields (cycle_NN.vtu, listed in adapt.pvd) and a row of
+    // adapt.csv as soon as it is solved.
+    std::vector<std::pair<double, std::string>> vtus;
+    std::vector<app::AdaptCycle> done;
+    adapt = app::solve_adaptive(scene, o.method, phase,
+                                [&](const app::AdaptCycle& c, const app::SceneRun& r) {
+      char name[32], line[200];
+      std::snprintf(name, sizeof name, "cycle_%02d.vtu", c.cycle);
+      core::write_file_atomic(out + "/" + name, core::vtu_document(r.model, r.results));
+      vtus.emplace_back(c.cycle, name);
+      done.push_back(c);
+      core::write_file_atomic(out + "/adapt.pvd", core::pvd_document(vtus));
+      core::write_file_atomic(out + "/adapt.csv", app::adapt_csv(done));
+      std::snprintf(line, sizeof line,
+                    "adapt %2d   %8d DOFs   xi_g %8.3g   max xi_e %8.3g   error %6.2f %%   %7.2f s\n",
+                    c.cycle, c.dofs, c.global_parameter, c.max_local, 100 * c.relative_error,
+                    c.seconds);
+      rep.line(line);
+    });
+    solved = std::move(adapt.last);
+  } else {
+    solved = app::solve_scene(scene, o.method, phase);
+  }
   const core::Model& model = solved->model;
   const constraints::ContactSet* contact = solved->contact.get();
   const constraints::ContactReport& contact_report = solved->contact_report;
@@ -274,8 +322,21 @@ int cmd_run(const Options& o) {
     summary["newton_iterations"] = newton;
     summary["load_factor"] = results.globals["load_factor"];
   }
+  if (scene.adapt.enabled) {
+    nlohmann::json a = {{"target", scene.adapt.target}, {"max_cycles", scene.adapt.max_cycles},
+                        {"reached", adapt.reached}, {"stop", adapt.stop}};
+    for (const auto& c : adapt.cycles)
+      a["cycles"].push_back({{"cycle", c.cycle}, {"dofs", c.dofs}, {"elements", c.elements},
+                             {"xi_g", c.global_parameter}, {"xi_max", c.max_local},
+                             {"relative_error", c.relative_error}, {"h_min", c.h_min},
+                             {"seconds", c.seconds}, {"status", c.status}, {"probes", c.probes}});
+    summary["adapt"] = a;
+  }
   core::write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
   rep.line(app::terminal_summary(summary, out));
+  if (scene.adapt.enabled)
+    rep.line(std::string(adapt.reached ? "adapt      " : "warning    adapt: ") + adapt.stop +
+             " (adapt.csv, cycle_NN.vtu)\n");
   if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
   core::write_file_atomic(out + "/run.log", rep.log());
   return ok ? kExitOk : kExitSolveFailed;

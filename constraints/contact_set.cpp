@@ -362,34 +362,30 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     r.total_force += r.nodes[i].force;
     r.p_max = std::max(r.p_max, r.nodes[i].pressure);
   }
-  // Contact length: the part of the slave edges touching an active node where the recovered
-  // pressure, interpolated along the edge, is positive.
+  // Contact length: every slave node owns the part of its edges nearer to it than to the
+  // edge's other nodes (T3 edges split at the middle; T6 at the quarter points), and the length
+  // is the arc length owned by active nodes. Node-to-node contact only knows that the contact
+  // edge lies between the last active node and the first open one, and this puts it halfway:
+  // unbiased, within a quarter (T6) or half (T3) of the edge there. (The recovered pressure
+  // is positive up to the first open node's far side, so its support overestimated b by about
+  // one node spacing.)
   r.length = 0.0;
   for (const MasterEdge& e : slave_edges_) {
-    bool touches = false;
-    double pe[3] = {0, 0, 0};
-    for (int a = 0; a < e.count; ++a) {
-      const auto& cn = r.nodes[slot[e.nodes[a]]];
-      touches = touches || cn.active;
-      pe[a] = cn.pressure;
-    }
-    if (!touches) continue;
-    constexpr int kSamples = 64;
-    auto value = [&](double s) {
-      if (e.count == 2) return (1 - s) * pe[0] + s * pe[1];
-      return (1 - s) * (1 - 2 * s) * pe[0] + s * (2 * s - 1) * pe[1] + 4 * s * (1 - s) * pe[2];
-    };
     auto point = [&](double s) {
       if (e.count == 2) return Vec2((1 - s) * mesh.nodes[e.nodes[0]] + s * mesh.nodes[e.nodes[1]]);
       return Vec2((1 - s) * (1 - 2 * s) * mesh.nodes[e.nodes[0]] +
                   s * (2 * s - 1) * mesh.nodes[e.nodes[1]] + 4 * s * (1 - s) * mesh.nodes[e.nodes[2]]);
     };
-    for (int k = 0; k < kSamples; ++k) {
-      const double s0 = static_cast<double>(k) / kSamples, s1 = static_cast<double>(k + 1) / kSamples;
-      const double v0 = value(s0), v1 = value(s1);
-      const double seg = (point(s1) - point(s0)).norm();
-      if (v0 > 0 && v1 > 0) r.length += seg;
-      else if (v0 > 0 || v1 > 0) r.length += seg * std::max(v0, v1) / (std::abs(v0) + std::abs(v1));
+    // Parametric stretches of the edge owned by each of its nodes (ends first, then mid-side).
+    const double t3[2][2] = {{0.0, 0.5}, {0.5, 1.0}};
+    const double t6[3][2] = {{0.0, 0.25}, {0.75, 1.0}, {0.25, 0.75}};
+    for (int a = 0; a < e.count; ++a) {
+      if (!r.nodes[slot[e.nodes[a]]].active) continue;
+      const double s0 = e.count == 2 ? t3[a][0] : t6[a][0], s1 = e.count == 2 ? t3[a][1] : t6[a][1];
+      constexpr int kSamples = 16;  // arc length of a curved T6 edge
+      for (int k = 0; k < kSamples; ++k)
+        r.length += (point(s0 + (s1 - s0) * (k + 1) / kSamples) -
+                     point(s0 + (s1 - s0) * k / kSamples)).norm();
     }
   }
   r.max_penetration = s.max_penetration;

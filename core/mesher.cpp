@@ -363,18 +363,40 @@ Mesh mesh_body(const BodySpec& body, int order) {
       gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
       gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeMax", cloud ? cloud_size : body.mesh_size);
+      const bool adapted = body.size_field && !body.size_field->empty() && !cloud;
+      gmsh::option::setNumber("Mesh.MeshSizeMax", cloud      ? cloud_size
+                                                  : adapted ? body.size_field->max()
+                                                            : body.mesh_size);
       // A point cloud: MeshAdapt with the boundary imposed and the interior points embedded keeps
       // exactly the given points (gmsh's Delaunay mesher inserted points into a 3 x 3 grid, and
       // gmsh::model::mesh::triangulate drops hull edges); Lawson flips then make it Delaunay.
       gmsh::option::setNumber("Mesh.Algorithm", cloud ? 1 : body.algorithm == "delaunay" ? 5 : 6);
       gmsh::option::setNumber("Mesh.ElementOrder", 1);
-      gmsh::model::mesh::setSizeCallback([&body, cloud, cloud_size](int, int, double x, double y,
-                                                                    double) {
-        return cloud ? cloud_size : requested_size(body, {x, y});
-      });
+      if (adapted) {
+        // The previous cycle's sizes as a gmsh background mesh (a list-based scalar-triangle
+        // view, located through gmsh's octree).
+        const SizeField& f = *body.size_field;
+        std::vector<double> data;
+        data.reserve(12 * f.triangles.size());
+        for (size_t t = 0; t < f.triangles.size(); ++t) {
+          for (int c = 0; c < 2; ++c)
+            for (int i = 0; i < 3; ++i) data.push_back(f.triangles[t][i][c]);
+          data.insert(data.end(), {0.0, 0.0, 0.0});
+          data.insert(data.end(), f.sizes[t].begin(), f.sizes[t].end());
+        }
+        const int view = gmsh::view::add("size_field");
+        gmsh::view::addListData(view, "ST", static_cast<int>(f.triangles.size()), data);
+        const int field = gmsh::model::mesh::field::add("PostView");
+        gmsh::model::mesh::field::setNumber(field, "ViewTag", view);
+        gmsh::model::mesh::field::setAsBackgroundMesh(field);
+      } else {
+        gmsh::model::mesh::setSizeCallback([&body, cloud, cloud_size](int, int, double x, double y,
+                                                                      double) {
+          return cloud ? cloud_size : requested_size(body, {x, y});
+        });
+      }
       gmsh::model::mesh::generate(2);
-      gmsh::model::mesh::removeSizeCallback();
+      if (!adapted) gmsh::model::mesh::removeSizeCallback();
       if (cloud) make_delaunay();
       if (order == 2) gmsh::model::mesh::setOrder(2);
     }

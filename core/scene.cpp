@@ -182,6 +182,24 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
   }
 }
 
+void parse_adapt(const TomlView& v, AdaptSpec& a) {
+  if (!v.exists()) return;
+  v.require_table();
+  v.check_keys({"enabled", "target", "max_cycles", "max_shrink", "max_growth"});
+  a.enabled = v["enabled"].boolean_or(true);
+  a.target = v["target"].number_or(a.target);
+  if (!(a.target > 0 && a.target < 1)) v["target"].fail("a relative error in (0, 1), e.g. 0.05");
+  if (v.has("max_cycles")) {
+    a.max_cycles = v["max_cycles"].integer();
+    if (a.max_cycles < 1) v["max_cycles"].fail("an integer >= 1");
+  }
+  a.limits.max_shrink = v["max_shrink"].number_or(a.limits.max_shrink);
+  if (!(a.limits.max_shrink > 0 && a.limits.max_shrink < 1))
+    v["max_shrink"].fail("a factor in (0, 1): the smallest h_new / h per cycle");
+  a.limits.max_growth = v["max_growth"].number_or(a.limits.max_growth);
+  if (!(a.limits.max_growth >= 1)) v["max_growth"].fail("a factor >= 1: the largest h_new / h per cycle");
+}
+
 ProbeSpec parse_probe(const TomlView& v) {
   v.check_keys({"name", "quantity", "at", "on", "reduce"});
   ProbeSpec p;
@@ -212,10 +230,11 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   scene.path = file;
   const TomlView root(&root_table, "", &scene.path);
   root.check_keys({"title", "units", "analysis", "material", "body", "support", "load", "probe",
-                   "contact", "obstacle", "reference", "output"});
+                   "contact", "obstacle", "reference", "output", "adapt"});
   scene.title = root["title"].string_or("");
   scene.units = root["units"].string_or("");
   parse_analysis(root["analysis"], scene.analysis);
+  parse_adapt(root["adapt"], scene.adapt);
 
   for (const auto& m : root["material"].tables()) {
     m.check_keys({"name", "E", "nu", "thickness"});

@@ -11,6 +11,7 @@
 
 #include "core/material.hpp"
 #include "core/mesh.hpp"
+#include "core/size_field.hpp"
 #include "core/stress_recovery.hpp"
 #include "core/types.hpp"
 
@@ -50,6 +51,9 @@ struct BodySpec {
   double mesh_size = 0;
   std::vector<RefineSpec> refine;
   std::string algorithm = "frontal";  ///< frontal | delaunay
+  /// Set by the adaptive loop: element sizes from the previous cycle's error estimate, used
+  /// instead of mesh_size and refine (gmsh background mesh).
+  std::shared_ptr<const SizeField> size_field;
   SourceRef at;
 };
 
@@ -111,6 +115,15 @@ struct AnalysisSpec {
   int max_newton_iterations = 25;
 };
 
+/// The error-driven adaptive loop (`[adapt]`, or `contact2d run --adapt`): solve, estimate
+/// (ZZ), remesh with h_new = h / ξ_e^(1/p), until ξ_g <= 1 or the cycle limit.
+struct AdaptSpec {
+  bool enabled = false;
+  double target = 0.05;    ///< η, the admissible relative error in the energy norm
+  int max_cycles = 8;      ///< solves at most (the first mesh included)
+  SizeLimits limits;       ///< per-cycle bounds on h_new / h
+};
+
 /// An explicit mesh (legacy data files): used instead of meshing bodies.
 struct ExplicitModel {
   Mesh mesh;
@@ -127,6 +140,7 @@ struct ExplicitModel {
 struct Scene {
   std::string path, title, units;
   AnalysisSpec analysis;
+  AdaptSpec adapt;
   std::vector<MaterialSpec> materials;
   std::vector<BodySpec> bodies;
   std::vector<SupportSpec> supports;

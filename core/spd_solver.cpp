@@ -39,6 +39,9 @@ SpdSolver::SpdSolver(Backend preferred, bool fallback) : impl_(std::make_unique<
   impl_->fallback = fallback;
   impl_->active = preferred;
   impl_->cholmod.setMode(Eigen::CholmodAuto);
+  // A failed factorisation is reported through info() and the solver report (and may fall back
+  // to LDLT); CHOLMOD's own "not positive definite" warning on stderr would only duplicate it.
+  impl_->cholmod.cholmod().print = 0;
 }
 
 SpdSolver::~SpdSolver() = default;
