@@ -20,7 +20,7 @@ AdaptCycle describe(int cycle, const SceneRun& run, double seconds) {
   const core::Mesh& mesh = run.model.mesh;
   c.nodes = mesh.num_nodes();
   c.elements = mesh.num_elements();
-  c.dofs = run.model.dofs.num_free();
+  c.dofs = mesh.num_dofs();
   const auto& est = run.results.error;
   c.global_parameter = est.global_parameter;
   c.relative_error = est.relative_error;

@@ -2,6 +2,7 @@
 // library, prints and writes results.
 #include <unistd.h>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 
 #include "app/adapt.hpp"
 #include "app/charts.hpp"
+#include "app/field_plot.hpp"
 #include "app/calibrate.hpp"
 #include "app/run_report.hpp"
 #include "app/solve_scene.hpp"
@@ -49,6 +51,8 @@ const char* kMainHelp =
     "  calibrate SCENE  fit scene parameters to measured probe values (Ceres least squares)\n"
     "  trace OUTDIR   charts of a finished run: contact activation per load step, contact\n"
     "                 force against load factor, Newton residual history\n"
+    "  plot OUTDIR    pictures of a finished run: filled contours of a field on the (deformed)\n"
+    "                 mesh, the ZZ error map, meshes of adaptive cycles side by side\n"
     "\n"
     "Every verb has --help. Exit codes: 0 ok, 1 solve failed (partial results kept),\n"
     "2 bad input.\n";
@@ -137,6 +141,20 @@ const char* kCalibrateHelp =
     "Writes calibrate.json and calibrate.md: fitted values with standard deviations from the\n"
     "covariance, residuals, and the solver's summary.\n";
 
+const char* kPlotHelp =
+    "usage: contact2d plot OUTDIR [--field F[,F...]|all] [--zoom x0,y0,x1,y1] [--deformed S]\n"
+    "                             [--step K | --cycle K] [--edges] [--levels N]\n"
+    "\nPictures of a finished run from its VTU files (PNG and SVG, written into OUTDIR):\n"
+    "  --field      sx sy sxy vm p1 p2 (smoothed stresses, principal p1 >= p2), ux uy, or\n"
+    "               error: elements coloured by the ZZ local parameter, <= 1 and > 1 as the\n"
+    "               seed did (default vm); writes plot_<field>.png\n"
+    "  --zoom       window in model coordinates; the colour scale spans the nodes inside it\n"
+    "  --deformed   draw on the deformed mesh, displacements times S (auto: 8 % of the model)\n"
+    "  --step K     load step K (step_000K.vtu; default the last); --cycle K: adaptive cycle K\n"
+    "  --edges      draw element edges     --levels N  colour bands (default 12)\n"
+    "An adaptive run's folder also gets adapt_meshes.png: up to four cycles' meshes side by\n"
+    "side (in the zoom window when given).\n";
+
 struct Options {
   std::string verb, scene;
   std::vector<std::string> sets;
@@ -145,6 +163,14 @@ struct Options {
   int levels = 1, jobs = 1;
   double accuracy = 0.01;
   bool quiet = false, help = false;
+  // plot
+  std::vector<std::string> fields;
+  std::string zoom, deformed;
+  int step = 0, cycle = -1, plot_levels = 12;
+  bool edges = false;
+  // run --adapt: overrides of the [adapt] table
+  bool adapt = false;
+  std::vector<std::string> adapt_sets;
 };
 
 int parse_count(const std::string& flag, const std::string& text) {
@@ -191,9 +217,24 @@ Options parse_args(int argc, char** argv) {
     else if (a.rfind("--jobs=", 0) == 0) o.jobs = parse_count("--jobs", a.substr(7));
     else if (a.rfind("--method=", 0) == 0) o.method = a.substr(9);
     else if (a.rfind("--out=", 0) == 0) o.out = a.substr(6);
+    else if (a == "--field") {
+      std::stringstream list(value(a));
+      for (std::string f; std::getline(list, f, ',');)
+        if (!f.empty()) o.fields.push_back(f);
+    }
+    else if (a == "--zoom") o.zoom = value(a);
+    else if (a == "--deformed") o.deformed = value(a);
+    else if (a == "--step") o.step = parse_count(a, value(a));
+    else if (a == "--cycle") {
+      const std::string v = value(a);
+      o.cycle = v == "0" ? 0 : parse_count(a, v);
+    }
+    else if (a == "--edges") o.edges = true;
+    else if (a == "--levels" && o.verb == "plot") o.plot_levels = parse_count(a, value(a));
     else if (a == "--adapt") {
       // --adapt [target=0.05] [max_cycles=8] [max_shrink=0.2] [max_growth=2]: the [adapt] table.
-      o.sets.push_back("adapt.enabled=true");
+      o.adapt = true;
+      o.adapt_sets.push_back("adapt.enabled=true");
       while (i + 1 < argc) {
         const std::string kv = argv[i + 1];
         const auto eq = kv.find('=');
@@ -201,7 +242,7 @@ Options parse_args(int argc, char** argv) {
         if (eq == std::string::npos ||
             (key != "target" && key != "max_cycles" && key != "max_shrink" && key != "max_growth"))
           break;
-        o.sets.push_back("adapt." + kv);
+        o.adapt_sets.push_back("adapt." + kv);
         ++i;
       }
     }
@@ -242,12 +283,21 @@ int cmd_run(const Options& o) {
   const auto t0 = std::chrono::steady_clock::now();
   Reporter rep(o.quiet);
   rep.phase("reading " + o.scene);
-  const core::Scene scene = core::load_scene(o.scene, o.sets);
+  core::Scene scene = core::load_scene(o.scene, o.sets);
+  if (o.adapt) {
+    if (scene.explicit_model)
+      throw InputError(o.scene + ": --adapt: a legacy data file's mesh is given node by node; "
+                       "adaptivity needs bodies meshed from shapes");
+    std::vector<std::string> sets = o.sets;
+    sets.insert(sets.end(), o.adapt_sets.begin(), o.adapt_sets.end());
+    scene = core::load_scene(o.scene, sets);
+  }
   const std::string out = default_out(o, scene);
   fs::create_directories(out);
   const auto phase = [&](const std::string& line) { rep.phase(line); };
   std::unique_ptr<app::SceneRun> solved;
   app::AdaptRun adapt;
+  std::vector<std::pair<double, std::string>> step_files;
   if (scene.adapt.enabled) {
     // Every cycle leaves its mesh and fields (cycle_NN.vtu, listed in adapt.pvd) and a row of
     // adapt.csv as soon as it is solved.
@@ -270,7 +320,16 @@ int cmd_run(const Options& o) {
     });
     solved = std::move(adapt.last);
   } else {
-    solved = app::solve_scene(scene, o.method, phase);
+    // A load-stepped run leaves every converged step (step_NNNN.vtu, listed in results.pvd).
+    solved = app::solve_scene(scene, o.method, phase,
+                              [&](const nonlinear::StepRecord& s, const core::Model& m,
+                                  const core::Results& r) {
+      char name[32];
+      std::snprintf(name, sizeof name, "step_%04d.vtu", s.step);
+      core::write_file_atomic(out + "/" + name, core::vtu_document(m, r));
+      step_files.emplace_back(s.load_factor, name);
+      core::write_file_atomic(out + "/results.pvd", core::pvd_document(step_files));
+    });
   }
   const core::Model& model = solved->model;
   const constraints::ContactSet* contact = solved->contact.get();
@@ -281,8 +340,14 @@ int cmd_run(const Options& o) {
 
   const auto t_out = std::chrono::steady_clock::now();
   rep.phase("writing results to " + out);
-  core::write_file_atomic(out + "/step_0001.vtu", core::vtu_document(model, results));
-  core::write_file_atomic(out + "/results.pvd", core::pvd_document({{1.0, "step_0001.vtu"}}));
+  if (step_files.empty() || !ok) {
+    // A linear run is one step; a failed load-stepped run adds its last converged state.
+    char name[32];
+    std::snprintf(name, sizeof name, "step_%04d.vtu", static_cast<int>(step_files.size()) + 1);
+    core::write_file_atomic(out + "/" + name, core::vtu_document(model, results));
+    step_files.emplace_back(step_files.empty() ? 1.0 : results.globals["load_factor"], name);
+    core::write_file_atomic(out + "/results.pvd", core::pvd_document(step_files));
+  }
   core::write_file_atomic(out + "/nodes.csv", core::nodes_csv(model, results));
   if (contact) {
     core::write_file_atomic(out + "/contact.csv", app::contact_csv(contact_report));
@@ -388,6 +453,46 @@ int cmd_trace(const Options& o) {
   return kExitOk;
 }
 
+int cmd_plot(const Options& o) {
+  app::PlotRequest req;
+  req.dir = o.scene;
+  req.fields = o.fields;
+  req.step = o.step;
+  req.cycle = o.cycle;
+  req.options.edges = o.edges;
+  req.options.levels = o.plot_levels;
+  if (!o.zoom.empty()) {
+    std::array<double, 4> z{};
+    std::stringstream list(o.zoom);
+    std::string item;
+    int k = 0;
+    for (; std::getline(list, item, ','); ++k) {
+      char* end = nullptr;
+      const double v = std::strtod(item.c_str(), &end);
+      if (k >= 4 || item.empty() || *end != '\0')
+        throw InputError("--zoom: expected x0,y0,x1,y1 (four numbers), found '" + o.zoom + "'");
+      z[k] = v;
+    }
+    if (k != 4 || !(z[2] > z[0] && z[3] > z[1]))
+      throw InputError("--zoom: expected x0,y0,x1,y1 with x1 > x0 and y1 > y0, found '" + o.zoom + "'");
+    req.options.zoom = z;
+  }
+  if (!o.deformed.empty()) {
+    char* end = nullptr;
+    req.options.deformed = o.deformed == "auto" ? -1.0 : std::strtod(o.deformed.c_str(), &end);
+    if (o.deformed != "auto" && (*end != '\0' || !(req.options.deformed > 0)))
+      throw InputError("--deformed: expected a positive scale or auto, found '" + o.deformed + "'");
+  }
+  const app::PlotWritten w = app::plot_run(req);
+  for (const auto& [stem, what] : w.written)
+    std::cout << "wrote " << o.scene << "/" << stem << ".png and .svg: " << what << "\n";
+  if (!w.error.empty()) {
+    std::cerr << "error: " << w.error << "\n";
+    return kExitSolveFailed;
+  }
+  return kExitOk;
+}
+
 int cmd_mesh(const Options& o) {
   const core::Scene scene = core::load_scene(o.scene, o.sets);
   const core::Model model = core::build_model(scene);
@@ -460,13 +565,14 @@ int main(int argc, char** argv) {
                        : o.verb == "mesh" ? kMeshHelp
                        : o.verb == "info" ? kInfoHelp
                        : o.verb == "trace" ? kTraceHelp
+                       : o.verb == "plot" ? kPlotHelp
                        : o.verb == "compare" ? kCompareHelp
                        : o.verb == "sweep" ? kSweepHelp
                        : o.verb == "calibrate" ? kCalibrateHelp
                                           : nullptr;
     if (!help)
       throw InputError(o.verb +
-                       ": unknown verb; expected run, mesh, info, compare, sweep, calibrate or trace "
+                       ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, trace or plot "
                        "(see --help)");
     if (o.help) {
       std::cout << help;
@@ -474,9 +580,10 @@ int main(int argc, char** argv) {
     }
     if (o.scene.empty())
       throw InputError(o.verb + ": expected " +
-                       (o.verb == "trace" ? "an output folder" : "a scene file") + ", found none");
+                       (o.verb == "trace" || o.verb == "plot" ? "an output folder" : "a scene file") + ", found none");
     if (o.verb == "run") return cmd_run(o);
     if (o.verb == "trace") return cmd_trace(o);
+    if (o.verb == "plot") return cmd_plot(o);
     if (o.verb == "compare") return cmd_compare(o);
     if (o.verb == "sweep") return cmd_sweep(o);
     if (o.verb == "calibrate") return cmd_calibrate(o);

@@ -9,7 +9,8 @@
 namespace c2d::app {
 
 std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::string& method,
-                                      const std::function<void(const std::string&)>& progress) {
+                                      const std::function<void(const std::string&)>& progress,
+                                      const StateCallback& on_state) {
   auto say = [&](const std::string& text) {
     if (progress) progress(text);
   };
@@ -45,6 +46,10 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
       if (s.attempt > 0) text += " (after a cutback)";
       say(text);
     };
+    if (on_state)
+      so.on_state = [&](const nonlinear::StepRecord& s, const core::Results& r) {
+        on_state(s, model, r);
+      };
     run->results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, so, &run->steps,
                                                         run->contact.get(), &run->contact_report);
   } else {

@@ -29,7 +29,11 @@ struct SceneRun {
 /// `progress` receives one line per phase and load step (may be empty). Throws InputError for
 /// bad input (including a --method on a scene without contact); numerical failures are in
 /// results.status.
+/// `on_state` (load-stepped analyses only) receives every converged step's fields.
+using StateCallback =
+    std::function<void(const nonlinear::StepRecord&, const core::Model&, const core::Results&)>;
 std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::string& method,
-                                      const std::function<void(const std::string&)>& progress);
+                                      const std::function<void(const std::string&)>& progress,
+                                      const StateCallback& on_state = {});
 
 }  // namespace c2d::app

@@ -57,6 +57,24 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
   ContactMemory memory(with_contact ? contact->num_slots() : 0, 0);
   ContactReport last_contact;
   last_contact.method = strategy ? strategy->name() : "";
+  // The fields of a converged state: displacement, reactions, stresses (smoothed, ZZ estimate)
+  // and the contact fields. For the final results and, on request, every converged step.
+  auto fill_state = [&](Results& out, double lam, const VecX& u_full,
+                        const ContactReport* contact_state) {
+    system.set_state(lam, u_full);
+    out.displacement = u_full;
+    VecX f_int;
+    system.internal_force(out.displacement, f_int);
+    out.reaction = VecX::Zero(mesh.num_dofs());
+    for (int dof = 0; dof < mesh.num_dofs(); ++dof)
+      if (dofs.is_constrained(dof)) out.reaction[dof] = f_int[dof] - lam * model.external_force[dof];
+    out.element_stresses = compute_element_stresses(mesh, model.materials, out.displacement, true);
+    out.nodal_stress = smooth_stresses(mesh, model.materials, out.element_stresses, analysis.smoothing);
+    out.error = estimate_error(mesh, model.materials, out.element_stresses, out.nodal_stress,
+                               analysis.target_error);
+    out.globals["load_factor"] = lam;
+    if (contact_state) store_contact_results(*contact_state, mesh.num_nodes(), out);
+  };
 
   const double nominal = 1.0 / std::max(1, options.steps);
   double increment = nominal;
@@ -142,6 +160,13 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
     }
     if (trace) trace->push_back(rec);
     if (options.on_step) options.on_step(rec);
+    if (ok && options.on_state) {
+      Results state;
+      state.status = SolveStatus::kConverged;
+      fill_state(state, lambda, u_prev_full, with_contact ? &last_contact : nullptr);
+      state.globals["steps"] = converged_steps;
+      options.on_state(rec, state);
+    }
     if (!ok && give_up) {
       r.status = rec.newton.status;
       r.message = "load step to λ = " + std::to_string(target) + " failed after " +
@@ -152,24 +177,12 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
   r.time.solve = seconds_since(t_start);
   r.solver = system.linear_report();
   const auto t_rec = std::chrono::steady_clock::now();
-  system.set_state(lambda, u_prev_full);
-  r.displacement = u_prev_full;
-  VecX f_int;
-  system.internal_force(r.displacement, f_int);
-  r.reaction = VecX::Zero(mesh.num_dofs());
-  for (int dof = 0; dof < mesh.num_dofs(); ++dof)
-    if (dofs.is_constrained(dof)) r.reaction[dof] = f_int[dof] - lambda * model.external_force[dof];
-  r.element_stresses = compute_element_stresses(mesh, model.materials, r.displacement, true);
-  r.nodal_stress = smooth_stresses(mesh, model.materials, r.element_stresses, analysis.smoothing);
-  r.error = estimate_error(mesh, model.materials, r.element_stresses, r.nodal_stress,
-                           analysis.target_error);
-  r.globals["load_factor"] = lambda;
+  fill_state(r, lambda, u_prev_full, with_contact ? &last_contact : nullptr);
   r.globals["steps"] = converged_steps;
   if (with_contact) {
     last_contact.status = r.status;
     last_contact.message = r.message;
     r.solver.backend = last_contact.method;
-    store_contact_results(last_contact, mesh.num_nodes(), r);
     if (contact_report) *contact_report = last_contact;
   }
   r.time.recovery = seconds_since(t_rec);

@@ -38,6 +38,9 @@ struct StepperOptions {
   std::function<void(double lambda, VecX& u_full)> prescribe;
   /// Called after every attempt (progress display).
   std::function<void(const StepRecord&)> on_step;
+  /// Called after every converged step with its fields (displacement, reactions, stresses,
+  /// ZZ estimate, contact fields), e.g. to write one VTU per step. Costs a stress recovery.
+  std::function<void(const StepRecord&, const core::Results&)> on_state;
 };
 
 /// Solves from λ = 0 to 1. On failure the results hold the last converged step, with the status

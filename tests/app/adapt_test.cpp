@@ -76,9 +76,9 @@ TEST(Adapt, HertzFromACoarseMeshReachesTheAnalyticContact) {
   // {1, 1.5, 2, 3, 4, 6, 8} from which every finer one meets 1 % / 3 % (6 misses b by 3.3 %).
   const int adaptive = run.cycles.back().dofs;
   const core::Scene graded = core::load_scene(example("hertz_rigid.toml"), {});
-  EXPECT_LT(adaptive, core::build_model(graded).dofs.num_free());
+  EXPECT_LT(adaptive, core::build_model(graded).mesh.num_dofs());
   const core::Scene graded4 = core::load_scene(example("hertz_rigid.toml"), {"analysis.mesh_scale=4"});
-  EXPECT_LT(adaptive, core::build_model(graded4).dofs.num_free());
+  EXPECT_LT(adaptive, core::build_model(graded4).mesh.num_dofs());
 }
 
 namespace {
@@ -120,7 +120,7 @@ constexpr double kTip = -0.0121928;
 double tip_of(const std::string& text, int* dofs) {
   const core::Scene scene = core::parse_scene(text, "cantilever.toml");
   const auto run = app::solve_scene(scene, "", {});
-  *dofs = run->model.dofs.num_free();
+  *dofs = run->model.mesh.num_dofs();
   return run->results.probes.at("tip_uy");
 }
 

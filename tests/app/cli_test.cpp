@@ -1,7 +1,9 @@
 // End to end through the executable: exit codes, summary.json, VTU consistency.
 #include <gtest/gtest.h>
 
+#include "app/field_plot.hpp"
 #include "app/studies.hpp"
+#include "app/trace_charts.hpp"
 
 #include <unistd.h>
 
@@ -209,6 +211,30 @@ TEST(Cli, NonlinearRunsAndAnImpossibleLoadExitsOneWithItsSteps) {
   EXPECT_EQ(s["steps"].get<int>(), 10);
   EXPECT_GE(s["newton_iterations"].get<int>(), 10);
   EXPECT_TRUE(fs::exists(out / "trace.csv"));
+  // Every converged step leaves its VTU, listed in results.pvd at its load factor; plot draws
+  // any of them.
+  for (int k = 1; k <= 10; ++k) {
+    char name[32];
+    std::snprintf(name, sizeof name, "step_%04d.vtu", k);
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+  {
+    std::ifstream pvd(out / "results.pvd");
+    std::stringstream text;
+    text << pvd.rdbuf();
+    const std::string t = text.str();
+    const std::regex dataset("<DataSet timestep=\"([^\"]+)\"");
+    std::vector<double> times;
+    for (auto it = std::sregex_iterator(t.begin(), t.end(), dataset); it != std::sregex_iterator(); ++it)
+      times.push_back(std::stod((*it)[1]));
+    ASSERT_EQ(times.size(), 10u) << t;
+    EXPECT_NEAR(times.front(), 0.1, 1e-12);
+    EXPECT_NEAR(times.back(), 1.0, 1e-12);
+  }
+  std::string plot_output;
+  ASSERT_EQ(run("plot " + out.string() + " --step 5 --field uy --deformed 1", &plot_output), 0)
+      << plot_output;
+  expect_chart(out, "plot_uy_step0005");
   // A block pressed with 0.5 E, beyond what St. Venant–Kirchhoff can carry (its nominal stress
   // peaks at E / (3√3)): exit 1, the converged steps kept.
   const fs::path crush = fs::temp_directory_path() / "c2d_cli_crush";
@@ -530,4 +556,52 @@ TEST(Cli, CompareGivesTheSameNumbersWhateverTheJobs) {
   }
   ASSERT_EQ(tables[1].size(), 6u);
   EXPECT_EQ(tables[1], tables[2]);
+}
+
+TEST(Cli, AdaptiveRunWritesItsCyclesAndPlotDrawsEveryField) {
+  // hertz_rigid_coarse.toml with --adapt: the cycles in adapt.csv (ξ_g falling to <= 1), one
+  // VTU per cycle, the summary's adapt block; then every plot field, the mesh comparison and
+  // the errors plot reports.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_adapt";
+  fs::remove_all(out);
+  std::string output;
+  ASSERT_EQ(run("run " + example("hertz_rigid_coarse.toml") + " --adapt max_cycles=8 --out " +
+                    out.string(), &output), 0) << output;
+  EXPECT_NE(output.find("adapt      xi_g = "), std::string::npos) << output;
+  const c2d::app::CsvTable table = c2d::app::read_csv((out / "adapt.csv").string());
+  ASSERT_GE(table.rows.size(), 3u);
+  const int xi = table.column("xi_g"), p = table.column("p_max");
+  EXPECT_LE(table.number(table.rows.size() - 1, xi), 1.0);
+  EXPECT_GT(table.number(0, xi), 1.0);
+  EXPECT_NEAR(table.number(table.rows.size() - 1, p) / 383.29, 1.0, 0.01);
+  for (size_t c = 0; c < table.rows.size(); ++c) {
+    char name[32];
+    std::snprintf(name, sizeof name, "cycle_%02zu.vtu", c);
+    EXPECT_TRUE(fs::exists(out / name)) << name;
+  }
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_TRUE(s["adapt"]["reached"].get<bool>());
+  EXPECT_EQ(s["adapt"]["cycles"].size(), table.rows.size());
+  EXPECT_EQ(s["mesh"]["dofs"], s["adapt"]["cycles"].back()["dofs"]);
+
+  ASSERT_EQ(run("plot " + out.string() + " --field all --zoom -4,0,4,3 --edges", &output), 0)
+      << output;
+  for (const auto& f : c2d::app::plot_fields()) expect_chart(out, "plot_" + f);
+  expect_chart(out, "adapt_meshes");
+  EXPECT_NE(output.find("elements with xi_e > 1"), std::string::npos) << output;
+  ASSERT_EQ(run("plot " + out.string() + " --cycle 0 --field error", &output), 0) << output;
+  expect_chart(out, "plot_error_cycle00");
+
+  EXPECT_EQ(run("plot " + out.string() + " --field bogus", &output), 2);
+  EXPECT_NE(output.find("--field: expected sx|sy|sxy|vm|p1|p2|ux|uy|error or all, found 'bogus'"),
+            std::string::npos) << output;
+  EXPECT_EQ(run("plot " + out.string() + " --zoom 1,2,3", &output), 2);
+  EXPECT_NE(output.find("--zoom: expected x0,y0,x1,y1"), std::string::npos) << output;
+  EXPECT_EQ(run("plot " + out.string() + " --cycle 40", &output), 2);
+  EXPECT_NE(output.find("--cycle 40: "), std::string::npos) << output;
+  EXPECT_EQ(run("plot /nonexistent/c2d_plot", &output), 2);
+  EXPECT_NE(output.find("/nonexistent/c2d_plot: not a folder"), std::string::npos) << output;
+  EXPECT_EQ(run("run " + example("legacy/two_blocks_gap.dat") + " --adapt --out " + out.string(), &output), 2);
+  EXPECT_NE(output.find("adaptivity needs bodies meshed from shapes"), std::string::npos) << output;
 }

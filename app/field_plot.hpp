@@ -1,0 +1,82 @@
+// The post-processor's pictures (the seed's figures 4.2-4.19): filled contours of a result
+// field on the (deformed) mesh, the ZZ local-parameter map, and meshes of adaptive cycles side
+// by side. Reads the run's own VTU files; draws through gnuplot (PNG and SVG).
+#pragma once
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/types.hpp"
+
+namespace c2d::app {
+
+/// What `contact2d run` wrote into one VTU file (its ASCII layout, not VTU in general).
+struct VtuData {
+  std::string path;
+  int order = 1;  ///< 1: T3 cells (VTK type 5), 2: T6 (type 22)
+  std::vector<Vec2> points;
+  std::vector<std::array<int, 6>> cells;
+  /// Arrays by name, flattened (point data: components per point; cell data: per cell).
+  std::map<std::string, std::vector<double>> point_data, cell_data;
+  std::map<std::string, int> components;
+};
+
+/// Reads DIR/step_0001.vtu and the like. Throws InputError naming the file and what is missing.
+VtuData read_vtu(const std::string& path);
+
+/// The fields `plot` knows, with their labels: sx sy sxy vm p1 p2 ux uy error.
+const std::vector<std::string>& plot_fields();
+
+struct PlotOptions {
+  std::string field = "vm";
+  std::optional<std::array<double, 4>> zoom;  ///< x0, y0, x1, y1
+  double deformed = 0.0;                      ///< displacement scale; < 0: automatic (8 %)
+  bool edges = false;                         ///< draw element edges
+  int levels = 12;                            ///< colour bands
+};
+
+/// What a picture shows, for the terminal: value range and, for `error`, elements above 1.
+struct PlotSummary {
+  double min = 0, max = 0;
+  int elements = 0, above_one = 0;  ///< error map: elements drawn, elements with ξ_e > 1
+  std::string error;                ///< gnuplot's failure, "" on success
+};
+
+/// Filled contours of one field (isobands of the nodal values, linear on each triangle; a T6
+/// element is drawn as its four sub-triangles), or for `error` the elements coloured by
+/// ξ_e <= 1 / > 1 as the seed did. Writes DIR/STEM.png and .svg.
+PlotSummary plot_field(const VtuData& vtu, const PlotOptions& options, const std::string& dir,
+                       const std::string& stem);
+
+/// Element edges of several meshes side by side (titles given), in the zoom window if any.
+std::string plot_mesh_comparison(const std::vector<std::pair<std::string, VtuData>>& meshes,
+                                 const std::optional<std::array<double, 4>>& zoom,
+                                 const std::string& dir, const std::string& stem);
+
+/// `contact2d plot DIR`: which result file and fields to draw.
+struct PlotRequest {
+  std::string dir;
+  std::vector<std::string> fields;  ///< names from plot_fields(), or "all"
+  PlotOptions options;              ///< its field is set per picture
+  int step = 0;                     ///< > 0: DIR/step_NNNN.vtu; 0: the last step written
+  int cycle = -1;                   ///< >= 0: DIR/cycle_NN.vtu of an adaptive run
+};
+
+struct PlotWritten {
+  std::vector<std::pair<std::string, std::string>> written;  ///< stem, what it shows
+  std::string error;                                         ///< gnuplot's failure
+};
+
+/// Draws every requested field from the chosen VTU and, when DIR holds an adaptive run's
+/// cycle_NN.vtu files, up to four of their meshes side by side (adapt_meshes.png). Throws
+/// InputError for a missing folder or file, or an unknown field.
+PlotWritten plot_run(const PlotRequest& request);
+
+/// Isobands of a linear triangle: the polygons where lo <= v <= hi (empty when none).
+std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v,
+                            double lo, double hi);
+
+}  // namespace c2d::app

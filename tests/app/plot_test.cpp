@@ -1,0 +1,82 @@
+// The post-processor's geometry: isoband clipping and reading back the VTU that run writes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "app/field_plot.hpp"
+#include "core/errors.hpp"
+#include "core/model.hpp"
+#include "core/probes.hpp"
+#include "core/scene.hpp"
+#include "core/writers.hpp"
+#include "nonlinear/linear_static.hpp"
+
+using namespace c2d;
+
+namespace {
+
+double polygon_area(const std::vector<Vec2>& p) {
+  double a = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Vec2& u = p[i];
+    const Vec2& v = p[(i + 1) % p.size()];
+    a += u.x() * v.y() - v.x() * u.y();
+  }
+  return 0.5 * a;
+}
+
+}  // namespace
+
+TEST(ClipBand, BandsOfALinearFieldHaveTheirExactAreas) {
+  // v = x on the unit right triangle: the band a <= x <= b has area ∫_a^b (1 - x) dx.
+  const std::array<Vec2, 3> x = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)};
+  const std::array<double, 3> v = {0.0, 1.0, 0.0};
+  double total = 0.0;
+  for (int k = 0; k < 8; ++k) {
+    const double a = k / 8.0, b = (k + 1) / 8.0;
+    const auto poly = app::clip_band(x, v, a, b);
+    ASSERT_GE(poly.size(), 3u) << "band " << k;
+    const double exact = (b - b * b / 2) - (a - a * a / 2);
+    EXPECT_NEAR(polygon_area(poly), exact, 1e-15) << "band " << k;
+    total += polygon_area(poly);
+  }
+  EXPECT_NEAR(total, 0.5, 1e-15);
+  EXPECT_TRUE(app::clip_band(x, v, 1.5, 2.0).empty());
+  EXPECT_NEAR(polygon_area(app::clip_band(x, v, -1.0, 2.0)), 0.5, 1e-15);
+}
+
+TEST(ReadVtu, ReadsBackWhatRunWrites) {
+  // A T6 cantilever: points, cells and the smoothed stresses round-trip through the ASCII VTU
+  // (12 significant digits).
+  const core::Scene scene = core::load_scene(std::string(C2D_SOURCE_DIR) + "/examples/cantilever.toml",
+                                             {"body.beam.mesh.size=0.2"});
+  const core::Model model = core::build_model(scene);
+  const core::Results r = nonlinear::solve_linear_static(model, scene.analysis);
+  const auto path = std::filesystem::temp_directory_path() / "c2d_read_vtu.vtu";
+  core::write_file_atomic(path.string(), core::vtu_document(model, r));
+  const app::VtuData v = app::read_vtu(path.string());
+  EXPECT_EQ(v.order, 2);
+  ASSERT_EQ(v.points.size(), static_cast<size_t>(model.mesh.num_nodes()));
+  ASSERT_EQ(v.cells.size(), static_cast<size_t>(model.mesh.num_elements()));
+  for (int e = 0; e < model.mesh.num_elements(); ++e)
+    for (int i = 0; i < 6; ++i) ASSERT_EQ(v.cells[e][i], model.mesh.elements[e][i]);
+  const auto& s = v.point_data.at("stress_smoothed");
+  const auto& vm = v.point_data.at("von_mises_smoothed");
+  const double scale = r.nodal_stress.cwiseAbs().maxCoeff();
+  for (int n = 0; n < model.mesh.num_nodes(); ++n) {
+    EXPECT_NEAR((v.points[n] - model.mesh.nodes[n]).norm(), 0.0, 1e-11);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(s[3 * n + c], r.nodal_stress(c, n), 1e-11 * scale);
+    EXPECT_NEAR(vm[n], core::nodal_quantity(model, r, "vm", n), 1e-11 * scale);
+  }
+  EXPECT_EQ(v.cell_data.at("zz_local_parameter").size(), v.cells.size());
+  // A file that is not one: the error names it.
+  core::write_file_atomic(path.string(), "<VTKFile></VTKFile>\n");
+  try {
+    app::read_vtu(path.string());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string() + ": expected a VTK UnstructuredGrid"),
+              std::string::npos) << e.what();
+  }
+}
