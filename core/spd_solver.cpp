@@ -1,6 +1,7 @@
 #include "core/spd_solver.hpp"
 
 #include <Eigen/CholmodSupport>
+#include <chrono>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -13,6 +14,7 @@ namespace {
 /// factor's diagonal ((min L_ii / max L_ii)^2 for LLᵀ).
 class Cholmod : public Eigen::CholmodDecomposition<SpMat, Eigen::Lower> {
  public:
+  bool is_supernodal() const { return m_cholmodFactor && m_cholmodFactor->is_super; }
   double rcond() {
     return m_cholmodFactor ? cholmod_rcond(m_cholmodFactor, &cholmod()) : 0.0;
   }
@@ -61,23 +63,42 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
   }
   const bool same_pattern = m.analysed_rows == k.rows() && m.analysed_nnz == k.nonZeros();
   auto try_backend = [&](Backend b) -> bool {
+    auto t = std::chrono::steady_clock::now();
+    auto lap = [&t]() {
+      const auto now = std::chrono::steady_clock::now();
+      const double s = std::chrono::duration<double>(now - t).count();
+      t = now;
+      return s;
+    };
     if (b == Backend::kCholmod) {
       report_.backend = "cholmod";
       if (!same_pattern || m.active != b) {
         m.cholmod.analyzePattern(k);
         report_.symbolic_analyses++;
+        report_.symbolic_seconds += lap();
       }
       m.cholmod.factorize(k);
       report_.numeric_factorizations++;
+      report_.numeric_seconds += lap();
+      const cholmod_common& c = m.cholmod.cholmod();
+      static const char* const kOrderings[] = {"natural", "given", "amd", "metis", "nesdis", "colamd", "postordered"};
+      const int o = c.method[c.selected].ordering;
+      report_.ordering = o >= 0 && o <= 6 ? kOrderings[o] : "unknown";
+      report_.supernodal = m.cholmod.is_supernodal();
+      report_.factor_nonzeros = c.lnz;
       return m.cholmod.info() == Eigen::Success;
     }
     report_.backend = "eigen_ldlt";
     if (!same_pattern || m.active != b) {
       m.ldlt.analyzePattern(k);
       report_.symbolic_analyses++;
+      report_.symbolic_seconds += lap();
     }
     m.ldlt.factorize(k);
     report_.numeric_factorizations++;
+    report_.numeric_seconds += lap();
+    report_.ordering = "amd";
+    report_.supernodal = false;
     if (m.ldlt.info() != Eigen::Success) return false;
     const VecX d = m.ldlt.vectorD();
     return d.minCoeff() > 0.0 && std::isfinite(d.sum());
@@ -117,10 +138,13 @@ SolveStatus SpdSolver::solve(const VecX& b, VecX& x) {
     return SolveStatus::kConverged;
   }
   if (report_.status != SolveStatus::kConverged) return report_.status;
+  const auto t0 = std::chrono::steady_clock::now();
   x = m.active == Backend::kCholmod ? VecX(m.cholmod.solve(b)) : VecX(m.ldlt.solve(b));
   const double bn = b.norm();
   const VecX r = (*m.matrix).selfadjointView<Eigen::Lower>() * x - b;
   report_.relative_residual = bn > 0 ? r.norm() / bn : r.norm();
+  report_.solve_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!x.allFinite() || !std::isfinite(report_.relative_residual)) {
     report_.status = SolveStatus::kSingular;
     report_.message = "solution is not finite (singular stiffness matrix)";

@@ -19,6 +19,12 @@ struct SpdSolveReport {
   double pivot_ratio = 0;         ///< min/max of the factor's diagonal (conditioning proxy)
   int symbolic_analyses = 0;      ///< how often the pattern was analysed
   int numeric_factorizations = 0;
+  double symbolic_seconds = 0;    ///< fill-reducing ordering and symbolic analysis, summed
+  double numeric_seconds = 0;     ///< numeric factorisations, summed
+  double solve_seconds = 0;       ///< triangular solves and residual checks, summed
+  std::string ordering;           ///< CHOLMOD's chosen ordering (amd, metis, nesdis, ...)
+  bool supernodal = false;        ///< CHOLMOD's factor is supernodal
+  double factor_nonzeros = 0;     ///< non-zeros of L (fill)
 };
 
 class SpdSolver {
