@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libsundials-dev libceres-dev
-  libgmsh-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev gnuplot-nox
+  libgmsh-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libopenblas0-pthread gnuplot-nox
 )
 missing=()
 for p in "${packages[@]}"; do

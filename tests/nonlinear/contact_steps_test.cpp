@@ -93,7 +93,7 @@ TEST(TwoCantilevers, PenaltyPenetrationShrinksAsTheStiffnessGrows) {
   // Penalty: the penetration of the closed row is its force over k, so it falls 100-fold for
   // every 100-fold k (20 % tolerance: the local stiffness the factor multiplies moves with the
   // deformed state), and the contact force tends to the exact (lagrange) one: 3e-5 off at
-  // k = 10 × the local stiffness.
+  // k = 10 × the local stiffness, 3e-7 at 1e3 ×.
   const Outcome exact = run(cantilevers(), "lagrange");
   ASSERT_EQ(exact.results.status, SolveStatus::kConverged);
   const double f_exact = exact.contact.total_force;
@@ -105,16 +105,20 @@ TEST(TwoCantilevers, PenaltyPenetrationShrinksAsTheStiffnessGrows) {
     const double penetration = r.contact.max_penetration;
     const double error = std::abs(r.contact.total_force - f_exact) / f_exact;
     EXPECT_GT(penetration, 0.0);
+    if (factor == 1e3) {
+      EXPECT_LT(error, 1e-6) << "the force error falls as 1/k";
+    }
     if (last_penetration > 0.0) {
       EXPECT_NEAR(last_penetration / penetration, 100.0, 20.0) << "factor " << factor;
-      // The force error falls with k until it meets the Newton tolerance (1e-8 of the load on
-      // the residual, a few 1e-7 on this force).
-      EXPECT_LT(error, std::max(last_error, 1e-6)) << "factor " << factor;
+      // The force error falls with k until round-off meets it: k = 1e5 x the local stiffness
+      // amplifies the factorisation's round-off, measured 2.3e-7 with ATLAS and 2.5e-6 with
+      // OpenBLAS (both BLAS sum in different orders); 1e-5 bounds that floor.
+      EXPECT_LT(error, std::max(last_error, 1e-5)) << "factor " << factor;
     }
     last_penetration = penetration;
     last_error = error;
   }
-  EXPECT_LT(last_error, 1e-6);
+  EXPECT_LT(last_error, 1e-5);
 }
 
 TEST(CantileverOnAFloor, ACutBackStepWithContactEndsWhereSmallStepsDo) {

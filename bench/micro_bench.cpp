@@ -1,0 +1,154 @@
+// Micro-benchmarks (Google Benchmark): element kernels, sparse assembly (pattern and refill),
+// the direct solve, and contact detection, on structured meshes of growing size. Figures, not
+// assertions: `build/bench/c2d_micro_bench` prints them; `contact2d bench` covers whole runs.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "constraints/contact_detection.hpp"
+#include "core/assembler.hpp"
+#include "core/dof_map.hpp"
+#include "core/elasticity_kernels.hpp"
+#include "core/material.hpp"
+#include "core/mesh.hpp"
+#include "core/spd_solver.hpp"
+
+using namespace c2d;
+using namespace c2d::core;
+
+namespace {
+
+/// An n x n grid of squares on the unit square, each cut into two triangles (T3) or T6 with
+/// straight mid-side nodes; clamped on x = 0.
+struct Grid {
+  Mesh mesh;
+  DofMap dofs;
+  Material material;
+};
+
+Grid make_grid(int n, int order) {
+  Grid g;
+  Mesh& m = g.mesh;
+  m.order = order;
+  const int k = order * n + 1;  // nodes per side
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) m.nodes.emplace_back(static_cast<double>(i) / (k - 1), static_cast<double>(j) / (k - 1));
+  auto id = [k](int i, int j) { return j * k + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int s = order;
+      const int a = id(s * i, s * j), b = id(s * i + s, s * j), c = id(s * i + s, s * j + s), d = id(s * i, s * j + s);
+      if (order == 1) {
+        m.elements.push_back({a, b, c, -1, -1, -1});
+        m.elements.push_back({a, c, d, -1, -1, -1});
+      } else {
+        const int ab = id(s * i + 1, s * j), bc = id(s * i + 2, s * j + 1), ac = id(s * i + 1, s * j + 1);
+        const int cd = id(s * i + 1, s * j + 2), da = id(s * i, s * j + 1);
+        m.elements.push_back({a, b, c, ab, bc, ac});
+        m.elements.push_back({a, c, d, ac, cd, da});
+      }
+      m.element_body.insert(m.element_body.end(), {0, 0});
+      m.element_material.insert(m.element_material.end(), {0, 0});
+    }
+  g.dofs = DofMap(m.num_dofs());
+  for (int j = 0; j < k; ++j) {
+    g.dofs.constrain(2 * id(0, j), 0.0);
+    g.dofs.constrain(2 * id(0, j) + 1, 0.0);
+  }
+  g.dofs.finalize();
+  g.material.young = 210000;
+  g.material.poisson = 0.3;
+  g.material.state = PlaneState::kPlaneStrain;
+  return g;
+}
+
+void kernel(benchmark::State& state, int order) {
+  const Grid g = make_grid(4, order);
+  double sink = 0;
+  for (auto _ : state) {
+    for (int e = 0; e < g.mesh.num_elements(); ++e) sink += element_stiffness(g.mesh.element_coords(e), g.material)(0, 0);
+  }
+  benchmark::DoNotOptimize(sink);
+  state.SetItemsProcessed(state.iterations() * g.mesh.num_elements());
+}
+void BM_KernelT3(benchmark::State& s) { kernel(s, 1); }
+void BM_KernelT6(benchmark::State& s) { kernel(s, 2); }
+
+void pattern(benchmark::State& state, int order) {
+  const Grid g = make_grid(static_cast<int>(state.range(0)), order);
+  for (auto _ : state) {
+    Assembler a(g.mesh, g.dofs);
+    benchmark::DoNotOptimize(a.matrix().nonZeros());
+  }
+  state.SetItemsProcessed(state.iterations() * g.mesh.num_elements());
+  state.counters["dofs"] = g.mesh.num_dofs();
+}
+void BM_PatternT3(benchmark::State& s) { pattern(s, 1); }
+void BM_PatternT6(benchmark::State& s) { pattern(s, 2); }
+
+void refill(benchmark::State& state, int order) {
+  const Grid g = make_grid(static_cast<int>(state.range(0)), order);
+  Assembler a(g.mesh, g.dofs);
+  for (auto _ : state) {
+    a.assemble([&](int e, LocalMatrix& ke) { ke = element_stiffness(g.mesh.element_coords(e), g.material); },
+               nullptr, nullptr);
+    benchmark::DoNotOptimize(a.matrix().valuePtr());
+  }
+  state.SetItemsProcessed(state.iterations() * g.mesh.num_elements());
+  state.counters["dofs"] = g.mesh.num_dofs();
+}
+void BM_AssembleT3(benchmark::State& s) { refill(s, 1); }
+void BM_AssembleT6(benchmark::State& s) { refill(s, 2); }
+
+void BM_FactorizeSolveT6(benchmark::State& state) {
+  const Grid g = make_grid(static_cast<int>(state.range(0)), 2);
+  Assembler a(g.mesh, g.dofs);
+  a.assemble([&](int e, LocalMatrix& ke) { ke = element_stiffness(g.mesh.element_coords(e), g.material); },
+             nullptr, nullptr);
+  const VecX b = VecX::Ones(g.dofs.num_free());
+  for (auto _ : state) {
+    SpdSolver solver;
+    solver.factorize(a.matrix());
+    VecX x;
+    solver.solve(b, x);
+    state.counters["symbolic_s"] = solver.report().symbolic_seconds;
+    state.counters["numeric_s"] = solver.report().numeric_seconds;
+    state.counters["fill"] = solver.report().factor_nonzeros / a.matrix().nonZeros();
+  }
+  state.counters["dofs"] = g.mesh.num_dofs();
+}
+
+void BM_Detection(benchmark::State& state) {
+  // A master polyline of n edges along y = 0 and n slave points just above it.
+  const int n = static_cast<int>(state.range(0));
+  std::vector<Vec2> x;
+  std::vector<constraints::MasterEdge> edges;
+  for (int i = 0; i <= n; ++i) x.emplace_back(static_cast<double>(i) / n, 0.0);
+  for (int i = 0; i < n; ++i) {
+    constraints::MasterEdge e;
+    e.nodes = {i + 1, i, -1};  // outward normal +y
+    edges.push_back(e);
+  }
+  const int first_slave = static_cast<int>(x.size());
+  for (int i = 0; i < n; ++i) x.emplace_back((i + 0.37) / n, 0.1 / n);
+  const constraints::MasterSurfaceSearch search(edges, x, 2.0 / n);
+  for (auto _ : state) {
+    double sink = 0;
+    for (int i = 0; i < n; ++i) sink += search.project(x[first_slave + i]).gap;
+    benchmark::DoNotOptimize(sink);
+  }
+  state.SetItemsProcessed(state.iterations() * n);
+}
+
+}  // namespace
+
+BENCHMARK(BM_KernelT3);
+BENCHMARK(BM_KernelT6);
+BENCHMARK(BM_PatternT3)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PatternT6)->Arg(50)->Arg(150)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AssembleT3)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AssembleT6)->Arg(50)->Arg(150)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FactorizeSolveT6)->Arg(50)->Arg(150)->Arg(350)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_Detection)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
