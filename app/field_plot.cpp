@@ -160,6 +160,13 @@ VtuData read_vtu(const std::string& path) {
   return v;
 }
 
+/// "sx|sy|...|error", for messages about --field.
+static std::string field_list() {
+  std::string list;
+  for (const auto& n : plot_fields()) list += (list.empty() ? "" : "|") + n;
+  return list;
+}
+
 const std::vector<std::string>& plot_fields() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n;
@@ -202,11 +209,8 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::stri
                        const std::string& stem) {
   const auto def = std::find_if(field_defs().begin(), field_defs().end(),
                                 [&](const FieldDef& d) { return d.name == o.field; });
-  if (def == field_defs().end()) {
-    std::string list;
-    for (const auto& n : plot_fields()) list += (list.empty() ? "" : "|") + n;
-    throw InputError("--field: expected " + list + ", found '" + o.field + "'");
-  }
+  if (def == field_defs().end())
+    throw InputError("--field: expected " + field_list() + ", found '" + o.field + "'");
   const auto& source = def->cell ? vtu.cell_data : vtu.point_data;
   const auto arr = source.find(def->array);
   if (arr == source.end())
@@ -398,11 +402,8 @@ PlotWritten plot_run(const PlotRequest& req) {
   std::vector<std::string> fields = req.fields.empty() ? std::vector<std::string>{"vm"} : req.fields;
   if (std::find(fields.begin(), fields.end(), "all") != fields.end()) fields = plot_fields();
   for (const auto& f : fields)
-    if (std::find(plot_fields().begin(), plot_fields().end(), f) == plot_fields().end()) {
-      std::string list;
-      for (const auto& n : plot_fields()) list += (list.empty() ? "" : "|") + n;
-      throw InputError("--field: expected " + list + " or all, found '" + f + "'");
-    }
+    if (std::find(plot_fields().begin(), plot_fields().end(), f) == plot_fields().end())
+      throw InputError("--field: expected " + field_list() + " or all, found '" + f + "'");
   const VtuData vtu = read_vtu(file);
   PlotWritten out;
   for (const auto& f : fields) {

@@ -173,6 +173,15 @@ struct Options {
   std::vector<std::string> adapt_sets;
 };
 
+/// The non-empty items of a comma-separated list ("a,b,,c" -> a, b, c).
+std::vector<std::string> split_list(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream list(text);
+  for (std::string item; std::getline(list, item, ',');)
+    if (!item.empty()) items.push_back(item);
+  return items;
+}
+
 int parse_count(const std::string& flag, const std::string& text) {
   char* end = nullptr;
   const long v = std::strtol(text.c_str(), &end, 10);
@@ -199,9 +208,7 @@ Options parse_args(int argc, char** argv) {
     else if (a == "--methods") o.methods = value(a);
     else if (a == "--data") o.data = value(a);
     else if (a == "--fit") {
-      std::stringstream list(value(a));
-      for (std::string f; std::getline(list, f, ',');)
-        if (!f.empty()) o.fits.push_back(f);
+      for (auto& f : split_list(value(a))) o.fits.push_back(std::move(f));
     }
     else if (a.rfind("--methods=", 0) == 0) o.methods = a.substr(10);
     else if (a == "--levels") o.levels = parse_count(a, value(a));
@@ -218,9 +225,7 @@ Options parse_args(int argc, char** argv) {
     else if (a.rfind("--method=", 0) == 0) o.method = a.substr(9);
     else if (a.rfind("--out=", 0) == 0) o.out = a.substr(6);
     else if (a == "--field") {
-      std::stringstream list(value(a));
-      for (std::string f; std::getline(list, f, ',');)
-        if (!f.empty()) o.fields.push_back(f);
+      for (auto& f : split_list(value(a))) o.fields.push_back(std::move(f));
     }
     else if (a == "--zoom") o.zoom = value(a);
     else if (a == "--deformed") o.deformed = value(a);
@@ -284,10 +289,9 @@ int cmd_run(const Options& o) {
   Reporter rep(o.quiet);
   rep.phase("reading " + o.scene);
   core::Scene scene = core::load_scene(o.scene, o.sets);
-  if (o.adapt) {
-    if (scene.explicit_model)
-      throw InputError(o.scene + ": --adapt: a legacy data file's mesh is given node by node; "
-                       "adaptivity needs bodies meshed from shapes");
+  if (o.adapt && scene.explicit_model) {
+    scene.adapt.enabled = true;  // --set does not apply to legacy files; solve_adaptive refuses it
+  } else if (o.adapt) {
     std::vector<std::string> sets = o.sets;
     sets.insert(sets.end(), o.adapt_sets.begin(), o.adapt_sets.end());
     scene = core::load_scene(o.scene, sets);
@@ -295,6 +299,17 @@ int cmd_run(const Options& o) {
   const std::string out = default_out(o, scene);
   fs::create_directories(out);
   const auto phase = [&](const std::string& line) { rep.phase(line); };
+  // A VTU of a series (load steps, adaptive cycles): the file, then its collection rewritten,
+  // so the .pvd always lists what exists.
+  auto write_series = [&out](std::vector<std::pair<double, std::string>>& files,
+                             const std::string& pvd, const char* pattern, int number, double time,
+                             const core::Model& m, const core::Results& r) {
+    char name[32];
+    std::snprintf(name, sizeof name, pattern, number);
+    core::write_file_atomic(out + "/" + name, core::vtu_document(m, r));
+    files.emplace_back(time, name);
+    core::write_file_atomic(out + "/" + pvd, core::pvd_document(files));
+  };
   std::unique_ptr<app::SceneRun> solved;
   app::AdaptRun adapt;
   std::vector<std::pair<double, std::string>> step_files;
@@ -305,13 +320,10 @@ int cmd_run(const Options& o) {
     std::vector<app::AdaptCycle> done;
     adapt = app::solve_adaptive(scene, o.method, phase,
                                 [&](const app::AdaptCycle& c, const app::SceneRun& r) {
-      char name[32], line[200];
-      std::snprintf(name, sizeof name, "cycle_%02d.vtu", c.cycle);
-      core::write_file_atomic(out + "/" + name, core::vtu_document(r.model, r.results));
-      vtus.emplace_back(c.cycle, name);
+      write_series(vtus, "adapt.pvd", "cycle_%02d.vtu", c.cycle, c.cycle, r.model, r.results);
       done.push_back(c);
-      core::write_file_atomic(out + "/adapt.pvd", core::pvd_document(vtus));
       core::write_file_atomic(out + "/adapt.csv", app::adapt_csv(done));
+      char line[200];
       std::snprintf(line, sizeof line,
                     "adapt %2d   %8d DOFs   xi_g %8.3g   max xi_e %8.3g   error %6.2f %%   %7.2f s\n",
                     c.cycle, c.dofs, c.global_parameter, c.max_local, 100 * c.relative_error,
@@ -324,11 +336,7 @@ int cmd_run(const Options& o) {
     solved = app::solve_scene(scene, o.method, phase,
                               [&](const nonlinear::StepRecord& s, const core::Model& m,
                                   const core::Results& r) {
-      char name[32];
-      std::snprintf(name, sizeof name, "step_%04d.vtu", s.step);
-      core::write_file_atomic(out + "/" + name, core::vtu_document(m, r));
-      step_files.emplace_back(s.load_factor, name);
-      core::write_file_atomic(out + "/results.pvd", core::pvd_document(step_files));
+      write_series(step_files, "results.pvd", "step_%04d.vtu", s.step, s.load_factor, m, r);
     });
   }
   const core::Model& model = solved->model;
@@ -342,11 +350,8 @@ int cmd_run(const Options& o) {
   rep.phase("writing results to " + out);
   if (step_files.empty() || !ok) {
     // A linear run is one step; a failed load-stepped run adds its last converged state.
-    char name[32];
-    std::snprintf(name, sizeof name, "step_%04d.vtu", static_cast<int>(step_files.size()) + 1);
-    core::write_file_atomic(out + "/" + name, core::vtu_document(model, results));
-    step_files.emplace_back(step_files.empty() ? 1.0 : results.globals["load_factor"], name);
-    core::write_file_atomic(out + "/results.pvd", core::pvd_document(step_files));
+    write_series(step_files, "results.pvd", "step_%04d.vtu", static_cast<int>(step_files.size()) + 1,
+                 step_files.empty() ? 1.0 : results.globals["load_factor"], model, results);
   }
   core::write_file_atomic(out + "/nodes.csv", core::nodes_csv(model, results));
   if (contact) {
@@ -420,9 +425,7 @@ void fill_study(const Options& o, app::StudyOptions& s) {
 int cmd_compare(const Options& o) {
   app::CompareOptions c;
   fill_study(o, c);
-  std::stringstream list(o.methods);
-  for (std::string m; std::getline(list, m, ',');)
-    if (!m.empty()) c.methods.push_back(m);
+  c.methods = split_list(o.methods);
   c.levels = o.levels;
   return app::run_compare(c);
 }
