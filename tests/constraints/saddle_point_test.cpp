@@ -39,6 +39,18 @@ ConstrainedProblem chain(int n, int m, unsigned seed) {
   return p;
 }
 
+/// Solves the factorised saddle point for `active` and compares with Eigen's dense LU of the
+/// assembled matrix (1e-10 relative to the solution's largest entry).
+void expect_dense_solution(SaddlePointSolver& solver, const ConstrainedProblem& p,
+                           const std::vector<char>& active, double s, bool all_rows) {
+  const VecX b = saddle_point_rhs(p, active, s, all_rows);
+  VecX x;
+  ASSERT_EQ(solver.solve(b, x), SolveStatus::kConverged);
+  const Eigen::MatrixXd dense(saddle_point_matrix(p, active, s, all_rows));
+  const VecX ref = dense.fullPivLu().solve(b);
+  EXPECT_LT((x - ref).cwiseAbs().maxCoeff(), 1e-10 * ref.cwiseAbs().maxCoeff()) << all_rows;
+}
+
 }  // namespace
 
 TEST(SaddlePointSolver, SchurAndLuAgreeForEveryLayout) {
@@ -52,22 +64,13 @@ TEST(SaddlePointSolver, SchurAndLuAgreeForEveryLayout) {
     SaddlePointSolver solver(p, s);
     ASSERT_EQ(solver.factorize(active, all_rows, false), SolveStatus::kConverged);
     EXPECT_TRUE(solver.uses_schur());
-    const VecX b = saddle_point_rhs(p, active, s, all_rows);
-    VecX x;
-    ASSERT_EQ(solver.solve(b, x), SolveStatus::kConverged);
-    const Eigen::MatrixXd dense(saddle_point_matrix(p, active, s, all_rows));
-    const VecX ref = dense.fullPivLu().solve(b);
-    EXPECT_LT((x - ref).cwiseAbs().maxCoeff(), 1e-10 * ref.cwiseAbs().maxCoeff()) << all_rows;
+    expect_dense_solution(solver, p, active, s, all_rows);
     // A second active set reuses K's factor and the W columns already computed.
     std::vector<char> next = active;
     next[1] = 1;
     next[0] = 0;
     ASSERT_EQ(solver.factorize(next, all_rows, all_rows), SolveStatus::kConverged);
-    const VecX b2 = saddle_point_rhs(p, next, s, all_rows);
-    ASSERT_EQ(solver.solve(b2, x), SolveStatus::kConverged);
-    const Eigen::MatrixXd dense2(saddle_point_matrix(p, next, s, all_rows));
-    const VecX ref2 = dense2.fullPivLu().solve(b2);
-    EXPECT_LT((x - ref2).cwiseAbs().maxCoeff(), 1e-10 * ref2.cwiseAbs().maxCoeff()) << all_rows;
+    expect_dense_solution(solver, p, next, s, all_rows);
     EXPECT_EQ(solver.report().numeric_factorizations, 1);  // one Cholesky for both sets
   }
 }
@@ -83,12 +86,7 @@ TEST(SaddlePointSolver, SingularStiffnessTakesTheLuPath) {
   SaddlePointSolver solver(p, s);
   ASSERT_EQ(solver.factorize(active, false, false), SolveStatus::kConverged);
   EXPECT_FALSE(solver.uses_schur());
-  const VecX b = saddle_point_rhs(p, active, s, false);
-  VecX x;
-  ASSERT_EQ(solver.solve(b, x), SolveStatus::kConverged);
-  const Eigen::MatrixXd dense(saddle_point_matrix(p, active, s, false));
-  const VecX ref = dense.fullPivLu().solve(b);
-  EXPECT_LT((x - ref).cwiseAbs().maxCoeff(), 1e-10 * ref.cwiseAbs().maxCoeff());
+  expect_dense_solution(solver, p, active, s, false);
 }
 
 TEST(SaddlePointSolver, RedundantRowsAreSingular) {
