@@ -35,37 +35,85 @@ SaddlePointSolver::~SaddlePointSolver() = default;
 
 void SaddlePointSolver::stiffness_changed() {
   path_ = Path::kUnknown;
+  rho_.resize(0);
   for (auto& w : w_columns_) w.resize(0);
+}
+
+bool SaddlePointSolver::factorize_regularised() {
+  const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
+  // R: every row when W of all of them fits, else the equality rows and the gap rows with the
+  // smallest initial gap (the ones that hold a floating body first).
+  const int cap = static_cast<int>(std::min<double>(kMaxSchurRows / 2, kMaxSchurEntries / 2 / n));
+  if (me >= cap) return false;
+  std::vector<int> gaps(m);
+  for (int i = 0; i < m; ++i) gaps[i] = i;
+  const int take = std::min(m, cap - me);
+  std::partial_sort(gaps.begin(), gaps.begin() + take, gaps.end(),
+                    [&](int a, int b) { return p_.gap0[a] < p_.gap0[b]; });
+  std::vector<int> reg;
+  for (int j = 0; j < me; ++j) reg.push_back(j);
+  for (int i = 0; i < take; ++i) reg.push_back(me + gaps[i]);
+  // ρ_r = the row's local stiffness over |c_r|², so ρ_r c_r c_rᵀ is as stiff as K around it.
+  const VecX diag = p_.stiffness.diagonal();
+  rho_ = VecX::Zero(me + m);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int r : reg) {
+    double a2 = 0.0, ak = 0.0;
+    for (SpMat::InnerIterator it(ct_, r); it; ++it) {
+      a2 += it.value() * it.value();
+      ak += it.value() * it.value() * diag[it.row()];
+    }
+    if (!(a2 > 0) || !(ak > 0)) continue;
+    rho_[r] = ak / (a2 * a2);
+    const double sr = std::sqrt(rho_[r]);
+    for (SpMat::InnerIterator it(ct_, r); it; ++it) t.emplace_back(r, it.row(), sr * it.value());
+  }
+  SpMat scaled(me + m, n);
+  scaled.setFromTriplets(t.begin(), t.end());
+  k_rho_ = p_.stiffness + SpMat(scaled.transpose() * scaled);  // kept: the factor refers to it
+  ++report_.numeric_factorizations;
+  if (chol_.factorize(k_rho_) == SolveStatus::kConverged &&
+      chol_.report().pivot_ratio > kMinCholeskyPivotRatio)
+    return true;
+  rho_.resize(0);
+  k_rho_.resize(0, 0);
+  return false;
 }
 
 SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool all_rows,
                                          bool same_pattern) {
   const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
+  if (path_ == Path::kUnknown) {
+    // A K that CHOLMOD factorises but only barely (pivot ratio below 1e-11: a rigid-body mode
+    // left to round-off, as in a body held only by contact) would make W meaningless; K_ρ
+    // then stands in for it.
+    rho_.resize(0);
+    const bool spd = chol_.factorize(p_.stiffness) == SolveStatus::kConverged &&
+                     chol_.report().pivot_ratio > kMinCholeskyPivotRatio;
+    ++report_.numeric_factorizations;
+    path_ = spd || factorize_regularised() ? Path::kSchur : Path::kLu;
+  }
   all_rows_ = all_rows;
   rows_.clear();
   positions_.clear();
+  in_rows_.clear();
   size_ = n + me;
-  for (int j = 0; j < me; ++j) rows_.push_back(j), positions_.push_back(n + j);
+  for (int j = 0; j < me; ++j) rows_.push_back(j), positions_.push_back(n + j), in_rows_.push_back(1);
   for (int i = 0; i < m; ++i) {
-    if (active[i]) rows_.push_back(me + i), positions_.push_back(size_);
+    if (active[i]) {
+      rows_.push_back(me + i), positions_.push_back(size_), in_rows_.push_back(1);
+    } else if (rho_.size() > 0 && rho_[me + i] > 0) {
+      rows_.push_back(me + i), positions_.push_back(all_rows ? size_ : -1), in_rows_.push_back(0);
+    }
     if (all_rows || active[i]) ++size_;
-  }
-  if (path_ == Path::kUnknown) {
-    // A K that CHOLMOD factorises but only barely (pivot ratio below 1e-11: a rigid-body mode
-    // left to round-off, as in a body held only by contact) would make W meaningless.
-    const bool spd = chol_.factorize(p_.stiffness) == SolveStatus::kConverged &&
-                     chol_.report().pivot_ratio > kMinCholeskyPivotRatio;
-    path_ = spd ? Path::kSchur : Path::kLu;
-    ++report_.numeric_factorizations;
   }
   const int k = static_cast<int>(rows_.size());
   if (path_ == Path::kSchur && k <= kMaxSchurRows &&
       static_cast<double>(n) * k <= kMaxSchurEntries) {
-    const SolveStatus st = factorize_schur(active, all_rows);
+    const SolveStatus st = factorize_schur();
     if (st == SolveStatus::kConverged || report_.rcond < kMinSchurRcond) return st;
-    path_ = Path::kLu;  // K's factor does not solve to precision: the saddle point by LU
   }
-  // LU of the whole saddle point.
+  // LU of the whole saddle point: K's factor does not solve to precision, or C is too large.
   const SolveStatus st =
       lu_.factorize(saddle_point_matrix(p_, active, s_, all_rows), same_pattern && path_ == Path::kLu);
   path_ = Path::kLu;
@@ -75,7 +123,7 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
   return st;
 }
 
-SolveStatus SaddlePointSolver::factorize_schur(const std::vector<char>&, bool) {
+SolveStatus SaddlePointSolver::factorize_schur() {
   const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
   report_.message.clear();
   report_.rcond = 1.0;  // below kMinSchurRcond only when S itself is singular
@@ -107,17 +155,15 @@ SolveStatus SaddlePointSolver::factorize_schur(const std::vector<char>&, bool) {
   report_.status = SolveStatus::kConverged;
   report_.rcond = 1.0;
   if (k == 0) return report_.status;
-  Eigen::MatrixXd schur = c_rows_ * w_;  // C K⁻¹ Cᵀ
+  Eigen::MatrixXd schur = c_rows_ * w_;  // C K_ρ⁻¹ Cᵀ
   schur = 0.5 * (schur + schur.transpose()).eval();
+  for (int r = 0; r < k; ++r)
+    if (!in_rows_[r]) schur(r, r) -= 1.0 / rho_[rows_[r]];
   schur_.compute(schur);
-  // Eigen's LDLᵀ condition estimate misses an exactly zero pivot (it reports 0.5 for
-  // [[1, 1], [1, 1]]), so the pivot ratio bounds it as well.
-  report_.rcond = 0.0;
-  if (schur_.info() == Eigen::Success) {
-    const VecX d = schur_.vectorD().cwiseAbs();
-    const double dmax = d.maxCoeff();
-    report_.rcond = dmax > 0 ? std::min(schur_.rcond(), d.minCoeff() / dmax) : 0.0;
-  }
+  // The LU's condition estimate, bounded by the pivot ratio of U (an exactly zero pivot).
+  const VecX d = schur_.matrixLU().diagonal().cwiseAbs();
+  const double dmax = d.maxCoeff();
+  report_.rcond = dmax > 0 && d.allFinite() ? std::min(schur_.rcond(), d.minCoeff() / dmax) : 0.0;
   if (!(report_.rcond > kMinSchurRcond)) {
     report_.status = SolveStatus::kSingular;
     report_.message = std::string(kDependentRows) + " (Schur complement rcond " +
@@ -138,8 +184,16 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
   const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
   const int me = p_.num_equalities();
   x = VecX::Zero(size_);
+  // Right-hand side of K_ρ: rows of R in the system satisfy C_r u = −b_r / s.
+  VecX bu = b.head(n);
+  if (rho_.size() > 0)
+    for (int r = 0; r < k; ++r)
+      if (in_rows_[r] && rho_[rows_[r]] > 0) {
+        const double f = -rho_[rows_[r]] * b[positions_[r]] / s_;
+        for (SpMat::InnerIterator it(ct_, rows_[r]); it; ++it) bu[it.row()] += f * it.value();
+      }
   VecX y;
-  SolveStatus st = chol_.solve(VecX(b.head(n)), y);
+  SolveStatus st = chol_.solve(bu, y);
   if (st != SolveStatus::kConverged) {
     report_.status = st;
     report_.message = chol_.report().message;
@@ -150,26 +204,30 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
     int pos = n + me;
     std::vector<char> in_system(p_.num_gaps(), 0);
     for (int r = 0; r < k; ++r)
-      if (rows_[r] >= me) in_system[rows_[r] - me] = 1;
+      if (in_rows_[r] && rows_[r] >= me) in_system[rows_[r] - me] = 1;
     for (int i = 0; i < p_.num_gaps(); ++i, ++pos)
       if (!in_system[i]) x[pos] = b[pos] / s_;
   }
   VecX z = VecX::Zero(k);
   if (k > 0) {
     VecX rhs = c_rows_ * y;
-    for (int r = 0; r < k; ++r) rhs[r] = -(b[positions_[r]] + s_ * rhs[r]) / (s_ * s_);
+    for (int r = 0; r < k; ++r)
+      rhs[r] = -((in_rows_[r] ? b[positions_[r]] : 0.0) + s_ * rhs[r]) / (s_ * s_);
     z = schur_.solve(rhs);
     y += s_ * (w_ * z);
-    for (int r = 0; r < k; ++r) x[positions_[r]] = z[r];
+    for (int r = 0; r < k; ++r)
+      if (in_rows_[r]) x[positions_[r]] = z[r];
+      else z[r] = 0.0;  // an auxiliary unknown of R, not a multiplier
   }
   x.head(n) = y;
-  // Residual of the rows in the system (the others are exact by construction).
+  // Residual of the original system's rows (the others are exact by construction).
   VecX ru = p_.stiffness * y - b.head(n);
   if (k > 0) ru -= s_ * (c_rows_.transpose() * z);
   double r2 = ru.squaredNorm(), b2 = b.head(n).squaredNorm();
   if (k > 0) {
     const VecX cy = c_rows_ * y;
     for (int r = 0; r < k; ++r) {
+      if (!in_rows_[r]) continue;
       const double rc = -s_ * cy[r] - b[positions_[r]];
       r2 += rc * rc;
       b2 += b[positions_[r]] * b[positions_[r]];

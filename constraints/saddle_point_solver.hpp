@@ -12,8 +12,16 @@
 //    stays in the problem), and each active set costs only the small dense S = C W and its LDLᵀ.
 //    An active-set loop then costs one Cholesky plus a few solves: contact at the price of a
 //    linear solve.
-//  - LU of the whole saddle point (UMFPACK), when K is singular (a body held only by its
-//    contacts) or C is large; the symbolic analysis is kept while the pattern is.
+//  - The same Schur complement on K_ρ = K + C_Rᵀ diag(ρ) C_R when K is singular (a body held
+//    only by its contacts). R is a fixed set of regularising rows (every row when they are few,
+//    else the equality rows and the gap rows nearest to closing), ρ_r the row's local stiffness.
+//    Rows of R in the system are consistent (C_r u = its right-hand side, so ρ_r c_r c_rᵀ u
+//    moves to the right-hand side); rows of R that are open get an auxiliary unknown
+//    ζ_r = ρ_r c_rᵀ u / s and the diagonal −1/ρ_r in the (then indefinite, LU-factorised)
+//    Schur matrix. K_ρ is factorised once however the active set changes: a floating body costs
+//    what a supported one does.
+//  - LU of the whole saddle point (UMFPACK), when even K_ρ is singular or C is large; the
+//    symbolic analysis is kept while the pattern is.
 //
 // Both report redundant constraint rows as singular (S's condition estimate, UMFPACK's rcond).
 #pragma once
@@ -50,7 +58,9 @@ class SaddlePointSolver {
 
  private:
   enum class Path { kUnknown, kSchur, kLu };
-  SolveStatus factorize_schur(const std::vector<char>& active, bool all_rows);
+  SolveStatus factorize_schur();
+  /// Chooses R and ρ and factorises K_ρ; false when R cannot make K positive definite.
+  bool factorize_regularised();
 
   const ConstrainedProblem& p_;
   double s_;
@@ -65,7 +75,11 @@ class SaddlePointSolver {
   int size_ = 0;                    ///< saddle-point vector length
   Eigen::MatrixXd w_;               ///< W = K⁻¹ C_rowsᵀ
   SpMat c_rows_;                    ///< C_rows
-  Eigen::LDLT<Eigen::MatrixXd> schur_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> schur_;
+  /// Regularisation: ρ per constraint (0 = not in R); sized me + m, empty without.
+  VecX rho_;
+  SpMat k_rho_;                     ///< K_ρ, factorised in chol_
+  std::vector<char> in_rows_;       ///< per system row: 1 for a row of the problem, 0 for R-only
   KktSolveReport report_;
 };
 

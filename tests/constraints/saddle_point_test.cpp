@@ -1,4 +1,4 @@
-// SaddlePointSolver: the Schur-complement path (CHOLMOD on K) and the LU path (UMFPACK on the
+// SaddlePointSolver: the Schur-complement path (CHOLMOD on K, or on K_ρ for a floating body) and the LU path (UMFPACK on the
 // whole saddle point) solve the same systems; redundant rows are singular on both.
 #include <gtest/gtest.h>
 
@@ -75,18 +75,42 @@ TEST(SaddlePointSolver, SchurAndLuAgreeForEveryLayout) {
   }
 }
 
-TEST(SaddlePointSolver, SingularStiffnessTakesTheLuPath) {
-  // Without the ground springs K has a rigid mode; the equality row removes it, so the saddle
-  // point is regular and the LU path solves it (reference: dense LU, 1e-10).
-  ConstrainedProblem p = chain(50, 4, 3);
+TEST(SaddlePointSolver, FloatingBodyIsRegularisedByItsOwnRows) {
+  // Without the ground spring K has a rigid mode (K 1 = 0); the rows remove it. The Schur path
+  // factorises K_ρ = K + C_Rᵀ ρ C_R once and solves every active set and layout with it
+  // (reference: dense LU of the unregularised saddle point, 1e-9 relative).
+  ConstrainedProblem p = chain(80, 10, 11);
   p.stiffness.coeffRef(0, 0) = 1.0;
-  p.stiffness.coeffRef(49, 49) = 1.0;  // both ends free: K 1 = 0
+  p.stiffness.coeffRef(79, 79) = 1.0;  // both ends free: K 1 = 0
+  ASSERT_LT((p.stiffness * VecX::Ones(80)).norm(), 1e-14);
   const double s = saddle_point_scale(p);
-  const std::vector<char> active(4, 0);
-  SaddlePointSolver solver(p, s);
-  ASSERT_EQ(solver.factorize(active, false, false), SolveStatus::kConverged);
+  for (bool all_rows : {false, true}) {
+    SaddlePointSolver solver(p, s);
+    std::vector<char> active(10, 0);
+    for (int step = 0; step < 4; ++step) {
+      active[(3 * step) % 10] = 1;
+      if (step == 3) active[0] = 0;
+      ASSERT_EQ(solver.factorize(active, all_rows, step > 0 && all_rows), SolveStatus::kConverged);
+      EXPECT_TRUE(solver.uses_schur());
+      expect_dense_solution(solver, p, active, s, all_rows);
+    }
+    // K's failed Cholesky and K_ρ's: two numeric factorisations for four active sets.
+    EXPECT_EQ(solver.report().numeric_factorizations, 2);
+  }
+}
+
+TEST(SaddlePointSolver, ARigidModeNoRowReachesIsSingular) {
+  // The only row, u_10 − u_20 = 0.25, is orthogonal to the rigid mode: K_ρ stays singular, the
+  // LU path takes the saddle point and reports it singular rather than returning a number.
+  ConstrainedProblem p = chain(40, 0, 3);
+  p.stiffness.coeffRef(0, 0) = 1.0;
+  p.stiffness.coeffRef(39, 39) = 1.0;
+  p.eq_jacobian = SpMat(1, 40);
+  p.eq_jacobian.insert(0, 10) = 1.0;
+  p.eq_jacobian.insert(0, 20) = -1.0;
+  SaddlePointSolver solver(p, saddle_point_scale(p));
+  EXPECT_NE(solver.factorize({}, false, false), SolveStatus::kConverged);
   EXPECT_FALSE(solver.uses_schur());
-  expect_dense_solution(solver, p, active, s, false);
 }
 
 TEST(SaddlePointSolver, RedundantRowsAreSingular) {
