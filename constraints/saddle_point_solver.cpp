@@ -12,6 +12,9 @@ constexpr int kMaxSchurRows = 400;
 constexpr double kMaxSchurEntries = 4e7;  ///< n × rows doubles of W (320 MB)
 constexpr double kMinSchurRcond = 1e-13;
 constexpr double kMinCholeskyPivotRatio = 1e-11;
+/// Gap rows in R at first: enough for a body floating in the contact direction, few enough
+/// that W holds little beyond the active rows.
+constexpr int kRegularisingRows = 8;
 const char* kDependentRows =
     "saddle-point matrix is singular: linearly dependent constraint rows or an unsupported body";
 }  // namespace
@@ -39,15 +42,15 @@ void SaddlePointSolver::stiffness_changed() {
   for (auto& w : w_columns_) w.resize(0);
 }
 
-bool SaddlePointSolver::factorize_regularised() {
+bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
-  // R: every row when W of all of them fits, else the equality rows and the gap rows with the
-  // smallest initial gap (the ones that hold a floating body first).
+  // R: the equality rows and the `max_gap_rows` gap rows with the smallest initial gap (the
+  // ones that hold a floating body first), within what W may hold.
   const int cap = static_cast<int>(std::min<double>(kMaxSchurRows / 2, kMaxSchurEntries / 2 / n));
   if (me >= cap) return false;
   std::vector<int> gaps(m);
   for (int i = 0; i < m; ++i) gaps[i] = i;
-  const int take = std::min(m, cap - me);
+  const int take = std::min({m, cap - me, max_gap_rows});
   std::partial_sort(gaps.begin(), gaps.begin() + take, gaps.end(),
                     [&](int a, int b) { return p_.gap0[a] < p_.gap0[b]; });
   std::vector<int> reg;
@@ -84,14 +87,20 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
                                          bool same_pattern) {
   const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
   if (path_ == Path::kUnknown) {
-    // A K that CHOLMOD factorises but only barely (pivot ratio below 1e-11: a rigid-body mode
-    // left to round-off, as in a body held only by contact) would make W meaningless; K_ρ
-    // then stands in for it.
+    // K_ρ with a few rows in R whether or not K alone is definite: one factorisation either
+    // way (trying K first would cost a floating body two). If those rows leave a rigid mode
+    // (pivot ratio below 1e-11: W would be meaningless), every row that fits; then LU.
     rho_.resize(0);
-    const bool spd = chol_.factorize(p_.stiffness) == SolveStatus::kConverged &&
-                     chol_.report().pivot_ratio > kMinCholeskyPivotRatio;
-    ++report_.numeric_factorizations;
-    path_ = spd || factorize_regularised() ? Path::kSchur : Path::kLu;
+    bool spd = false;
+    if (me + m == 0) {
+      spd = chol_.factorize(p_.stiffness) == SolveStatus::kConverged &&
+            chol_.report().pivot_ratio > kMinCholeskyPivotRatio;
+      ++report_.numeric_factorizations;
+    } else {
+      spd = factorize_regularised(kRegularisingRows) ||
+            (m > kRegularisingRows && factorize_regularised(m));
+    }
+    path_ = spd ? Path::kSchur : Path::kLu;
   }
   all_rows_ = all_rows;
   rows_.clear();

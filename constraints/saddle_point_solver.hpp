@@ -6,20 +6,17 @@
 // laid out as saddle_point_matrix() lays them out (with `all_rows`, inactive gap rows stay as
 // s z_i = b_i). Two ways to solve them:
 //
-//  - Schur complement, when CHOLMOD can factorise K (a supported structure) and C has at most a
-//    few hundred rows: K is factorised once for the solver's lifetime, W = K⁻¹ Cᵀ is computed
-//    column by column as rows first enter (one multi-column solve per batch, kept while the row
-//    stays in the problem), and each active set costs only the small dense S = C W and its LDLᵀ.
-//    An active-set loop then costs one Cholesky plus a few solves: contact at the price of a
-//    linear solve.
-//  - The same Schur complement on K_ρ = K + C_Rᵀ diag(ρ) C_R when K is singular (a body held
-//    only by its contacts). R is a fixed set of regularising rows (every row when they are few,
-//    else the equality rows and the gap rows nearest to closing), ρ_r the row's local stiffness.
-//    Rows of R in the system are consistent (C_r u = its right-hand side, so ρ_r c_r c_rᵀ u
-//    moves to the right-hand side); rows of R that are open get an auxiliary unknown
-//    ζ_r = ρ_r c_rᵀ u / s and the diagonal −1/ρ_r in the (then indefinite, LU-factorised)
-//    Schur matrix. K_ρ is factorised once however the active set changes: a floating body costs
-//    what a supported one does.
+//  - Schur complement, when CHOLMOD can factorise K_ρ = K + C_Rᵀ diag(ρ) C_R and C has at most
+//    a few hundred rows. R is a fixed set of regularising rows (the equality rows and the 8 gap
+//    rows nearest to closing; every row if those leave a rigid mode), ρ_r the row's local
+//    stiffness, so a body held only by its contacts (K singular) needs no other path. K_ρ is
+//    factorised once for the solver's lifetime, W = K_ρ⁻¹ Cᵀ is computed column by column as
+//    rows first enter (one multi-column solve per batch, kept while the row stays in the
+//    problem), and each active set costs only the small dense S = C W and its LU. Rows of R in
+//    the system are consistent (C_r u = its right-hand side, so ρ_r c_r c_rᵀ u moves to the
+//    right-hand side); rows of R that are open get an auxiliary unknown ζ_r = ρ_r c_rᵀ u / s and
+//    the diagonal −1/ρ_r in S. An active-set loop then costs one Cholesky plus a few solves:
+//    contact at the price of a linear solve, floating body or not.
 //  - LU of the whole saddle point (UMFPACK), when even K_ρ is singular or C is large; the
 //    symbolic analysis is kept while the pattern is.
 //
@@ -60,7 +57,7 @@ class SaddlePointSolver {
   enum class Path { kUnknown, kSchur, kLu };
   SolveStatus factorize_schur();
   /// Chooses R and ρ and factorises K_ρ; false when R cannot make K positive definite.
-  bool factorize_regularised();
+  bool factorize_regularised(int max_gap_rows);
 
   const ConstrainedProblem& p_;
   double s_;
