@@ -301,9 +301,10 @@ int cmd_run(const Options& o) {
   const auto phase = [&](const std::string& line) { rep.phase(line); };
   // A VTU of a series (load steps, adaptive cycles): the file, then its collection rewritten,
   // so the .pvd always lists what exists.
-  auto write_series = [&out](std::vector<std::pair<double, std::string>>& files,
-                             const std::string& pvd, const char* pattern, int number, double time,
-                             const core::Model& m, const core::Results& r) {
+  auto write_series = [&out, &scene](std::vector<std::pair<double, std::string>>& files,
+                                     const std::string& pvd, const char* pattern, int number,
+                                     double time, const core::Model& m, const core::Results& r) {
+    if (!scene.output_fields) return;
     char name[32];
     std::snprintf(name, sizeof name, pattern, number);
     core::write_file_atomic(out + "/" + name, core::vtu_document(m, r));
@@ -348,12 +349,12 @@ int cmd_run(const Options& o) {
 
   const auto t_out = std::chrono::steady_clock::now();
   rep.phase("writing results to " + out);
-  if (step_files.empty() || !ok) {
+  if ((step_files.empty() || !ok) && scene.output_fields) {
     // A linear run is one step; a failed load-stepped run adds its last converged state.
     write_series(step_files, "results.pvd", "step_%04d.vtu", static_cast<int>(step_files.size()) + 1,
                  step_files.empty() ? 1.0 : results.globals["load_factor"], model, results);
   }
-  core::write_file_atomic(out + "/nodes.csv", core::nodes_csv(model, results));
+  if (scene.output_fields) core::write_file_atomic(out + "/nodes.csv", core::nodes_csv(model, results));
   if (contact) {
     core::write_file_atomic(out + "/contact.csv", app::contact_csv(contact_report));
     core::write_file_atomic(out + "/trace.csv", app::trace_csv(contact_report));
@@ -370,8 +371,8 @@ int cmd_run(const Options& o) {
                             app::contact_steps_csv(steps.empty() ? one : steps));
   }
   std::string chart_error;
-  if (ok) chart_error = app::chart_deformed_mesh(out, model, results);
-  if (ok && contact && contact_report.has_surface && chart_error.empty())
+  if (ok && scene.output_charts) chart_error = app::chart_deformed_mesh(out, model, results);
+  if (ok && scene.output_charts && contact && contact_report.has_surface && chart_error.empty())
     chart_error = app::chart_contact_pressure(out, contact_report, scene);
   results.time.output +=  // per-step VTUs written during the solve, then the rest
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();

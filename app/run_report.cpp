@@ -1,6 +1,7 @@
 #include "app/run_report.hpp"
 
 #include <cmath>
+#include <filesystem>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -151,7 +152,10 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
   for (const auto& [name, value] : s["probes"].items())
     os << "probe      " << name << " = " << (value.is_null() ? std::string("null") : value.dump())
        << '\n';
-  os << "results    " << out_dir << "/ (summary.json, results.pvd, nodes.csv, deformed.png"
+  std::string files;  // what this run wrote ([output] may leave fields or charts out)
+  for (const char* f : {"summary.json", "results.pvd", "nodes.csv", "contact.csv", "deformed.png"})
+    if (std::filesystem::exists(out_dir + "/" + f)) files += (files.empty() ? "" : ", ") + std::string(f);
+  os << "results    " << out_dir << "/ (" << files
      << (s.contains("load_factor") ? ", trace.csv; charts: contact2d trace " + out_dir : std::string())
      << ")\n";
   return os.str();

@@ -73,6 +73,11 @@ struct ConstraintSolution {
   std::vector<char> active;   ///< m: 1 where the row carries force
   int iterations = 0;
   int factorizations = 0;
+  /// Time in the linear solver, summed over the solve: symbolic analyses, numeric
+  /// factorisations, triangular solves (with their residual checks). The rest of `seconds` is
+  /// the method's own work (assembling its systems, W and Schur matrices, active-set logic).
+  double symbolic_seconds = 0, numeric_seconds = 0, solve_seconds = 0;
+  int symbolic_analyses = 0;
   /// Conditioning of the last factorisation: CHOLMOD's pivot ratio (penalty-type methods) or the
   /// saddle point's reciprocal condition estimate (lagrange, ssn); NaN where the method has none.
   double pivot_ratio = std::numeric_limits<double>::quiet_NaN();

@@ -1,5 +1,7 @@
 #include "constraints/kkt_solver.hpp"
 
+#include "core/stopwatch.hpp"
+
 #include <Eigen/UmfPackSupport>
 #include <cmath>
 #include <cstdio>
@@ -28,9 +30,11 @@ KktSolver::~KktSolver() = default;
 SolveStatus KktSolver::factorize(const SpMat& m, bool same_pattern) {
   impl_->matrix = m;
   impl_->matrix.makeCompressed();
+  core::Stopwatch clock;
   if (!same_pattern || !impl_->analysed) {
     impl_->lu.analyzePattern(impl_->matrix);
     ++report_.symbolic_analyses;
+    report_.symbolic_seconds += clock.lap();
     if (impl_->lu.info() != Eigen::Success) {
       impl_->analysed = false;
       report_.status = SolveStatus::kFailed;
@@ -41,6 +45,7 @@ SolveStatus KktSolver::factorize(const SpMat& m, bool same_pattern) {
   }
   impl_->lu.factorize(impl_->matrix);
   ++report_.numeric_factorizations;
+  report_.numeric_seconds += clock.lap();
   report_.rcond = impl_->lu.rcond();
   if (impl_->lu.info() != Eigen::Success || !(report_.rcond > 1e-15)) {
     report_.status = SolveStatus::kSingular;
@@ -57,9 +62,11 @@ SolveStatus KktSolver::factorize(const SpMat& m, bool same_pattern) {
 
 SolveStatus KktSolver::solve(const VecX& b, VecX& x) {
   if (report_.status != SolveStatus::kConverged) return report_.status;
+  core::Stopwatch clock;
   x = impl_->lu.solve(b);
   const double bn = b.norm();
   report_.relative_residual = (impl_->matrix * x - b).norm() / (bn > 0 ? bn : 1.0);
+  report_.solve_seconds += clock.lap();
   if (impl_->lu.info() != Eigen::Success || !x.allFinite()) {
     report_.status = SolveStatus::kFailed;
     report_.message = "UMFPACK solve failed";

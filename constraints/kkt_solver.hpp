@@ -17,6 +17,9 @@ struct KktSolveReport {
   double rcond = 0.0;  ///< UMFPACK's reciprocal condition estimate (min/max |U_ii|)
   int symbolic_analyses = 0;
   int numeric_factorizations = 0;
+  double symbolic_seconds = 0;  ///< summed over analyses (of every factor the solver keeps)
+  double numeric_seconds = 0;   ///< summed over numeric factorisations
+  double solve_seconds = 0;     ///< summed over solves, residual checks included
 };
 
 class KktSolver {

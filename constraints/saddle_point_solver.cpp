@@ -15,6 +15,12 @@ constexpr double kMinCholeskyPivotRatio = 1e-11;
 /// Gap rows in R at first: enough for a body floating in the contact direction, few enough
 /// that W holds little beyond the active rows.
 constexpr int kRegularisingRows = 8;
+/// Runs `f` when the scope ends, whichever return ends it.
+template <class F>
+struct AtExit {
+  F f;
+  ~AtExit() { f(); }
+};
 const char* kDependentRows =
     "saddle-point matrix is singular: linearly dependent constraint rows or an unsupported body";
 }  // namespace
@@ -83,8 +89,18 @@ bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   return false;
 }
 
+void SaddlePointSolver::sync_times() {
+  const auto& c = chol_.report();
+  const auto& l = lu_.report();
+  report_.symbolic_seconds = c.symbolic_seconds + l.symbolic_seconds;
+  report_.symbolic_analyses = c.symbolic_analyses + l.symbolic_analyses;
+  report_.numeric_seconds = c.numeric_seconds + l.numeric_seconds;
+  report_.solve_seconds = c.solve_seconds + l.solve_seconds;
+}
+
 SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool all_rows,
                                          bool same_pattern) {
+  const AtExit sync{[this] { sync_times(); }};
   const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
   if (path_ == Path::kUnknown) {
     // K_ρ with a few rows in R whether or not K alone is definite: one factorisation either
@@ -182,6 +198,7 @@ SolveStatus SaddlePointSolver::factorize_schur() {
 }
 
 SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
+  const AtExit sync{[this] { sync_times(); }};
   if (path_ != Path::kSchur) {
     const SolveStatus st = lu_.solve(b, x);
     report_.status = lu_.report().status;

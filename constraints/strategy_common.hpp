@@ -59,6 +59,10 @@ class PenalizedSolver {
   void report_counts(ConstraintSolution& s) const {
     s.factorizations = solver_.report().numeric_factorizations;
     s.pivot_ratio = solver_.report().pivot_ratio;
+    s.symbolic_seconds = solver_.report().symbolic_seconds;
+    s.symbolic_analyses = solver_.report().symbolic_analyses;
+    s.numeric_seconds = solver_.report().numeric_seconds;
+    s.solve_seconds = solver_.report().solve_seconds;
   }
 
  private:

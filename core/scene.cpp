@@ -383,8 +383,10 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   if (root.has("output")) {
     const TomlView o = root["output"];
     o.require_table();
-    o.check_keys({"dir"});
+    o.check_keys({"dir", "fields", "charts"});
     scene.output_dir = o["dir"].string_or("");
+    scene.output_fields = o["fields"].boolean_or(true);
+    scene.output_charts = o["charts"].boolean_or(true);
   }
   return scene;
 }

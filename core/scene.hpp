@@ -149,6 +149,11 @@ struct Scene {
   std::string reference_kind;
   std::map<std::string, double> reference;
   std::string output_dir;
+  /// [output] fields = false: no VTU series and no nodes.csv; charts = false: no pictures.
+  /// summary.json and the CSV tables are always written (a benchmark run wants the figures,
+  /// not gnuplot's start-up time).
+  bool output_fields = true;
+  bool output_charts = true;
   std::shared_ptr<ExplicitModel> explicit_model;  ///< set for legacy files
   std::shared_ptr<toml::table> raw;              ///< the parsed (overridden) TOML, for later modules
 };

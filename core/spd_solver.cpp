@@ -1,10 +1,11 @@
 #include "core/spd_solver.hpp"
 
 #include <Eigen/CholmodSupport>
-#include <chrono>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+
+#include "core/stopwatch.hpp"
 
 namespace c2d::core {
 
@@ -71,13 +72,8 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
   }
   const bool same_pattern = m.analysed_rows == k.rows() && m.analysed_nnz == k.nonZeros();
   auto try_backend = [&](Backend b) -> bool {
-    auto t = std::chrono::steady_clock::now();
-    auto lap = [&t]() {
-      const auto now = std::chrono::steady_clock::now();
-      const double s = std::chrono::duration<double>(now - t).count();
-      t = now;
-      return s;
-    };
+    Stopwatch clock;
+    auto lap = [&clock] { return clock.lap(); };
     if (b == Backend::kCholmod) {
       report_.backend = "cholmod";
       if (!same_pattern || m.active != b) {
@@ -146,13 +142,12 @@ SolveStatus SpdSolver::solve(const VecX& b, VecX& x) {
     return SolveStatus::kConverged;
   }
   if (report_.status != SolveStatus::kConverged) return report_.status;
-  const auto t0 = std::chrono::steady_clock::now();
+  const Stopwatch clock;
   x = m.active == Backend::kCholmod ? VecX(m.cholmod.solve(b)) : VecX(m.ldlt.solve(b));
   const double bn = b.norm();
   const VecX r = (*m.matrix).selfadjointView<Eigen::Lower>() * x - b;
   report_.relative_residual = bn > 0 ? r.norm() / bn : r.norm();
-  report_.solve_seconds +=
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  report_.solve_seconds += clock.elapsed();
   if (!x.allFinite() || !std::isfinite(report_.relative_residual)) {
     report_.status = SolveStatus::kSingular;
     report_.message = "solution is not finite (singular stiffness matrix)";
@@ -171,6 +166,7 @@ SolveStatus SpdSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) {
     return SolveStatus::kConverged;
   }
   if (report_.status != SolveStatus::kConverged) return report_.status;
+  const Stopwatch clock;
   x = m.active == Backend::kCholmod ? Eigen::MatrixXd(m.cholmod.solve(b))
                                     : Eigen::MatrixXd(m.ldlt.solve(b));
   // The residual of a fixed combination of the columns, K (X w) − B w: one product instead of
@@ -183,6 +179,7 @@ SolveStatus SpdSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) {
   const double bn = bw.norm();
   const double worst = bn > 0 ? r.norm() / bn : r.norm();
   report_.relative_residual = worst;
+  report_.solve_seconds += clock.elapsed();
   if (!x.allFinite() || !std::isfinite(worst)) {
     report_.status = SolveStatus::kSingular;
     report_.message = "solution is not finite (singular stiffness matrix)";

@@ -77,6 +77,10 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
   r.solver.status = s.status;
   r.solver.message = s.message;
   r.solver.numeric_factorizations = s.factorizations;
+  r.solver.symbolic_seconds = s.symbolic_seconds;
+  r.solver.symbolic_analyses = s.symbolic_analyses;
+  r.solver.numeric_seconds = s.numeric_seconds;
+  r.solver.solve_seconds = s.solve_seconds;
   u_free = s.u;
   store_contact_results(report, static_cast<int>(u_prescribed.size() / 2), r);
   if (report_out) *report_out = std::move(report);
