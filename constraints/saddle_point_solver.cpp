@@ -8,8 +8,10 @@
 namespace c2d::constraints {
 
 namespace {
-constexpr int kMaxSchurRows = 400;
-constexpr double kMaxSchurEntries = 4e7;  ///< n × rows doubles of W (320 MB)
+/// Rows of the dense Schur complement (its LU costs k³/3 flops per active set: 0.3 GFlop here).
+constexpr int kMaxSchurRows = 1000;
+/// Columns of W = K_ρ⁻¹ Cᵀ solved at once: n × 32 doubles at a time (256 MB at 1M unknowns).
+constexpr int kSchurBlock = 32;
 constexpr double kMinSchurRcond = 1e-13;
 constexpr double kMinCholeskyPivotRatio = 1e-11;
 /// Gap rows in R at first: enough for a body floating in the contact direction, few enough
@@ -37,7 +39,7 @@ SaddlePointSolver::SaddlePointSolver(const ConstrainedProblem& p, double s) : p_
       t.emplace_back(it.col(), me + it.row(), it.value());
   ct_ = SpMat(n, me + m);
   ct_.setFromTriplets(t.begin(), t.end());
-  w_columns_.resize(me + m);
+  s_columns_.resize(me + m);
 }
 
 SaddlePointSolver::~SaddlePointSolver() = default;
@@ -45,14 +47,14 @@ SaddlePointSolver::~SaddlePointSolver() = default;
 void SaddlePointSolver::stiffness_changed() {
   path_ = Path::kUnknown;
   rho_.resize(0);
-  for (auto& w : w_columns_) w.resize(0);
+  for (auto& c : s_columns_) c.resize(0);
 }
 
 bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
   // R: the equality rows and the `max_gap_rows` gap rows with the smallest initial gap (the
   // ones that hold a floating body first), within what W may hold.
-  const int cap = static_cast<int>(std::min<double>(kMaxSchurRows / 2, kMaxSchurEntries / 2 / n));
+  const int cap = kMaxSchurRows / 2;
   if (me >= cap) return false;
   std::vector<int> gaps(m);
   for (int i = 0; i < m; ++i) gaps[i] = i;
@@ -133,8 +135,7 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
     if (all_rows || active[i]) ++size_;
   }
   const int k = static_cast<int>(rows_.size());
-  if (path_ == Path::kSchur && k <= kMaxSchurRows &&
-      static_cast<double>(n) * k <= kMaxSchurEntries) {
+  if (path_ == Path::kSchur && k <= kMaxSchurRows) {
     const SolveStatus st = factorize_schur();
     if (st == SolveStatus::kConverged || report_.rcond < kMinSchurRcond) return st;
   }
@@ -152,35 +153,37 @@ SolveStatus SaddlePointSolver::factorize_schur() {
   const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
   report_.message.clear();
   report_.rcond = 1.0;  // below kMinSchurRcond only when S itself is singular
-  // W columns of the rows new to the system: one multi-column solve.
+  // Columns of S = C K_ρ⁻¹ Cᵀ over every row, for the rows new to the system: W = K_ρ⁻¹ Cᵀ
+  // in blocks of kSchurBlock columns, each block reduced to C W at once (W is never kept).
   std::vector<int> missing;
   for (int j : rows_)
-    if (w_columns_[j].size() == 0) missing.push_back(j);
-  if (!missing.empty()) {
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, static_cast<int>(missing.size()));
-    for (size_t c = 0; c < missing.size(); ++c)
-      for (SpMat::InnerIterator it(ct_, missing[c]); it; ++it) rhs(it.row(), c) = it.value();
-    Eigen::MatrixXd sol;
-    const SolveStatus st = chol_.solve(rhs, sol);
+    if (s_columns_[j].size() == 0) missing.push_back(j);
+  for (size_t first = 0; first < missing.size(); first += kSchurBlock) {
+    const int cols = static_cast<int>(std::min<size_t>(kSchurBlock, missing.size() - first));
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, cols);
+    for (int c = 0; c < cols; ++c)
+      for (SpMat::InnerIterator it(ct_, missing[first + c]); it; ++it) rhs(it.row(), c) = it.value();
+    Eigen::MatrixXd w;
+    const SolveStatus st = chol_.solve(rhs, w);
     if (st != SolveStatus::kConverged) {
       report_.status = st;
       report_.message = chol_.report().message;
       return st;
     }
-    for (size_t c = 0; c < missing.size(); ++c) w_columns_[missing[c]] = sol.col(static_cast<int>(c));
+    const Eigen::MatrixXd cw = ct_.transpose() * w;
+    for (int c = 0; c < cols; ++c) s_columns_[missing[first + c]] = cw.col(c);
   }
-  w_.resize(n, k);
   std::vector<Eigen::Triplet<double>> t;
-  for (int r = 0; r < k; ++r) {
-    w_.col(r) = w_columns_[rows_[r]];
+  for (int r = 0; r < k; ++r)
     for (SpMat::InnerIterator it(ct_, rows_[r]); it; ++it) t.emplace_back(r, it.row(), it.value());
-  }
   c_rows_ = SpMat(k, n);
   c_rows_.setFromTriplets(t.begin(), t.end());
   report_.status = SolveStatus::kConverged;
   report_.rcond = 1.0;
   if (k == 0) return report_.status;
-  Eigen::MatrixXd schur = c_rows_ * w_;  // C K_ρ⁻¹ Cᵀ
+  Eigen::MatrixXd schur(k, k);  // C K_ρ⁻¹ Cᵀ
+  for (int c = 0; c < k; ++c)
+    for (int r = 0; r < k; ++r) schur(r, c) = s_columns_[rows_[c]][rows_[r]];
   schur = 0.5 * (schur + schur.transpose()).eval();
   for (int r = 0; r < k; ++r)
     if (!in_rows_[r]) schur(r, r) -= 1.0 / rho_[rows_[r]];
@@ -240,7 +243,15 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
     for (int r = 0; r < k; ++r)
       rhs[r] = -((in_rows_[r] ? b[positions_[r]] : 0.0) + s_ * rhs[r]) / (s_ * s_);
     z = schur_.solve(rhs);
-    y += s_ * (w_ * z);
+    // u = y + s K_ρ⁻¹ Cᵀ z: one more solve, where a kept W would cost n × k memory.
+    VecX dy;
+    st = chol_.solve(VecX(c_rows_.transpose() * z), dy);
+    if (st != SolveStatus::kConverged) {
+      report_.status = st;
+      report_.message = chol_.report().message;
+      return st;
+    }
+    y += s_ * dy;
     for (int r = 0; r < k; ++r)
       if (in_rows_[r]) x[positions_[r]] = z[r];
       else z[r] = 0.0;  // an auxiliary unknown of R, not a multiplier

@@ -7,12 +7,13 @@
 // s z_i = b_i). Two ways to solve them:
 //
 //  - Schur complement, when CHOLMOD can factorise K_ρ = K + C_Rᵀ diag(ρ) C_R and C has at most
-//    a few hundred rows. R is a fixed set of regularising rows (the equality rows and the 8 gap
+//    a thousand rows. R is a fixed set of regularising rows (the equality rows and the 8 gap
 //    rows nearest to closing; every row if those leave a rigid mode), ρ_r the row's local
 //    stiffness, so a body held only by its contacts (K singular) needs no other path. K_ρ is
-//    factorised once for the solver's lifetime, W = K_ρ⁻¹ Cᵀ is computed column by column as
-//    rows first enter (one multi-column solve per batch, kept while the row stays in the
-//    problem), and each active set costs only the small dense S = C W and its LU. Rows of R in
+//    factorised once for the solver's lifetime; when rows first enter, W = K_ρ⁻¹ Cᵀ is solved
+//    for them in blocks of 32 columns and reduced at once to their columns of S = C W over all
+//    rows (kept; W is not, so memory stays O(n)). Each active set then costs a gather of the
+//    small dense S, its LU, and two solves with K_ρ's factor. Rows of R in
 //    the system are consistent (C_r u = its right-hand side, so ρ_r c_r c_rᵀ u moves to the
 //    right-hand side); rows of R that are open get an auxiliary unknown ζ_r = ρ_r c_rᵀ u / s and
 //    the diagonal −1/ρ_r in S. An active-set loop then costs one Cholesky plus a few solves:
@@ -68,11 +69,10 @@ class SaddlePointSolver {
   core::SpdSolver chol_{core::SpdSolver::Backend::kCholmod, false};
   KktSolver lu_;
   SpMat ct_;                        ///< Cᵀ of every row, n × (m_eq + m): equality rows first
-  std::vector<VecX> w_columns_;     ///< K⁻¹ c_j, empty until row j has been in the system
+  std::vector<VecX> s_columns_;     ///< C K_ρ⁻¹ c_j over every row; empty until j is in the system
   std::vector<int> rows_;           ///< constraint indices in the current system
   std::vector<int> positions_;      ///< their positions in the saddle-point vector
   int size_ = 0;                    ///< saddle-point vector length
-  Eigen::MatrixXd w_;               ///< W = K⁻¹ C_rowsᵀ
   SpMat c_rows_;                    ///< C_rows
   Eigen::PartialPivLU<Eigen::MatrixXd> schur_;
   /// Regularisation: ρ per constraint (0 = not in R); sized me + m, empty without.
