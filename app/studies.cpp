@@ -98,30 +98,6 @@ void run_cases(const std::vector<StudyCase>& cases, int jobs,
 // ---------------------------------------------------------------------------------------------
 // Pressure profiles
 
-double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b) {
-  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
-  std::vector<std::pair<double, double>> pts = x_p;
-  std::sort(pts.begin(), pts.end());
-  const double lo = std::max(pts.front().first, -1.5 * b), hi = std::min(pts.back().first, 1.5 * b);
-  if (!(hi > lo)) return std::nan("");
-  constexpr int kSamples = 4000;
-  double err2 = 0.0, ref2 = 0.0;
-  size_t k = 0;
-  for (int i = 0; i <= kSamples; ++i) {
-    const double x = lo + (hi - lo) * i / kSamples;
-    while (k + 2 < pts.size() && pts[k + 1].first < x) ++k;
-    const auto& a = pts[k];
-    const auto& c = pts[k + 1];
-    const double t = c.first > a.first ? std::clamp((x - a.first) / (c.first - a.first), 0.0, 1.0) : 0.0;
-    const double ph = a.second + t * (c.second - a.second);
-    const double pa = std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
-    const double w = (i == 0 || i == kSamples) ? 0.5 : 1.0;
-    err2 += w * (ph - pa) * (ph - pa);
-    ref2 += w * pa * pa;
-  }
-  return ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan("");
-}
-
 namespace {
 
 /// Slave-node pressures of a finished run along the surface's main direction.

@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "app/run_report.hpp"
+
 namespace c2d::app {
 
 /// One `contact2d run` of a study.
@@ -63,10 +65,5 @@ std::vector<double> parse_range(const std::string& spec, const std::string& wher
 /// iterations, solve time and the factorisation's pivot ratio against the swept value, failed
 /// values marked). Returns the exit code.
 int run_sweep(const SweepOptions& o);
-
-/// Relative L2 error of a pressure profile against Hertz's p0 √(1 − x²/b²) over the sampled
-/// range |x| ≤ 1.5 b within the nodes' span (linear interpolation between sorted nodes;
-/// x measured along the surface's main direction from the reference's centre at 0).
-double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b);
 
 }  // namespace c2d::app
