@@ -71,6 +71,7 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
                         {"rows", contact->rows},
                         {"slave_nodes", contact->nodes.size()},
                         {"seconds", contact->seconds},
+                        {"detection_seconds", contact->detection_seconds},
                         {"pivot_ratio", number(contact->pivot_ratio)},
                         {"stiffness_max", number(contact->stiffness_max)},
                         {"pressure_recovered", contact->has_surface}};

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -58,8 +59,11 @@ CaseOutcome run_one(const std::string& exe, const StudyCase& c) {
   posix_spawn_file_actions_destroy(&actions);
   if (rc == 0) {
     int status = 0;
-    if (waitpid(pid, &status, 0) == pid)
+    struct rusage usage {};
+    if (wait4(pid, &status, 0, &usage) == pid) {
       out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      out.peak_rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+    }
   }
   out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ifstream in(c.out_dir + "/summary.json");
@@ -95,6 +99,47 @@ void run_cases(const std::vector<StudyCase>& cases, int jobs,
   for (auto& t : pool) t.join();
 }
 
+double json_number(const nlohmann::json& j, std::initializer_list<const char*> path) {
+  const nlohmann::json* node = &j;
+  for (const char* key : path) {
+    if (!node->is_object() || !node->contains(key)) return std::nan("");
+    node = &(*node)[key];
+  }
+  return node->is_number() ? node->get<double>() : std::nan("");
+}
+
+bool RunFigures::read(const CaseOutcome& c) {
+  done = true;
+  exit_code = c.exit_code;
+  wall = c.wall_seconds;
+  if (!c.has_summary) {
+    status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
+    return false;
+  }
+  const auto& s = c.summary;
+  status = s.value("status", std::string("unknown"));
+  dofs = json_number(s, {"mesh", "dofs"});
+  iterations = json_number(s, {"contact", "iterations"});
+  newton = json_number(s, {"newton_iterations"});
+  t_mesh = json_number(s, {"time_s", "mesh"});
+  t_assemble = json_number(s, {"time_s", "assemble"});
+  t_solve = json_number(s, {"time_s", "solve"});
+  t_total = json_number(s, {"time_s", "total"});
+  pivot = json_number(s, {"contact", "pivot_ratio"});
+  penalty = json_number(s, {"contact", "penalty_max"});
+  stiffness_max = json_number(s, {"contact", "stiffness_max"});
+  zz = json_number(s, {"error", "relative_error"});
+  if (converged()) {  // a failed run's contact figures are zeros, not results
+    p_max = json_number(s, {"contact", "p_max"});
+    length = json_number(s, {"contact", "length"});
+    force = json_number(s, {"contact", "total_force"});
+    penetration = json_number(s, {"contact", "max_penetration"});
+    err_p0 = json_number(s, {"reference", "relative_error", "p_max"});
+    err_b = json_number(s, {"reference", "relative_error", "contact_length"});
+  }
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------------
 // Pressure profiles
 
@@ -111,15 +156,6 @@ std::vector<std::pair<double, double>> read_profile(const std::string& dir) {
   for (size_t r = 0; r < t.rows.size(); ++r) pts.emplace_back(positions[r][axis], t.number(r, cp));
   std::sort(pts.begin(), pts.end());
   return pts;
-}
-
-double json_number(const nlohmann::json& j, std::initializer_list<const char*> path) {
-  const nlohmann::json* node = &j;
-  for (const char* key : path) {
-    if (!node->is_object() || !node->contains(key)) return std::nan("");
-    node = &(*node)[key];
-  }
-  return node->is_number() ? node->get<double>() : std::nan("");
 }
 
 std::string cell(double v) {
@@ -141,54 +177,6 @@ std::string seconds(double v) {
   os << std::setprecision(3) << v << " s";
   return os.str();
 }
-
-/// What every study reads from a case's summary.json.
-struct RunFigures {
-  bool done = false;
-  int exit_code = -1;
-  std::string status = "not run";
-  double dofs = std::nan(""), iterations = std::nan(""), newton = std::nan("");
-  double t_mesh = std::nan(""), t_assemble = std::nan(""), t_solve = std::nan(""),
-         t_total = std::nan(""), wall = std::nan("");
-  double p_max = std::nan(""), length = std::nan(""), force = std::nan(""),
-         penetration = std::nan("");
-  double err_p0 = std::nan(""), err_b = std::nan(""), zz = std::nan("");
-  double pivot = std::nan(""), penalty = std::nan(""), stiffness_max = std::nan("");
-  bool converged() const { return status == "converged"; }
-
-  /// Fills the figures from a finished case; false when it left no summary (a crash).
-  bool read(const CaseOutcome& c) {
-    done = true;
-    exit_code = c.exit_code;
-    wall = c.wall_seconds;
-    if (!c.has_summary) {
-      status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
-      return false;
-    }
-    const auto& s = c.summary;
-    status = s.value("status", std::string("unknown"));
-    dofs = json_number(s, {"mesh", "dofs"});
-    iterations = json_number(s, {"contact", "iterations"});
-    newton = json_number(s, {"newton_iterations"});
-    t_mesh = json_number(s, {"time_s", "mesh"});
-    t_assemble = json_number(s, {"time_s", "assemble"});
-    t_solve = json_number(s, {"time_s", "solve"});
-    t_total = json_number(s, {"time_s", "total"});
-    pivot = json_number(s, {"contact", "pivot_ratio"});
-    penalty = json_number(s, {"contact", "penalty_max"});
-    stiffness_max = json_number(s, {"contact", "stiffness_max"});
-    zz = json_number(s, {"error", "relative_error"});
-    if (converged()) {  // a failed run's contact figures are zeros, not results
-      p_max = json_number(s, {"contact", "p_max"});
-      length = json_number(s, {"contact", "length"});
-      force = json_number(s, {"contact", "total_force"});
-      penetration = json_number(s, {"contact", "max_penetration"});
-      err_p0 = json_number(s, {"reference", "relative_error", "p_max"});
-      err_b = json_number(s, {"reference", "relative_error", "contact_length"});
-    }
-    return true;
-  }
-};
 
 struct CompareRow : RunFigures {
   int level = 0;

@@ -25,12 +25,34 @@ struct CaseOutcome {
   bool has_summary = false;
   nlohmann::json summary;          ///< the case's summary.json (null when none was written)
   double wall_seconds = 0.0;
+  double peak_rss_mb = 0.0;        ///< the process's peak resident memory (wait4's ru_maxrss)
 };
 
 /// Runs the cases with at most `jobs` concurrent processes of this executable; `on_done` is
 /// called once per case as it finishes, never concurrently.
 void run_cases(const std::vector<StudyCase>& cases, int jobs,
                const std::function<void(size_t, const CaseOutcome&)>& on_done);
+
+/// What every study reads from a case's summary.json.
+struct RunFigures {
+  bool done = false;
+  int exit_code = -1;
+  std::string status = "not run";
+  double dofs = std::nan(""), iterations = std::nan(""), newton = std::nan("");
+  double t_mesh = std::nan(""), t_assemble = std::nan(""), t_solve = std::nan(""),
+         t_total = std::nan(""), wall = std::nan("");
+  double p_max = std::nan(""), length = std::nan(""), force = std::nan(""),
+         penetration = std::nan("");
+  double err_p0 = std::nan(""), err_b = std::nan(""), zz = std::nan("");
+  double pivot = std::nan(""), penalty = std::nan(""), stiffness_max = std::nan("");
+  bool converged() const { return status == "converged"; }
+
+  /// Fills the figures from a finished case; false when it left no summary (a crash).
+  bool read(const CaseOutcome& c);
+};
+
+/// The number at `path` in `j`, NaN when absent or not a number.
+double json_number(const nlohmann::json& j, std::initializer_list<const char*> path);
 
 /// What every study verb takes: the scene, overrides, the contact method, output.
 struct StudyOptions {

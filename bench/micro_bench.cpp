@@ -12,55 +12,15 @@
 #include "core/material.hpp"
 #include "core/mesh.hpp"
 #include "core/spd_solver.hpp"
+#include "core/structured_grid.hpp"
 
 using namespace c2d;
 using namespace c2d::core;
 
 namespace {
 
-/// An n x n grid of squares on the unit square, each cut into two triangles (T3) or T6 with
-/// straight mid-side nodes; clamped on x = 0.
-struct Grid {
-  Mesh mesh;
-  DofMap dofs;
-  Material material;
-};
-
-Grid make_grid(int n, int order) {
-  Grid g;
-  Mesh& m = g.mesh;
-  m.order = order;
-  const int k = order * n + 1;  // nodes per side
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) m.nodes.emplace_back(static_cast<double>(i) / (k - 1), static_cast<double>(j) / (k - 1));
-  auto id = [k](int i, int j) { return j * k + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int s = order;
-      const int a = id(s * i, s * j), b = id(s * i + s, s * j), c = id(s * i + s, s * j + s), d = id(s * i, s * j + s);
-      if (order == 1) {
-        m.elements.push_back({a, b, c, -1, -1, -1});
-        m.elements.push_back({a, c, d, -1, -1, -1});
-      } else {
-        const int ab = id(s * i + 1, s * j), bc = id(s * i + 2, s * j + 1), ac = id(s * i + 1, s * j + 1);
-        const int cd = id(s * i + 1, s * j + 2), da = id(s * i, s * j + 1);
-        m.elements.push_back({a, b, c, ab, bc, ac});
-        m.elements.push_back({a, c, d, ac, cd, da});
-      }
-      m.element_body.insert(m.element_body.end(), {0, 0});
-      m.element_material.insert(m.element_material.end(), {0, 0});
-    }
-  g.dofs = DofMap(m.num_dofs());
-  for (int j = 0; j < k; ++j) {
-    g.dofs.constrain(2 * id(0, j), 0.0);
-    g.dofs.constrain(2 * id(0, j) + 1, 0.0);
-  }
-  g.dofs.finalize();
-  g.material.young = 210000;
-  g.material.poisson = 0.3;
-  g.material.state = PlaneState::kPlaneStrain;
-  return g;
-}
+using Grid = StructuredGrid;
+Grid make_grid(int n, int order) { return make_structured_grid(n, order); }
 
 void kernel(benchmark::State& state, int order) {
   const Grid g = make_grid(4, order);
@@ -86,9 +46,10 @@ void pattern(benchmark::State& state, int order) {
 void BM_PatternT3(benchmark::State& s) { pattern(s, 1); }
 void BM_PatternT6(benchmark::State& s) { pattern(s, 2); }
 
-void refill(benchmark::State& state, int order) {
+void refill(benchmark::State& state, int order, int threads = 1) {
   const Grid g = make_grid(static_cast<int>(state.range(0)), order);
   Assembler a(g.mesh, g.dofs);
+  a.set_threads(threads);
   for (auto _ : state) {
     a.assemble([&](int e, LocalMatrix& ke) { ke = element_stiffness(g.mesh.element_coords(e), g.material); },
                nullptr, nullptr);
@@ -99,6 +60,8 @@ void refill(benchmark::State& state, int order) {
 }
 void BM_AssembleT3(benchmark::State& s) { refill(s, 1); }
 void BM_AssembleT6(benchmark::State& s) { refill(s, 2); }
+void BM_AssembleT3TwoThreads(benchmark::State& s) { refill(s, 1, 2); }
+void BM_AssembleT6TwoThreads(benchmark::State& s) { refill(s, 2, 2); }
 
 void BM_FactorizeSolveT6(benchmark::State& state) {
   const Grid g = make_grid(static_cast<int>(state.range(0)), 2);
@@ -148,6 +111,8 @@ BENCHMARK(BM_PatternT3)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PatternT6)->Arg(50)->Arg(150)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AssembleT3)->Arg(100)->Arg(300)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_AssembleT6)->Arg(50)->Arg(150)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AssembleT3TwoThreads)->Arg(300)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AssembleT6TwoThreads)->Arg(150)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FactorizeSolveT6)->Arg(50)->Arg(150)->Arg(350)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Detection)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
 

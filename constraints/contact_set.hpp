@@ -39,6 +39,7 @@ struct ContactReport {
   double max_penetration = 0.0;
   double total_force = 0.0;     ///< Σ normal forces
   double seconds = 0.0;         ///< time in the backend
+  double detection_seconds = 0.0; ///< time in contact search (every detection pass)
   double pivot_ratio = std::numeric_limits<double>::quiet_NaN();  ///< of the last solve
   double stiffness_max = std::numeric_limits<double>::quiet_NaN(); ///< max |K_ij| (linear runs)
   bool has_surface = false;     ///< pressures recovered on slave edges

@@ -22,8 +22,19 @@ class Assembler {
   /// Element matrix callback: fills the local matrix of element e (2 * nodes_per_element square).
   using ElementMatrixFn = std::function<void(int e, LocalMatrix& ke)>;
 
-  /// Refills K_ff; when u_constrained is given, also returns lift = K_fc u_c.
+  /// Refills K_ff; when u_constrained is given, also returns lift = K_fc u_c. With more than
+  /// one thread (set_threads), chunks of consecutive elements of one colour (no node shared
+  /// between them) are assembled concurrently, colour after colour: `element_matrix` must then be safe to call from several
+  /// threads at once. The sums per entry run in colour order, so K_ff differs from the serial
+  /// one by round-off only.
   void assemble(const ElementMatrixFn& element_matrix, const VecX* u_full, VecX* lift);
+
+  /// Threads for assemble() (OpenMP): 1 = serial (the default), 0 = as many as OpenMP offers.
+  void set_threads(int threads);
+  /// Colours of element chunks: the first elements of chunks that share no node; a chunk is
+  /// chunk_size() consecutive elements (fewer at the end).
+  const std::vector<std::vector<int>>& colours() const { return colours_; }
+  int chunk_size() const { return chunk_; }
 
   const SpMat& matrix() const { return k_ff_; }
   SpMat& matrix() { return k_ff_; }
@@ -38,6 +49,12 @@ class Assembler {
   const DofMap& dofs_;
   SpMat k_ff_;
   std::vector<int> scatter_;  ///< per element, ndofe^2 positions (-1: not in K_ff)
+  std::vector<std::vector<int>> colours_;
+  int chunk_ = 1;
+  int threads_ = 1;
+
+  /// Adds element e's matrix into K_ff (and its lift).
+  void add_element(int e, const LocalMatrix& ke, const VecX* u_full, VecX* lift);
 };
 
 }  // namespace c2d::core

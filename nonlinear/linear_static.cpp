@@ -7,6 +7,7 @@
 #include "core/elasticity_kernels.hpp"
 #include "core/error_estimator.hpp"
 #include "core/spd_solver.hpp"
+#include "core/stopwatch.hpp"
 #include "core/stress_recovery.hpp"
 #include "nonlinear/contact_newton.hpp"
 
@@ -30,7 +31,9 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
   ContactReport report;
   report.method = strategy->name();
   VecX u_full = u_prescribed;
+  core::Stopwatch detection;
   std::vector<GapRow> rows = contact.detect(u_full);
+  report.detection_seconds += detection.lap();
   ConstraintSolution s;
   constexpr int kMaxPasses = 5;
   std::vector<char> warm;
@@ -53,7 +56,9 @@ void solve_with_contact(const constraints::ContactSet& contact, const DofMap& do
     // The linearisation holds if detection at the deformed configuration finds the same rows
     // with the gaps the linearised rows predicted (a node sliding along a flat master changes
     // edge without changing its gap); otherwise linearise again about u, warm-started.
+    detection.lap();
     std::vector<GapRow> next = contact.detect(u_full);
+    report.detection_seconds += detection.lap();
     bool same = next.size() == rows.size();
     const double tol = 1e-9 * contact.model_size();
     for (size_t i = 0; same && i < rows.size(); ++i)
@@ -97,6 +102,7 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
 
   auto t = std::chrono::steady_clock::now();
   Assembler assembler(mesh, dofs);
+  assembler.set_threads(0);  // element_stiffness is a pure function of the element
   const VecX u_prescribed = dofs.expand(VecX::Zero(dofs.num_free()));
   VecX lift;
   assembler.assemble(
