@@ -14,9 +14,10 @@
 #include <vector>
 
 #include "app/adapt.hpp"
+#include "app/bench.hpp"
+#include "app/calibrate.hpp"
 #include "app/charts.hpp"
 #include "app/field_plot.hpp"
-#include "app/calibrate.hpp"
 #include "app/run_report.hpp"
 #include "app/solve_scene.hpp"
 #include "app/studies.hpp"
@@ -51,6 +52,8 @@ const char* kMainHelp =
     "  calibrate SCENE  fit scene parameters to measured probe values (Ceres least squares)\n"
     "  trace OUTDIR   charts of a finished run: contact activation per load step, contact\n"
     "                 force against load factor, Newton residual history\n"
+    "  bench          the benchmark ladder (10k to 1M DOFs, every method): bench.csv,\n"
+    "                 bench.md with targets against measured figures, charts\n"
     "  plot OUTDIR    pictures of a finished run: filled contours of a field on the (deformed)\n"
     "                 mesh, the ZZ error map, meshes of adaptive cycles side by side\n"
     "\n"
@@ -129,6 +132,27 @@ const char* kSweepHelp =
     "              penalty.k) where the seed's rule k = 1e4 max|K_ij| falls; then the table\n"
     "  sweep.png   error, penetration, iterations, time and pivot ratio against the value\n";
 
+const char* kBenchHelp =
+    "usage: contact2d bench [--quick] [--out DIR] [--examples DIR] [--quiet]\n"
+    "\n"
+    "Runs a fixed ladder of the bundled scenes, one `contact2d run` process at a time, and\n"
+    "reports speed and accuracy. Full ladder (run by hand; about 15 minutes on 2 cores): linear\n"
+    "elasticity (cantilever) and Hertz (rigid flat, elastic block), T3 and T6, at about 10k,\n"
+    "100k and 1M DOFs; the two cantilevers (nonlinear contact) at 10k and 100k; every contact\n"
+    "method on hertz_rigid_fast and hertz_block_fast, as shipped and refined. --quick: a small\n"
+    "ladder in well under a minute (CI). Writes into DIR (default out/bench):\n"
+    "  bench.csv          one row per run: DOFs, status, iterations, time per phase (mesh,\n"
+    "                     assemble, symbolic and numeric factorisation, triangular solves,\n"
+    "                     the rest of the contact solve, detection, recovery, output), total,\n"
+    "                     process wall time, peak memory, accuracy, contact overhead\n"
+    "  bench.md           the targets with the measured figure beside each, the tables,\n"
+    "                     fitted slopes of time against DOFs\n"
+    "  time_vs_dofs       log-log, per family and per phase, fitted slopes (PNG, SVG)\n"
+    "  accuracy_vs_time   pressure-profile error against time per method (PNG, SVG)\n"
+    "  NN_<case>/         each run's own outputs (summary.json, ...)\n"
+    "Assembly throughput is measured in process on structured grids. Timings are figures,\n"
+    "not pass/fail: the exit code is 1 only when a run crashed or a chart failed.\n";
+
 const char* kCalibrateHelp =
     "usage: contact2d calibrate SCENE --data measured.csv --fit key[,key...] [--method M]\n"
     "                          [--set key=value ...] [--out DIR] [--quiet]\n"
@@ -171,6 +195,9 @@ struct Options {
   // run --adapt: overrides of the [adapt] table
   bool adapt = false;
   std::vector<std::string> adapt_sets;
+  // bench
+  bool quick = false;
+  std::string examples;
 };
 
 /// The non-empty items of a comma-separated list ("a,b,,c" -> a, b, c).
@@ -235,6 +262,8 @@ Options parse_args(int argc, char** argv) {
       o.cycle = v == "0" ? 0 : parse_count(a, v);
     }
     else if (a == "--edges") o.edges = true;
+    else if (a == "--quick" && o.verb == "bench") o.quick = true;
+    else if (a == "--examples" && o.verb == "bench") o.examples = value(a);
     else if (a == "--levels" && o.verb == "plot") o.plot_levels = parse_count(a, value(a));
     else if (a == "--adapt") {
       // --adapt [target=0.05] [max_cycles=8] [max_shrink=0.2] [max_growth=2]: the [adapt] table.
@@ -573,14 +602,24 @@ int main(int argc, char** argv) {
                        : o.verb == "compare" ? kCompareHelp
                        : o.verb == "sweep" ? kSweepHelp
                        : o.verb == "calibrate" ? kCalibrateHelp
+                       : o.verb == "bench" ? kBenchHelp
                                           : nullptr;
     if (!help)
       throw InputError(o.verb +
-                       ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, trace or plot "
+                       ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, bench, trace or plot "
                        "(see --help)");
     if (o.help) {
       std::cout << help;
       return kExitOk;
+    }
+    if (o.verb == "bench") {
+      if (!o.scene.empty()) throw InputError(o.scene + ": unexpected argument (bench takes no scene)");
+      app::BenchOptions b;
+      b.quick = o.quick;
+      b.out = o.out;
+      b.examples = o.examples.empty() ? C2D_EXAMPLES_DIR : o.examples;
+      b.quiet = o.quiet;
+      return app::run_bench(b);
     }
     if (o.scene.empty())
       throw InputError(o.verb + ": expected " +
