@@ -1,5 +1,6 @@
 #include "core/writers.hpp"
 
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -30,7 +31,43 @@ void write_file_atomic(const std::string& path, const std::string& content) {
 
 namespace {
 
-void data_array(std::ostringstream& os, const std::string& name, int components,
+/// Text built by appending, numbers through std::to_chars (12 significant digits, as
+/// setprecision(12) printed them): about twice as fast as an ostringstream for the millions of
+/// numbers of a large VTU.
+class Text {
+ public:
+  Text& operator<<(double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general, 12);
+    s_.append(buf, static_cast<size_t>(r.ptr - buf));
+    return *this;
+  }
+  Text& operator<<(int v) {
+    char buf[16];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    s_.append(buf, static_cast<size_t>(r.ptr - buf));
+    return *this;
+  }
+  Text& operator<<(char c) {
+    s_.push_back(c);
+    return *this;
+  }
+  Text& operator<<(const char* t) {
+    s_.append(t);
+    return *this;
+  }
+  Text& operator<<(const std::string& t) {
+    s_.append(t);
+    return *this;
+  }
+  void reserve(size_t n) { s_.reserve(n); }
+  std::string str() && { return std::move(s_); }
+
+ private:
+  std::string s_;
+};
+
+void data_array(Text& os, const std::string& name, int components,
                 const std::function<double(int, int)>& value, int count) {
   os << "        <DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\""
      << components << "\" format=\"ascii\">\n";
@@ -47,8 +84,8 @@ void data_array(std::ostringstream& os, const std::string& name, int components,
 std::string vtu_document(const Model& model, const Results& r) {
   const Mesh& mesh = model.mesh;
   const int nn = mesh.nodes_per_element();
-  std::ostringstream os;
-  os << std::setprecision(12);
+  Text os;
+  os.reserve(static_cast<size_t>(mesh.num_nodes()) * 220 + static_cast<size_t>(mesh.num_elements()) * 120);
   os << "<?xml version=\"1.0\"?>\n"
         "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
         "  <UnstructuredGrid>\n"
@@ -108,7 +145,7 @@ std::string vtu_document(const Model& model, const Results& r) {
   data_array(os, "material_id", 1, [&](int e, int) { return mesh.element_material[e]; },
              mesh.num_elements());
   os << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
-  return os.str();
+  return std::move(os).str();
 }
 
 std::string pvd_document(const std::vector<std::pair<double, std::string>>& steps) {
@@ -121,8 +158,9 @@ std::string pvd_document(const std::vector<std::pair<double, std::string>>& step
 }
 
 std::string nodes_csv(const Model& model, const Results& r) {
-  std::ostringstream os;
-  os << std::setprecision(12) << "node,x,y,ux,uy,sx,sy,sxy,vm,rx,ry\n";
+  Text os;
+  os.reserve(static_cast<size_t>(model.mesh.num_nodes()) * 200);
+  os << "node,x,y,ux,uy,sx,sy,sxy,vm,rx,ry\n";
   for (int n = 0; n < model.mesh.num_nodes(); ++n) {
     os << n + 1 << ',' << model.mesh.nodes[n].x() << ',' << model.mesh.nodes[n].y() << ','
        << r.displacement[2 * n] << ',' << r.displacement[2 * n + 1] << ','
@@ -130,7 +168,7 @@ std::string nodes_csv(const Model& model, const Results& r) {
        << ',' << nodal_quantity(model, r, "vm", n) << ',' << r.reaction[2 * n] << ','
        << r.reaction[2 * n + 1] << '\n';
   }
-  return os.str();
+  return std::move(os).str();
 }
 
 }  // namespace c2d::core
