@@ -124,55 +124,34 @@ double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) 
 
 namespace {
 
-/// What a bench row holds: the case, and the figures its summary.json and process gave.
-struct BenchRow {
+/// What a bench row holds: the case, the figures every study reads (RunFigures), and the
+/// solver phases, detection and accuracy its summary.json gave.
+struct BenchRow : RunFigures {
   BenchCase c;
-  bool done = false;
-  int exit_code = -1;
-  std::string status = "not run";
-  double dofs = NAN, newton = NAN, iterations = NAN, factorizations = NAN;
-  double t_mesh = NAN, t_assemble = NAN, t_symbolic = NAN, t_numeric = NAN, t_triangular = NAN,
-         t_contact_other = NAN, t_detection = NAN, t_solve = NAN, t_recovery = NAN,
-         t_output = NAN, t_total = NAN, wall = NAN, rss = NAN;
+  double factorizations = NAN;
+  double t_symbolic = NAN, t_numeric = NAN, t_triangular = NAN, t_contact_other = NAN,
+         t_detection = NAN, t_recovery = NAN, t_output = NAN;
   std::string accuracy_measure;
-  double accuracy = NAN, zz = NAN, overhead = NAN;
+  double accuracy = NAN, overhead = NAN;
   double one_linear_solve = NAN;  ///< symbolic + one numeric factorisation of this run
-  bool converged() const { return status == "converged"; }
   double excluding_mesh() const { return t_total - t_mesh; }
 };
 
 void read_row(BenchRow& r, const CaseOutcome& out) {
-  r.done = true;
-  r.exit_code = out.exit_code;
-  r.wall = out.wall_seconds;
-  r.rss = out.peak_rss_mb;
-  if (!out.has_summary) {
-    r.status = "crashed (exit " + std::to_string(out.exit_code) + ", no summary.json)";
-    return;
-  }
+  if (!r.read(out)) return;
   const auto& s = out.summary;
-  r.status = s.value("status", std::string("unknown"));
-  r.dofs = json_number(s, {"mesh", "dofs"});
-  r.newton = json_number(s, {"newton_iterations"});
-  r.iterations = json_number(s, {"contact", "iterations"});
   r.factorizations = json_number(s, {"solver", "numeric_factorizations"});
-  r.t_mesh = json_number(s, {"time_s", "mesh"});
-  r.t_assemble = json_number(s, {"time_s", "assemble"});
-  r.t_solve = json_number(s, {"time_s", "solve"});
   r.t_recovery = json_number(s, {"time_s", "recovery"});
   r.t_output = json_number(s, {"time_s", "output"});
-  r.t_total = json_number(s, {"time_s", "total"});
   r.t_symbolic = json_number(s, {"solver", "symbolic_s"});
   r.t_numeric = json_number(s, {"solver", "numeric_s"});
   r.t_triangular = json_number(s, {"solver", "triangular_solve_s"});
   r.t_detection = json_number(s, {"contact", "detection_seconds"});
-  const bool contact = s.contains("contact") && s["contact"].is_object();
-  if (contact)
+  if (s.contains("contact") && s["contact"].is_object())
     r.t_contact_other = r.t_solve - r.t_symbolic - r.t_numeric - r.t_triangular;
   const double analyses = std::max(1.0, json_number(s, {"solver", "symbolic_analyses"}));
   const double numerics = std::max(1.0, r.factorizations);
   if (r.t_numeric > 0) r.one_linear_solve = r.t_symbolic / analyses + r.t_numeric / numerics;
-  r.zz = json_number(s, {"error", "relative_error"});
   if (!r.converged()) return;
   // The accuracy each family's reference allows.
   for (const char* key : {"pressure_profile_l2", "tip_uy", "a_uy"}) {
@@ -197,17 +176,14 @@ std::string csv_of(const std::vector<BenchRow>& rows) {
   os << kBenchCsvHeader;
   for (const auto& r : rows) {
     if (!r.done) continue;
-    std::string status = r.status;
-    std::replace(status.begin(), status.end(), ',', ';');
-    std::replace(status.begin(), status.end(), '\n', ' ');
     os << r.c.family << ',' << r.c.scene << ',' << r.c.element << ',' << r.c.method << ','
-       << r.c.nominal << ',' << cell(r.c.mesh_scale) << ',' << cell(r.dofs) << ",\"" << status
-       << "\"," << r.exit_code << ',' << cell(r.newton) << ',' << cell(r.iterations) << ','
+       << r.c.nominal << ',' << cell(r.c.mesh_scale) << ',' << cell(r.dofs) << ','
+       << r.csv_status() << ',' << r.exit_code << ',' << cell(r.newton) << ',' << cell(r.iterations) << ','
        << cell(r.factorizations) << ',' << cell(r.t_mesh) << ',' << cell(r.t_assemble) << ','
        << cell(r.t_symbolic) << ',' << cell(r.t_numeric) << ',' << cell(r.t_triangular) << ','
        << cell(r.t_contact_other) << ',' << cell(r.t_detection) << ',' << cell(r.t_solve) << ','
        << cell(r.t_recovery) << ',' << cell(r.t_output) << ',' << cell(r.t_total) << ','
-       << cell(r.wall) << ',' << cell(r.rss) << ',' << r.accuracy_measure << ','
+       << cell(r.wall) << ',' << cell(r.peak_rss_mb) << ',' << r.accuracy_measure << ','
        << cell(r.accuracy) << ',' << cell(r.zz) << ',' << cell(r.overhead) << '\n';
   }
   return os.str();
@@ -321,7 +297,7 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
               : std::string(quick ? "–" : "failed"))
        << " | " << verdict(ok, solve < 10) << " |\n";
     md << "| 1M-DOF linear elastic run, " << el << ", peak memory | < 4 GB | "
-       << (ok ? rounded(r->rss / 1024) + " GB" : "–") << " | " << verdict(ok, ok && r->rss < 4096)
+       << (ok ? rounded(r->peak_rss_mb / 1024) + " GB" : "–") << " | " << verdict(ok, ok && r->peak_rss_mb < 4096)
        << " |\n";
   }
   // Contact overhead: every Hertz ladder run and every method of the panel.
@@ -375,7 +351,7 @@ std::string ladder_md(const std::vector<BenchRow>& rows) {
        << fmt_s(r.t_assemble) << " | " << fmt_s(r.t_symbolic) << " | " << fmt_s(r.t_numeric)
        << " | " << fmt_s(r.t_triangular) << " | " << fmt_s(r.t_contact_other) << " | "
        << fmt_s(r.t_recovery) << " | " << fmt_s(r.t_output) << " | " << fmt_s(r.t_total) << " | "
-       << fmt_s(r.wall) << " | " << rounded(r.rss) << " MB | "
+       << fmt_s(r.wall) << " | " << rounded(r.peak_rss_mb) << " MB | "
        << (r.accuracy_measure.empty() ? "–" : r.accuracy_measure + " " + fmt_pct(r.accuracy))
        << " | " << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " |\n";
   }
@@ -536,7 +512,7 @@ int run_bench(const BenchOptions& o) {
       std::printf("bench %2zu/%zu  %-15s %-22s %s %-16s %9s DOFs  %8.3f s  %7.0f MB  %s\n",
                   finished, rows.size(), r.c.family.c_str(), r.c.scene.c_str(), r.c.element.c_str(),
                   r.c.method.empty() ? "-" : r.c.method.c_str(), cell(r.dofs).c_str(), r.wall,
-                  r.rss, r.status.c_str());
+                  r.peak_rss_mb, r.status.c_str());
       std::fflush(stdout);
     }
     fill_overheads(rows);

@@ -108,10 +108,19 @@ double json_number(const nlohmann::json& j, std::initializer_list<const char*> p
   return node->is_number() ? node->get<double>() : std::nan("");
 }
 
+std::string RunFigures::csv_status() const {
+  std::string s = status;
+  std::replace(s.begin(), s.end(), ',', ';');
+  std::replace(s.begin(), s.end(), '"', '\'');
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return '"' + s + '"';
+}
+
 bool RunFigures::read(const CaseOutcome& c) {
   done = true;
   exit_code = c.exit_code;
   wall = c.wall_seconds;
+  peak_rss_mb = c.peak_rss_mb;
   if (!c.has_summary) {
     status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
     return false;
@@ -199,11 +208,8 @@ std::string compare_csv(const std::vector<CompareRow>& rows) {
   os << kCompareHeader;
   for (const auto& r : rows) {
     if (!r.done) continue;
-    std::string status = r.status;
-    std::replace(status.begin(), status.end(), ',', ';');
-    std::replace(status.begin(), status.end(), '\n', ' ');
-    os << r.level << ',' << r.method << ',' << cell(r.mesh_scale) << ',' << cell(r.dofs) << ",\""
-       << status << "\"," << r.exit_code << ',' << cell(r.iterations) << ',' << cell(r.newton)
+    os << r.level << ',' << r.method << ',' << cell(r.mesh_scale) << ',' << cell(r.dofs) << ','
+       << r.csv_status() << ',' << r.exit_code << ',' << cell(r.iterations) << ',' << cell(r.newton)
        << ',' << cell(r.t_mesh) << ',' << cell(r.t_assemble) << ',' << cell(r.t_solve) << ','
        << cell(r.t_total) << ',' << cell(r.wall) << ',' << cell(r.p_max) << ','
        << cell(r.length) << ',' << cell(r.force) << ',' << cell(r.penetration) << ','
@@ -580,10 +586,7 @@ std::string sweep_csv(const std::string& key, const std::vector<SweepRow>& rows)
         "max_penetration,total_force,pivot_ratio,penalty_max,stiffness_max\n";
   for (const auto& r : rows) {
     if (!r.done) continue;
-    std::string status = r.status;
-    std::replace(status.begin(), status.end(), '"', '\'');
-    std::replace(status.begin(), status.end(), '\n', ' ');
-    os << cell(r.value) << ',' << key << ",\"" << status << "\"," << r.exit_code << ','
+    os << cell(r.value) << ',' << key << ',' << r.csv_status() << ',' << r.exit_code << ','
        << cell(r.dofs) << ',' << cell(r.iterations) << ',' << cell(r.t_solve) << ','
        << cell(r.p_max) << ',' << cell(r.err_p0) << ',' << cell(r.penetration) << ','
        << cell(r.force) << ',' << cell(r.pivot) << ',' << cell(r.penalty) << ','

@@ -5,6 +5,7 @@
 // rewritten after each finished case, so an interrupted study keeps its finished rows.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -45,10 +46,14 @@ struct RunFigures {
          penetration = std::nan("");
   double err_p0 = std::nan(""), err_b = std::nan(""), zz = std::nan("");
   double pivot = std::nan(""), penalty = std::nan(""), stiffness_max = std::nan("");
+
+  double peak_rss_mb = std::nan("");
   bool converged() const { return status == "converged"; }
 
   /// Fills the figures from a finished case; false when it left no summary (a crash).
   bool read(const CaseOutcome& c);
+  /// The status as one quoted CSV cell (commas, quotes and line breaks replaced).
+  std::string csv_status() const;
 };
 
 /// The number at `path` in `j`, NaN when absent or not a number.
