@@ -477,12 +477,12 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
 int run_bench(const BenchOptions& o) {
   const std::string out = o.out.empty() ? "out/bench" : o.out;
   const std::string examples = o.examples;
-  fs::create_directories(out);
   const std::vector<BenchCase> ladder = bench_ladder(o.quick);
   for (const auto& c : ladder)
     if (!fs::exists(examples + "/" + c.scene))
       throw InputError(examples + "/" + c.scene + ": bench scene not found (expected the bundled "
                        "examples folder; pass --examples DIR)");
+  fs::create_directories(out);
   const core::Stopwatch clock;
   std::vector<BenchRow> rows(ladder.size());
   std::vector<StudyCase> cases;
