@@ -1,6 +1,5 @@
 #include "nonlinear/linear_static.hpp"
 
-#include <chrono>
 #include <cmath>
 
 #include "core/assembler.hpp"
@@ -16,9 +15,6 @@ namespace c2d::nonlinear {
 using namespace c2d::core;
 
 namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// The contact solve: detect, solve with the scene's strategy, re-detect at the deformed
 /// configuration, repeat while slave nodes change master. Fills the report and the VTU fields.
@@ -100,7 +96,7 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
   const DofMap& dofs = model.dofs;
   r.time.mesh = model.mesh_seconds;
 
-  auto t = std::chrono::steady_clock::now();
+  Stopwatch clock;
   Assembler assembler(mesh, dofs);
   assembler.set_threads(0);  // element_stiffness is a pure function of the element
   const VecX u_prescribed = dofs.expand(VecX::Zero(dofs.num_free()));
@@ -111,9 +107,8 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
       },
       &u_prescribed, &lift);
   const VecX rhs = dofs.restrict(model.external_force) - lift;
-  r.time.assemble = seconds_since(t);
+  r.time.assemble = clock.lap();
 
-  t = std::chrono::steady_clock::now();
   VecX u_free;
   if (contact && !contact->empty()) {
     solve_with_contact(*contact, dofs, assembler.matrix(), rhs, u_prescribed, r, u_free, contact_report);
@@ -125,7 +120,7 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
     r.solver = solver.report();
     if (r.status != SolveStatus::kConverged) r.message = r.solver.message;
   }
-  r.time.solve = seconds_since(t);
+  r.time.solve = clock.lap();
   // A contact method that stopped at its iteration limit or on a cycle still has a displacement
   // worth reporting; any other failure has none.
   const bool usable = (r.status == SolveStatus::kConverged || r.status == SolveStatus::kCycling ||
@@ -142,7 +137,7 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
   }
   r.displacement = dofs.expand(u_free);
 
-  t = std::chrono::steady_clock::now();
+  clock.lap();
   // Reactions: internal force minus external load on the constrained DOFs.
   r.reaction = VecX::Zero(mesh.num_dofs());
   const int nn = mesh.nodes_per_element();
@@ -170,7 +165,7 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
   r.nodal_stress = smooth_stresses(mesh, model.materials, r.element_stresses, analysis.smoothing);
   r.error = estimate_error(mesh, model.materials, r.element_stresses, r.nodal_stress,
                            analysis.target_error);
-  r.time.recovery = seconds_since(t);
+  r.time.recovery = clock.lap();
   return r;
 }
 

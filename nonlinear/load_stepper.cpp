@@ -1,11 +1,11 @@
 #include "nonlinear/load_stepper.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 
 #include "core/error_estimator.hpp"
+#include "core/stopwatch.hpp"
 #include "core/stress_recovery.hpp"
 #include "nonlinear/finite_strain_system.hpp"
 
@@ -13,20 +13,12 @@ namespace c2d::nonlinear {
 
 using namespace c2d::core;
 
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
-
 Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analysis,
                                   const StepperOptions& options, std::vector<StepRecord>* trace,
                                   const constraints::ContactSet* contact,
                                   constraints::ContactReport* contact_report) {
   using constraints::ContactReport;
-  const auto t_start = std::chrono::steady_clock::now();
+  const Stopwatch run_clock;
   const DofMap& dofs = model.dofs;
   const Mesh& mesh = model.mesh;
   auto prescribe = [&](double lambda) {
@@ -85,7 +77,7 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
   int converged_steps = 0, cutbacks = 0;
   r.status = SolveStatus::kConverged;
   while (lambda < 1.0 - 1e-12) {
-    const auto t_step = std::chrono::steady_clock::now();
+    const Stopwatch step_clock;
     const double target = std::min(1.0, lambda + increment);
     const VecX u_target = prescribe(target);
     StepRecord rec;
@@ -121,7 +113,7 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
       trial = guess;
       rec.newton = solve_newton_with_fallback(system, trial, newton);
     }
-    rec.seconds = seconds_since(t_step);
+    rec.seconds = step_clock.elapsed();
     const bool ok = rec.newton.status == SolveStatus::kConverged;
     bool give_up = false;
     if (ok) {
@@ -165,15 +157,14 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
     if (trace) trace->push_back(rec);
     if (options.on_step) options.on_step(rec);
     if (ok && options.on_state) {
-      auto t = std::chrono::steady_clock::now();
+      Stopwatch clock;
       last_state = Results();
       last_state.status = SolveStatus::kConverged;
       fill_state(last_state, lambda, u_prev_full, with_contact ? &last_contact : nullptr);
       last_state.globals["steps"] = converged_steps;
-      recovery_seconds += seconds_since(t);
-      t = std::chrono::steady_clock::now();
+      recovery_seconds += clock.lap();
       options.on_state(rec, last_state);
-      output_seconds += seconds_since(t);
+      output_seconds += clock.lap();
       have_state = true;
     }
     if (!ok && give_up) {
@@ -183,10 +174,10 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
       break;
     }
   }
-  r.time.solve = seconds_since(t_start) - recovery_seconds - output_seconds;
+  r.time.solve = run_clock.elapsed() - recovery_seconds - output_seconds;
   r.time.output = output_seconds;
   r.solver = system.linear_report();
-  const auto t_rec = std::chrono::steady_clock::now();
+  const Stopwatch recovery_clock;
   if (have_state) {
     // The last converged step's fields, recovered for on_state already.
     r.displacement = std::move(last_state.displacement);
@@ -206,7 +197,7 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
     r.solver.backend = last_contact.method;
     if (contact_report) *contact_report = last_contact;
   }
-  r.time.recovery = recovery_seconds + seconds_since(t_rec);
+  r.time.recovery = recovery_seconds + recovery_clock.elapsed();
   return r;
 }
 
