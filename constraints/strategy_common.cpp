@@ -249,11 +249,7 @@ void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_
     active = next;
   }
   s.active = active;
-  s.factorizations = kkt.report().numeric_factorizations;
-  s.symbolic_seconds = kkt.report().symbolic_seconds;
-  s.symbolic_analyses = kkt.report().symbolic_analyses;
-  s.numeric_seconds = kkt.report().numeric_seconds;
-  s.solve_seconds = kkt.report().solve_seconds;
+  copy_solver_figures(kkt.report(), s);
   s.pivot_ratio = kkt.report().rcond;
   if (s.status != SolveStatus::kConverged && s.status != SolveStatus::kCycling &&
       s.status != SolveStatus::kMaxIterations)

@@ -34,6 +34,17 @@ IterationRecord make_record(int iteration, const std::vector<char>& next,
 /// a failed status with zeroed fields, so no NaN leaves a backend.
 void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s);
 
+/// The linear solver's counts and times in a solution: factorisations, symbolic analyses, and
+/// the seconds of each phase. `Report` is core::SpdSolveReport or KktSolveReport.
+template <class Report>
+void copy_solver_figures(const Report& r, ConstraintSolution& s) {
+  s.factorizations = r.numeric_factorizations;
+  s.symbolic_analyses = r.symbolic_analyses;
+  s.symbolic_seconds = r.symbolic_seconds;
+  s.numeric_seconds = r.numeric_seconds;
+  s.solve_seconds = r.solve_seconds;
+}
+
 /// Minimises ½uᵀKu − fᵀu + Σ_i (1/2k_i) max(0, λ_i − k_i g_i(u))² − μᵀh(u) + ½ Σ_j k_j h_j(u)²
 /// (h = A u − b) for fixed λ, μ: with λ = μ = 0 the pure penalty method, otherwise one
 /// augmented-Lagrangian subproblem. The max() makes it semi-smooth; an active-set loop solves it
@@ -55,14 +66,10 @@ class PenalizedSolver {
                 std::vector<IterationRecord>& history, int first_iteration);
 
   const core::SpdSolveReport& linear_report() const { return solver_.report(); }
-  /// The solution's factorisation count and the last factor's pivot ratio.
+  /// The solution's factorisation counts and times, and the last factor's pivot ratio.
   void report_counts(ConstraintSolution& s) const {
-    s.factorizations = solver_.report().numeric_factorizations;
+    copy_solver_figures(solver_.report(), s);
     s.pivot_ratio = solver_.report().pivot_ratio;
-    s.symbolic_seconds = solver_.report().symbolic_seconds;
-    s.symbolic_analyses = solver_.report().symbolic_analyses;
-    s.numeric_seconds = solver_.report().numeric_seconds;
-    s.solve_seconds = solver_.report().solve_seconds;
   }
 
  private:
