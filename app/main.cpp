@@ -475,15 +475,22 @@ int cmd_calibrate(const Options& o) {
   return app::run_calibrate(c);
 }
 
-int cmd_trace(const Options& o) {
-  const app::TraceCharts charts = app::draw_trace_charts(o.scene);
-  for (const auto& [stem, what] : charts.written)
-    std::cout << "wrote " << o.scene << "/" << stem << ".png and .svg: " << what << "\n";
-  if (!charts.error.empty()) {
-    std::cerr << "error: " << charts.error << "\n";
+/// What a chart verb wrote into DIR (stem, what it shows), then its error if any: the exit code.
+int report_charts(const std::string& dir,
+                  const std::vector<std::pair<std::string, std::string>>& written,
+                  const std::string& error) {
+  for (const auto& [stem, what] : written)
+    std::cout << "wrote " << dir << "/" << stem << ".png and .svg: " << what << "\n";
+  if (!error.empty()) {
+    std::cerr << "error: " << error << "\n";
     return kExitSolveFailed;
   }
   return kExitOk;
+}
+
+int cmd_trace(const Options& o) {
+  const app::TraceCharts charts = app::draw_trace_charts(o.scene);
+  return report_charts(o.scene, charts.written, charts.error);
 }
 
 int cmd_plot(const Options& o) {
@@ -517,13 +524,7 @@ int cmd_plot(const Options& o) {
       throw InputError("--deformed: expected a positive scale or auto, found '" + o.deformed + "'");
   }
   const app::PlotWritten w = app::plot_run(req);
-  for (const auto& [stem, what] : w.written)
-    std::cout << "wrote " << o.scene << "/" << stem << ".png and .svg: " << what << "\n";
-  if (!w.error.empty()) {
-    std::cerr << "error: " << w.error << "\n";
-    return kExitSolveFailed;
-  }
-  return kExitOk;
+  return report_charts(o.scene, w.written, w.error);
 }
 
 int cmd_mesh(const Options& o) {
