@@ -164,12 +164,7 @@ void read_row(BenchRow& r, const CaseOutcome& out) {
   }
 }
 
-std::string cell(double v) {
-  if (!std::isfinite(v)) return "";
-  std::ostringstream os;
-  os << std::setprecision(6) << v;
-  return os.str();
-}
+std::string cell(double v) { return csv_number(v, 6); }
 
 std::string csv_of(const std::vector<BenchRow>& rows) {
   std::ostringstream os;
@@ -516,10 +511,8 @@ int run_bench(const BenchOptions& o) {
       std::fflush(stdout);
     }
     fill_overheads(rows);
-    core::write_file_atomic(out + "/bench.csv", csv_of(rows));
+    core::write_file_atomic(out + "/bench.csv", csv_of(rows));  // complete after the last case
   });
-  fill_overheads(rows);
-  core::write_file_atomic(out + "/bench.csv", csv_of(rows));
   if (!o.quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
   const Throughput t = measure_assembly(o.quick);
 

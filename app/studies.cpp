@@ -108,6 +108,13 @@ double json_number(const nlohmann::json& j, std::initializer_list<const char*> p
   return node->is_number() ? node->get<double>() : std::nan("");
 }
 
+std::string csv_number(double v, int digits) {
+  if (!std::isfinite(v)) return "";
+  std::ostringstream os;
+  os << std::setprecision(digits) << v;
+  return os.str();
+}
+
 std::string RunFigures::csv_status() const {
   std::string s = status;
   std::replace(s.begin(), s.end(), ',', ';');
@@ -167,12 +174,7 @@ std::vector<std::pair<double, double>> read_profile(const std::string& dir) {
   return pts;
 }
 
-std::string cell(double v) {
-  if (!std::isfinite(v)) return "";
-  std::ostringstream os;
-  os << std::setprecision(8) << v;
-  return os.str();
-}
+std::string cell(double v) { return csv_number(v); }
 
 std::string percent(double v, int digits = 3) {
   if (!std::isfinite(v)) return "–";

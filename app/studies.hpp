@@ -56,6 +56,9 @@ struct RunFigures {
   std::string csv_status() const;
 };
 
+/// A number as a CSV cell with `digits` significant digits; empty when not finite.
+std::string csv_number(double v, int digits = 8);
+
 /// The number at `path` in `j`, NaN when absent or not a number.
 double json_number(const nlohmann::json& j, std::initializer_list<const char*> path);
 
