@@ -53,7 +53,7 @@ void SaddlePointSolver::stiffness_changed() {
 bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
   // R: the equality rows and the `max_gap_rows` gap rows with the smallest initial gap (the
-  // ones that hold a floating body first), within what W may hold.
+  // ones that hold a floating body first), within half the rows the Schur complement takes.
   const int cap = kMaxSchurRows / 2;
   if (me >= cap) return false;
   std::vector<int> gaps(m);
@@ -82,7 +82,6 @@ bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   SpMat scaled(me + m, n);
   scaled.setFromTriplets(t.begin(), t.end());
   k_rho_ = p_.stiffness + SpMat(scaled.transpose() * scaled);  // kept: the factor refers to it
-  ++report_.numeric_factorizations;
   if (chol_.factorize(k_rho_) == SolveStatus::kConverged &&
       chol_.report().pivot_ratio > kMinCholeskyPivotRatio)
     return true;
@@ -91,9 +90,10 @@ bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   return false;
 }
 
-void SaddlePointSolver::sync_times() {
+void SaddlePointSolver::sync_report() {
   const auto& c = chol_.report();
   const auto& l = lu_.report();
+  report_.numeric_factorizations = c.numeric_factorizations + l.numeric_factorizations;
   report_.symbolic_seconds = c.symbolic_seconds + l.symbolic_seconds;
   report_.symbolic_analyses = c.symbolic_analyses + l.symbolic_analyses;
   report_.numeric_seconds = c.numeric_seconds + l.numeric_seconds;
@@ -102,7 +102,7 @@ void SaddlePointSolver::sync_times() {
 
 SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool all_rows,
                                          bool same_pattern) {
-  const AtExit sync{[this] { sync_times(); }};
+  const AtExit sync{[this] { sync_report(); }};
   const int n = p_.num_unknowns(), me = p_.num_equalities(), m = p_.num_gaps();
   if (path_ == Path::kUnknown) {
     // K_ρ with a few rows in R whether or not K alone is definite: one factorisation either
@@ -113,7 +113,6 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
     if (me + m == 0) {
       spd = chol_.factorize(p_.stiffness) == SolveStatus::kConverged &&
             chol_.report().pivot_ratio > kMinCholeskyPivotRatio;
-      ++report_.numeric_factorizations;
     } else {
       spd = factorize_regularised(kRegularisingRows) ||
             (m > kRegularisingRows && factorize_regularised(m));
@@ -143,9 +142,7 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
   const SolveStatus st =
       lu_.factorize(saddle_point_matrix(p_, active, s_, all_rows), same_pattern && path_ == Path::kLu);
   path_ = Path::kLu;
-  const int factorizations = report_.numeric_factorizations + 1;
   report_ = lu_.report();
-  report_.numeric_factorizations = factorizations;
   return st;
 }
 
@@ -201,7 +198,7 @@ SolveStatus SaddlePointSolver::factorize_schur() {
 }
 
 SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
-  const AtExit sync{[this] { sync_times(); }};
+  const AtExit sync{[this] { sync_report(); }};
   if (path_ != Path::kSchur) {
     const SolveStatus st = lu_.solve(b, x);
     report_.status = lu_.report().status;

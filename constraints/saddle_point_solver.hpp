@@ -57,8 +57,8 @@ class SaddlePointSolver {
  private:
   enum class Path { kUnknown, kSchur, kLu };
   SolveStatus factorize_schur();
-  /// The report's times: the Cholesky's and the LU's, summed.
-  void sync_times();
+  /// The report's factorisation counts and times: the Cholesky's and the LU's, summed.
+  void sync_report();
   /// Chooses R and ρ and factorises K_ρ; false when R cannot make K positive definite.
   bool factorize_regularised(int max_gap_rows);
 
