@@ -384,9 +384,9 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
     data << "\n\n";
     const double slope = loglog_slope(x, y);
     slopes << "| " << title << " | " << rounded(slope) << " |\n";
-    plot << (plot.tellp() > 0 ? ", \\\n     " : "plot ") << "'" << out << "/time_vs_dofs.dat' index "
-         << block++ << " using 1:2 with linespoints lw 2 pt 7 title '" << title << " (slope "
-         << rounded(slope) << ")' noenhanced";
+    plot << (plot.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/time_vs_dofs.dat")
+         << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
+         << gp_text(title + " (slope " + rounded(slope) + ")") << " noenhanced";
   };
   std::map<std::string, std::vector<std::pair<double, double>>> families;
   for (const auto& r : rows)
@@ -431,9 +431,9 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
       if (pts.empty()) return;
       for (const auto& [a, b] : pts) data << a << ' ' << b << '\n';
       data << "\n\n";
-      lines << (lines.tellp() > 0 ? ", \\\n     " : "plot ") << "'" << out
-            << "/accuracy_vs_time.dat' index " << block++
-            << " using 1:2 with linespoints lw 2 pt 7 title '" << title << "' noenhanced";
+      lines << (lines.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/accuracy_vs_time.dat")
+            << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
+            << gp_text(title) << " noenhanced";
     };
     for (const auto& m : constraints::method_names()) {
       std::vector<std::pair<double, double>> pts;
@@ -453,7 +453,7 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
       line(std::string(ladder) + " ladder " + el + " (lagrange, point-graded mesh)", pts);
     }
     if (lines.tellp() > 0)
-      panels << "set title '" << scene << "' noenhanced\n" << lines.str() << "\n", ++count;
+      panels << "set title " << gp_text(scene) << " noenhanced\n" << lines.str() << "\n", ++count;
   }
   if (count == 0) return "";
   std::ostringstream plot;

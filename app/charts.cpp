@@ -1,12 +1,13 @@
 #include "app/charts.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
 
+#include "app/process.hpp"
+#include "core/errors.hpp"
 #include "core/probes.hpp"
 #include "core/writers.hpp"
 
@@ -16,12 +17,46 @@
 
 namespace c2d::app {
 
+namespace {
+
+bool has_control_character(std::string_view text) {
+  return std::any_of(text.begin(), text.end(),
+                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+}
+
+/// Doubles every single quote: inside '...' gnuplot substitutes nothing (no backquotes, no
+/// macros, no escapes), and '' stands for one quote.
+std::string single_quoted(std::string_view text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace
+
+std::string gp_text(std::string_view text) {
+  std::string clean(text);
+  for (char& c : clean)
+    if (has_control_character({&c, 1})) c = ' ';
+  return single_quoted(clean);
+}
+
+std::string gp_file(const std::string& path) {
+  if (has_control_character(path))
+    throw InputError(path + ": expected a file path without control characters, found one");
+  // Absolute, so that the name can never start with '<' or '|' (gnuplot runs those as commands).
+  return single_quoted(std::filesystem::absolute(path).lexically_normal().string());
+}
+
 std::string run_gnuplot(const std::string& script_path) {
   const std::string exe = std::filesystem::exists(C2D_GNUPLOT) ? C2D_GNUPLOT : "gnuplot";
-  const std::string cmd = exe + " '" + script_path + "' > '" + script_path + ".log' 2>&1";
-  const int rc = std::system(cmd.c_str());
-  if (rc != 0) return "gnuplot failed (exit " + std::to_string(rc) + "), see " + script_path + ".log";
-  std::filesystem::remove(script_path + ".log");
+  const std::string script = std::filesystem::absolute(script_path).string();
+  const std::string log = script + ".log";
+  const ProcessOutcome run = run_process(exe, {script}, log);
+  if (!run.started) return run.error;
+  if (run.exit_code != 0)
+    return "gnuplot failed (exit " + std::to_string(run.exit_code) + "), see " + log;
+  std::filesystem::remove(log);
   return "";
 }
 
@@ -31,7 +66,7 @@ std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
   for (const char* term : {"png", "svg"}) {
     gp << (std::string(term) == "png" ? "set terminal pngcairo size 1200,800 font 'Sans,11'\n"
                                       : "set terminal svg size 1200,800 font 'Sans,11'\n")
-       << "set output '" << dir << "/" << stem << "." << term << "'\n"
+       << "set output " << gp_file(dir + "/" + stem + "." + term) << "\n"
        << commands << "unset output\n";
   }
   const std::string script = dir + "/" + stem + ".gp";
@@ -62,8 +97,9 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   const std::string data_path = dir + "/pressure.dat";
   core::write_file_atomic(data_path, data.str());
   std::ostringstream cmd;
-  cmd << std::setprecision(10) << "set title 'Contact pressure (" << c.method
-      << ", recovered from nodal forces)'\nset xlabel '" << (axis ? "y" : "x")
+  cmd << std::setprecision(10) << "set title "
+      << gp_text("Contact pressure (" + c.method + ", recovered from nodal forces)")
+      << "\nset xlabel '" << (axis ? "y" : "x")
       << "'\nset ylabel 'pressure'\nset grid\nset key top left\n";
   const auto p0 = scene.reference.find("p_max"), b = scene.reference.find("contact_length");
   const bool hertz = scene.reference_kind.rfind("hertz", 0) == 0 &&
@@ -72,7 +108,7 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   if (hertz)
     cmd << "set xrange [" << std::max(pts.front().first, -1.6 * b->second) << ":"
         << std::min(pts.back().first, 1.6 * b->second) << "]\nset samples 400\n";
-  cmd << "plot '" << data_path << "' using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
+  cmd << "plot " << gp_file(data_path) << " using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
   if (hertz)
     cmd << ", \\\n     (abs(x) < " << b->second << " ? " << p0->second << "*sqrt(1-(x/"
         << b->second << ")**2) : 0) with lines lw 2 dt 2 title 'Hertz'";
@@ -114,8 +150,8 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
       "set size ratio -1\nset title 'Deformed mesh (displacements x " + scale_text.str() +
       "), coloured by von Mises (smoothed)'\n"
       "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
-      "plot '" + data_path + "' using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
-      "     '" + outline_path + "' using 1:2 with lines lc rgb '#555555' dt 2\n";
+      "plot " + gp_file(data_path) + " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
+      "     " + gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
   const std::string err = plot_png_and_svg(dir, "deformed", commands);
   std::filesystem::remove(data_path);
   std::filesystem::remove(outline_path);

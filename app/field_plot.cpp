@@ -307,20 +307,22 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::stri
           data << '\n';
         }
       }
-    cmd << "set title \"" << title << ": " << sum.min << " to " << sum.max << "\"\n"
+    std::ostringstream heading;
+    heading << title << ": " << sum.min << " to " << sum.max;
+    cmd << "set title " << gp_text(heading.str()) << "\n"
         << "set cbrange [" << lo << ":" << hi << "]\nset palette rgb 33,13,10 maxcolors "
         << levels << "\nset cbtics " << lo << ", " << step * std::max(1, levels / 6) << "\n";
   }
   const std::string data_path = dir + "/" + stem + ".dat", edges_path = dir + "/" + stem + "_edges.dat";
   core::write_file_atomic(data_path, data.str());
   cmd << window_commands(o.zoom) << "unset key\nset style fill solid 1.0 noborder\n"
-      << "plot '" << data_path << "' using 1:2:3 with filledcurves closed fc palette z";
+      << "plot " << gp_file(data_path) << " using 1:2:3 with filledcurves closed fc palette z";
   if (o.edges) {
     std::ostringstream edges;
     edges << std::setprecision(9);
     write_edges(edges, vtu, x, o.zoom);
     core::write_file_atomic(edges_path, edges.str());
-    cmd << ", \\\n     '" << edges_path << "' using 1:2 with lines lc rgb '#303030' lw 0.4";
+    cmd << ", \\\n     " << gp_file(edges_path) << " using 1:2 with lines lc rgb '#303030' lw 0.4";
   }
   cmd << "\n";
   sum.error = plot_png_and_svg(dir, stem, cmd.str());
@@ -346,8 +348,8 @@ std::string plot_mesh_comparison(const std::vector<std::pair<std::string, VtuDat
     write_edges(edges, meshes[i].second, meshes[i].second.points, zoom);
     core::write_file_atomic(path, edges.str());
     files.push_back(path);
-    cmd << "set title \"" << meshes[i].first << "\"\nplot '" << path
-        << "' using 1:2 with lines lc rgb '#1f4e79' lw 0.5\n";
+    cmd << "set title " << gp_text(meshes[i].first) << "\nplot " << gp_file(path)
+        << " using 1:2 with lines lc rgb '#1f4e79' lw 0.5\n";
   }
   cmd << "unset multiplot\n";
   const std::string err = plot_png_and_svg(dir, stem, cmd.str());

@@ -1,11 +1,5 @@
 #include "app/studies.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -21,14 +15,13 @@
 
 #include "app/calibrate.hpp"
 #include "app/charts.hpp"
+#include "app/process.hpp"
 #include "app/trace_charts.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_scene.hpp"
 #include "core/errors.hpp"
 #include "core/scene.hpp"
 #include "core/writers.hpp"
-
-extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -42,29 +35,11 @@ namespace {
 CaseOutcome run_one(const std::string& exe, const StudyCase& c) {
   CaseOutcome out;
   fs::create_directories(c.out_dir);
-  std::vector<std::string> args{"contact2d", "run"};
+  std::vector<std::string> args{"run"};
   args.insert(args.end(), c.args.begin(), c.args.end());
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  const std::string log = c.out_dir + "/stdout.log";
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   const auto t0 = std::chrono::steady_clock::now();
-  pid_t pid = 0;
-  const int rc = posix_spawn(&pid, exe.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc == 0) {
-    int status = 0;
-    struct rusage usage {};
-    if (wait4(pid, &status, 0, &usage) == pid) {
-      out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      out.peak_rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB on Linux
-    }
-  }
+  const ProcessOutcome run = run_process(exe, args, c.out_dir + "/stdout.log");
+  if (run.started) out.exit_code = run.exit_code, out.peak_rss_mb = run.peak_rss_mb;
   out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ifstream in(c.out_dir + "/summary.json");
   if (in) {
@@ -336,9 +311,10 @@ std::string chart_commands_accuracy(const std::string& dir, const std::vector<Co
                                     const std::string& metric) {
   std::ostringstream data, plot;
   int block = 0;
-  plot << "set title 'Accuracy against solve time (" << metric_name(metric)
-       << "; one point per refinement level)'\nset xlabel 'solve time (s)'\nset ylabel '"
-       << metric_name(metric) << "'\nset logscale xy\nset grid\nset key outside right\nplot ";
+  plot << "set title "
+       << gp_text("Accuracy against solve time (" + metric_name(metric) +
+                  "; one point per refinement level)")
+       << "\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(metric)) << "\nset logscale xy\nset grid\nset key outside right\nplot ";
   for (const auto& m : methods) {
     std::ostringstream block_data;
     int points = 0;
@@ -350,8 +326,8 @@ std::string chart_commands_accuracy(const std::string& dir, const std::vector<Co
     }
     if (!points) continue;
     data << block_data.str() << "\n\n";
-    plot << (block ? ", \\\n     " : "") << "'" << dir << "/accuracy.dat' index " << block
-         << " using 1:2 with linespoints pt 7 lw 2 title '" << m << "' noenhanced";
+    plot << (block ? ", \\\n     " : "") << gp_file(dir + "/accuracy.dat") << " index " << block
+         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
     ++block;
   }
   if (!block) return "";
@@ -476,8 +452,8 @@ int run_compare(const CompareOptions& o) {
       for (const auto& [x, p] : r.profile) d << x << ' ' << p << '\n';
       const std::string path = out + "/profile_" + r.method + ".dat";
       core::write_file_atomic(path, d.str());
-      plot << (n ? ", \\\n     " : "") << "'" << path << "' using 1:2 with linespoints pt "
-           << 4 + n << " ps 0.7 title '" << r.method << "' noenhanced";
+      plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt "
+           << 4 + n << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
       ++n;
     }
     if (hertz)
@@ -506,8 +482,8 @@ int run_compare(const CompareOptions& o) {
           block << r.level << ' ' << std::max(r.penetration, 1e-20) << '\n', ++points;
       if (!points) continue;
       d << block.str() << "\n\n";
-      plot << (n ? ", \\\n     " : "") << "'" << out << "/penetration.dat' index " << n
-           << " using 1:2 with linespoints pt 7 lw 2 title '" << m << "' noenhanced";
+      plot << (n ? ", \\\n     " : "") << gp_file(out + "/penetration.dat") << " index " << n
+           << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
       ++n;
     }
     plot << "\n";
@@ -743,14 +719,16 @@ int run_sweep(const SweepOptions& o) {
     marks << "set arrow from " << seed_k << ", graph 0 to " << seed_k
           << ", graph 1 nohead lc rgb '#1a9850' dt 3 lw 1.5\n";
   std::ostringstream plot;
-  plot << "set multiplot layout 3,2 title '" << key << " sweep (red: not converged"
-       << (penalty_k && std::isfinite(seed_k) ? "; green: the seed rule 1e4 max|K_ij|" : "")
-       << ")' noenhanced\nset grid\nunset key\n" << (log_x ? "set logscale x\n" : "")
+  plot << "set multiplot layout 3,2 title "
+       << gp_text(key + " sweep (red: not converged" +
+                  (penalty_k && std::isfinite(seed_k) ? "; green: the seed rule 1e4 max|K_ij|" : "") +
+                  ")")
+       << " noenhanced\nset grid\nunset key\n" << (log_x ? "set logscale x\n" : "")
        << "set format x '10^{%L}'\n" << marks.str();
   auto panel = [&](int col, const std::string& label, bool log_y) {
     plot << (log_y ? "set logscale y\nset format y '10^{%L}'\n" : "unset logscale y\nset format y '%g'\n")
-         << "set xlabel '" << key << "' noenhanced\nset ylabel '" << label << "' noenhanced\nplot '"
-         << data_path << "' using 1:" << col << " with linespoints pt 7 lw 2\n";
+         << "set xlabel " << gp_text(key) << " noenhanced\nset ylabel " << gp_text(label)
+         << " noenhanced\nplot " << gp_file(data_path) << " using 1:" << col << " with linespoints pt 7 lw 2\n";
   };
   if (has_error) panel(2, "|p_max error|", true);
   panel(3, "max penetration", true);

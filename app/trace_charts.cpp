@@ -109,7 +109,7 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
       << " (reference)'\nset ylabel 'load factor'\nset grid\nset key outside bottom center horizontal\n"
       << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', 1 '#440154')\n"
       << "set cblabel '" << (any_pressure ? "contact pressure" : "contact force") << "'\n"
-      << "plot '" << act_path << "' using 1:($4 > 0 ? 1/0 : $2) with points pt 6 ps 0.6 "
+      << "plot " << gp_file(act_path) << " using 1:($4 > 0 ? 1/0 : $2) with points pt 6 ps 0.6 "
       << "lc rgb 'gray60' title 'open', \\\n     '' using 1:($4 > 0 ? $2 : 1/0):3 with points "
       << "pt 5 ps 1.4 lc palette title 'in contact (colour: "
       << (any_pressure ? "pressure" : "force") << ")'\n";
@@ -129,8 +129,8 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
   fc << "set title 'Total contact force against load factor'\nset xlabel 'load factor'\n"
      << "set ylabel 'total contact force'\nset y2label 'active slave nodes'\nset ytics nomirror\n"
      << "set y2tics\nset grid\nset key top left\nset xrange [0:1]\nset yrange [0:*]\n"
-     << "set y2range [0:*]\nplot '" << force_path
-     << "' using 1:2 with linespoints pt 7 lw 2 title 'contact force', '' using 1:3 axes x1y2 "
+     << "set y2range [0:*]\nplot " << gp_file(force_path)
+     << " using 1:2 with linespoints pt 7 lw 2 title 'contact force', '' using 1:3 axes x1y2 "
      << "with steps dt 2 lw 1.5 title 'active nodes'\n";
   err = plot_png_and_svg(dir, "contact_force", fc.str());
   std::filesystem::remove(force_path);
@@ -169,8 +169,8 @@ std::string residual_chart(const std::string& dir, const CsvTable& t, TraceChart
       << "set logscale y\nset format y '10^{%L}'\nset grid\n"
       << (titles.size() > 12 ? "set key off\n" : "set key outside right\n") << "plot ";
   for (size_t i = 0; i < titles.size(); ++i)
-    cmd << (i ? ", \\\n     " : "") << "'" << path << "' index " << i
-        << " using 1:2 with linespoints pt 7 ps 0.6 title '" << titles[i] << "'";
+    cmd << (i ? ", \\\n     " : "") << gp_file(path) << " index " << i
+        << " using 1:2 with linespoints pt 7 ps 0.6 title " << gp_text(titles[i]);
   cmd << "\n";
   const std::string err = plot_png_and_svg(dir, "residuals", cmd.str());
   std::filesystem::remove(path);

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -14,6 +13,7 @@
 #include <vector>
 
 #include "app/bench.hpp"
+#include "app/process.hpp"
 
 namespace fs = std::filesystem;
 
@@ -40,9 +40,9 @@ TEST(Bench, LogLogSlopeRecoversAPowerLaw) {
 TEST(Bench, QuickLadderWritesAValidTableWhoseAccuracyImprovesWithDofs) {
   const fs::path out = fs::temp_directory_path() / ("c2d_bench_" + std::to_string(::getpid()));
   fs::remove_all(out);
-  const std::string cmd = std::string(C2D_BINARY) + " bench --quick --quiet --out " +
-                          out.string() + " > " + (out.string() + ".log") + " 2>&1";
-  ASSERT_EQ(WEXITSTATUS(std::system(cmd.c_str())), 0) << "see " << out.string() << ".log";
+  const auto p = c2d::app::run_process(C2D_BINARY, {"bench", "--quick", "--quiet", "--out", out.string()},
+                                       out.string() + ".log");
+  ASSERT_EQ(p.exit_code, 0) << "see " << out.string() << ".log";
 
   std::ifstream csv(out / "bench.csv");
   std::string line;

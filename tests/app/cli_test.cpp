@@ -2,12 +2,12 @@
 #include <gtest/gtest.h>
 
 #include "app/field_plot.hpp"
+#include "app/process.hpp"
 #include "app/studies.hpp"
 #include "app/trace_charts.hpp"
 
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -24,19 +24,26 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& args, std::string* output = nullptr) {
+/// Runs the executable with ARGS (split at spaces; no shell) and returns its exit code.
+int run_args(const std::vector<std::string>& args, std::string* output = nullptr) {
   // One log per process: CTest runs the tests of this file in parallel processes.
   const fs::path log =
       fs::temp_directory_path() / ("c2d_cli_test_" + std::to_string(::getpid()) + ".log");
-  const std::string cmd = std::string(C2D_BINARY) + " " + args + " > " + log.string() + " 2>&1";
-  const int rc = std::system(cmd.c_str());
+  const c2d::app::ProcessOutcome p = c2d::app::run_process(C2D_BINARY, args, log.string());
   if (output) {
     std::ifstream in(log);
     std::stringstream ss;
     ss << in.rdbuf();
     *output = ss.str();
   }
-  return WEXITSTATUS(rc);
+  return p.started ? p.exit_code : -1;
+}
+
+int run(const std::string& args, std::string* output = nullptr) {
+  std::vector<std::string> words;
+  std::istringstream in(args);
+  for (std::string w; in >> w;) words.push_back(w);
+  return run_args(words, output);
 }
 
 std::string example(const char* name) { return std::string(C2D_SOURCE_DIR) + "/examples/" + name; }
@@ -95,9 +102,8 @@ TEST(Cli, UnsupportedBodyFailsWithExitOneAndKeepsSummary) {
   // No support at all: the stiffness is singular; status says so, exit 1, summary written.
   const fs::path out = fs::temp_directory_path() / "c2d_cli_singular";
   fs::remove_all(out);
-  EXPECT_EQ(run("run " + example("cantilever.toml") +
-                    " --set support[0].on.edge=bottom --set support[0].fix=[\\\"uy\\\"] --out " +
-                    out.string() + " --quiet"),
+  EXPECT_EQ(run_args({"run", example("cantilever.toml"), "--set", "support[0].on.edge=bottom",
+                      "--set", "support[0].fix=[\"uy\"]", "--out", out.string(), "--quiet"}),
             1);
   std::ifstream in(out / "summary.json");
   const nlohmann::json s = nlohmann::json::parse(in);
@@ -165,6 +171,40 @@ TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
   std::stringstream ss;
   ss << vtu.rdbuf();
   EXPECT_NE(ss.str().find("Name=\"contact_pressure\""), std::string::npos);
+}
+
+TEST(Cli, OutputPathsWithShellAndGnuplotSyntaxRunNothing) {
+  // Issue 16, finding 1: an output folder (from --out, [output] dir or the trace verb) named
+  // with shell quoting, backquotes, $() or a leading '|' (gnuplot's pipe) must be only a
+  // folder name: the runs write their charts into it and nothing else appears.
+  const fs::path here = fs::temp_directory_path() / ("c2d_cli_inject_" + std::to_string(::getpid()));
+  fs::remove_all(here);
+  fs::create_directories(here);
+  const fs::path cwd = fs::current_path();
+  fs::current_path(here);  // a relative payload would act here
+  const std::vector<std::string> payloads = {
+      "x';touch PWNED1;'", "y`touch PWNED2`", "z$(touch PWNED3)\"'", "|touch PWNED4"};
+  for (const auto& out : payloads) {
+    std::string output;
+    EXPECT_EQ(run_args({"run", example("hertz_rigid_fast.toml"), "--out", out, "--quiet"}, &output), 0)
+        << output;
+    expect_chart(here / out, "pressure");
+    EXPECT_EQ(run_args({"trace", out}, &output), 0) << output;
+  }
+  // The same through a scene's [output] dir.
+  std::ifstream scene_in(example("hertz_rigid_fast.toml"));
+  std::stringstream scene;
+  scene << scene_in.rdbuf() << "\n[output]\ndir = \"w';touch PWNED5;'\"\n";
+  std::ofstream(here / "scene.toml") << scene.str();
+  std::string output;
+  EXPECT_EQ(run_args({"run", (here / "scene.toml").string(), "--quiet"}, &output), 0) << output;
+  expect_chart(here / "w';touch PWNED5;'", "pressure");
+  fs::current_path(cwd);
+  std::vector<std::string> created;
+  for (const auto& e : fs::recursive_directory_iterator(here))
+    if (e.path().filename().string().rfind("PWNED", 0) == 0) created.push_back(e.path().string());
+  EXPECT_TRUE(created.empty()) << created.front();
+  fs::remove_all(here);
 }
 
 TEST(Cli, TraceNamesWhatIsMissing) {
@@ -412,9 +452,8 @@ TEST(Cli, CalibrationRecoversYoungsModulusAndLoadFromNoisySyntheticData) {
   const fs::path dir = fs::temp_directory_path() / "c2d_cli_calibrate";
   fs::remove_all(dir);
   fs::create_directories(dir);
-  ASSERT_EQ(run("run " + example("cantilever.toml") +
-                " --set material.E=2.6e6 --set 'load[0].total_force=[0.0, -3.9]' --quiet --out " +
-                (dir / "truth").string()),
+  ASSERT_EQ(run_args({"run", example("cantilever.toml"), "--set", "material.E=2.6e6", "--set",
+                      "load[0].total_force=[0.0, -3.9]", "--quiet", "--out", (dir / "truth").string()}),
             0);
   std::ifstream in(dir / "truth" / "summary.json");
   const nlohmann::json truth = nlohmann::json::parse(in);

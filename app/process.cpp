@@ -1,0 +1,50 @@
+#include "app/process.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace c2d::app {
+
+ProcessOutcome run_process(const std::string& program, const std::vector<std::string>& args,
+                           const std::string& log_path) {
+  ProcessOutcome out;
+  std::vector<std::string> words{program};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(),
+                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = 0;
+  const int rc = posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0) {
+    out.error = program + " could not be started (" + std::strerror(rc) + ")";
+    return out;
+  }
+  out.started = true;
+  int status = 0;
+  struct rusage usage {};
+  pid_t waited;
+  while ((waited = wait4(pid, &status, 0, &usage)) < 0 && errno == EINTR) {
+  }
+  if (waited != pid) {
+    out.error = program + ": wait failed (" + std::strerror(errno) + ")";
+    return out;
+  }
+  out.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  out.peak_rss_mb = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+  return out;
+}
+
+}  // namespace c2d::app
