@@ -16,6 +16,7 @@
 #include "app/charts.hpp"
 #include "app/studies.hpp"
 #include "constraints/constraint_strategy.hpp"
+#include "constraints/method_registry.hpp"
 #include "core/assembler.hpp"
 #include "core/errors.hpp"
 #include "core/elasticity_kernels.hpp"

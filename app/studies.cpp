@@ -18,6 +18,7 @@
 #include "app/process.hpp"
 #include "app/trace_charts.hpp"
 #include "constraints/constraint_strategy.hpp"
+#include "constraints/method_registry.hpp"
 #include "constraints/contact_scene.hpp"
 #include "core/errors.hpp"
 #include "core/scene.hpp"

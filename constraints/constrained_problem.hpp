@@ -50,6 +50,11 @@ struct ConstrainedProblem {
   VecX row_stiffness(const SpMat& rows) const;
 };
 
+/// Gap below which a row counts as touching: 1e-12 × the model size.
+double touch_tolerance(const ConstrainedProblem& p);
+/// max(0, −g): the deepest penetration of a gap vector (0 when empty).
+double max_penetration(const VecX& gap);
+
 /// One iteration of a backend: enough to draw a convergence history or an activation trace.
 struct IterationRecord {
   int iteration = 0;

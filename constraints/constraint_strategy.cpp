@@ -2,33 +2,15 @@
 
 #include <chrono>
 
-#include "constraints/adaptive_penalty_strategy.hpp"
-#include "constraints/auglag_strategy.hpp"
-#include "constraints/ipopt_strategy.hpp"
-#include "constraints/lagrange_strategy.hpp"
-#include "constraints/penalty_strategy.hpp"
-#include "constraints/ssn_strategy.hpp"
+#include "constraints/method_registry.hpp"
 #include "constraints/strategy_common.hpp"
 #include "core/errors.hpp"
 
 namespace c2d::constraints {
 
-const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names = {"penalty", "adaptive_penalty", "lagrange",
-                                                 "auglag",  "ipopt",            "ssn"};
-  return names;
-}
-
-bool is_exact_method(const std::string& m) {
-  return m == "lagrange" || m == "ipopt" || m == "ssn";
-}
-
 std::string StrategyOptions::validate() const {
-  bool known = false;
-  for (const auto& n : method_names()) known |= n == method;
-  if (!known)
-    return "method: expected penalty | adaptive_penalty | lagrange | auglag | ipopt | ssn, found '" +
-           method + "'";
+  if (!find_method(method))
+    return "method: expected " + method_list(" | ") + ", found '" + method + "'";
   if (penalty_k < 0) return "penalty.k: expected a stiffness > 0";
   if (!(penalty_factor > 0)) return "penalty.factor: expected a factor > 0";
   if (tolerance < 0) return "tolerance: expected a length >= 0";
@@ -52,12 +34,21 @@ ConstraintSolution ConstraintStrategy::solve(const ConstrainedProblem& problem) 
 
 std::unique_ptr<ConstraintStrategy> ConstraintStrategy::create(const StrategyOptions& o) {
   if (const std::string error = o.validate(); !error.empty()) throw InputError(error);
-  if (o.method == "penalty") return std::make_unique<PenaltyStrategy>(o);
-  if (o.method == "adaptive_penalty") return std::make_unique<AdaptivePenaltyStrategy>(o);
-  if (o.method == "lagrange") return std::make_unique<LagrangeStrategy>(o);
-  if (o.method == "auglag") return std::make_unique<AugLagStrategy>(o);
-  if (o.method == "ipopt") return std::make_unique<IpoptStrategy>(o);
-  return std::make_unique<SsnStrategy>(o);
+  return find_method(o.method)->create(o);
+}
+
+std::unique_ptr<ActiveSetTerms> RegularisedStrategy::active_set_terms(
+    const ConstrainedProblem& p, const ConstraintSolution& s) const {
+  // The reported force λ = λ̂ − k g at the solution's gaps fixes λ̂ for the solve.
+  VecX lambda_hat = VecX::Zero(p.num_gaps());
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (s.active[i]) lambda_hat[i] = s.contact_force[i] + s.penalty[i] * s.gap[i];
+  return make_penalty_terms(p.gap_jacobian, s.active, s.penalty, lambda_hat);
+}
+
+std::unique_ptr<ActiveSetTerms> ExactStrategy::active_set_terms(
+    const ConstrainedProblem& p, const ConstraintSolution& s) const {
+  return make_multiplier_terms(p.gap_jacobian, s.active, saddle_point_scale(p));
 }
 
 }  // namespace c2d::constraints

@@ -1,10 +1,13 @@
-// One interface for every way of enforcing constraints; one class per method; one factory.
+// One interface for every way of enforcing constraints: one class per method, registered in
+// constraints/method_registry.cpp. A method solves the linearised problem (its active-set
+// update) and gives the terms with which a Newton solve holds that set.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "constraints/active_set_terms.hpp"
 #include "constraints/constrained_problem.hpp"
 
 namespace c2d::constraints {
@@ -12,7 +15,7 @@ namespace c2d::constraints {
 /// Options shared by the backends; each uses the ones that concern it. Validated by
 /// `validate()` before a strategy is created.
 struct StrategyOptions {
-  std::string method = "lagrange";  ///< one of method_names()
+  std::string method = "lagrange";  ///< a name of the method registry
   /// penalty: an absolute stiffness (> 0) or, when 0, `penalty_factor` × the local stiffness.
   double penalty_k = 0.0;
   double penalty_factor = 1.0e3;
@@ -33,27 +36,56 @@ struct StrategyOptions {
   std::string validate() const;
 };
 
-/// All method names, in the order reports list them.
-const std::vector<std::string>& method_names();
-/// Methods that enforce the constraints exactly (up to round-off).
-bool is_exact_method(const std::string& method);
-
 class ConstraintStrategy {
  public:
+  /// `options.method` is the registered name the strategy reports.
+  explicit ConstraintStrategy(const StrategyOptions& options) : options_(options) {}
   virtual ~ConstraintStrategy() = default;
-  virtual std::string name() const = 0;
+  const std::string& name() const { return options_.method; }
+  /// Enforces the constraints exactly (up to round-off), or up to a regularisation.
+  virtual bool exact() const = 0;
   /// Solves the problem. Never throws for numerical trouble: the status and message say what
   /// happened, and every field is finite. Times the method, names it in the solution and
   /// derives the gaps, penetration and equality violation from u.
   ConstraintSolution solve(const ConstrainedProblem& problem);
+  /// The terms a Newton solve adds to hold the active set of `solution` (which this strategy
+  /// returned for `problem`) fixed: the method's forces and stiffness, or its multipliers.
+  virtual std::unique_ptr<ActiveSetTerms> active_set_terms(
+      const ConstrainedProblem& problem, const ConstraintSolution& solution) const = 0;
+  /// Hooks of a load-stepped analysis: the step just solved was accepted, or is being cut back
+  /// (a method with history per step keeps or restores it here). Nothing by default.
+  virtual void step_accepted() {}
+  virtual void step_rejected() {}
 
-  /// The only place a method name becomes a class. Throws InputError for an unknown method or
-  /// invalid options.
+  /// The only place a method name becomes a class (through the method registry). Throws
+  /// InputError for an unknown method or invalid options.
   static std::unique_ptr<ConstraintStrategy> create(const StrategyOptions& options);
 
  protected:
   /// The method itself: u, forces, multipliers, active set, status, history.
   virtual ConstraintSolution solve_problem(const ConstrainedProblem& problem) = 0;
+
+  StrategyOptions options_;
+};
+
+/// A method that enforces the constraints up to a regularisation (a penalty stiffness per
+/// row): a Newton solve holds its active set with the forces λ̂ − k g it reports.
+class RegularisedStrategy : public ConstraintStrategy {
+ public:
+  using ConstraintStrategy::ConstraintStrategy;
+  bool exact() const final { return false; }
+  std::unique_ptr<ActiveSetTerms> active_set_terms(const ConstrainedProblem& problem,
+                                                   const ConstraintSolution& s) const final;
+};
+
+/// A method that enforces the constraints exactly through multipliers: a Newton solve holds
+/// its active set with the saddle point of the active rows.
+class ExactStrategy : public ConstraintStrategy {
+ public:
+  using ConstraintStrategy::ConstraintStrategy;
+  bool exact() const final { return true; }
+  std::unique_ptr<ActiveSetTerms> active_set_terms(const ConstrainedProblem& problem,
+                                                   const ConstraintSolution& s) const final;
 };
 
 }  // namespace c2d::constraints

@@ -1,5 +1,6 @@
 #include "constraints/contact_scene.hpp"
 
+#include "constraints/method_registry.hpp"
 #include "core/errors.hpp"
 #include "core/toml_view.hpp"
 
@@ -31,8 +32,7 @@ Obstacle parse_obstacle(const TomlView& v) {
 }
 
 void parse_options(const TomlView& v, StrategyOptions& o) {
-  o.method = v["method"].choice_or(
-      {"penalty", "adaptive_penalty", "lagrange", "auglag", "ipopt", "ssn"}, o.method);
+  o.method = v["method"].choice_or(method_names(), o.method);
   if (v.has("penalty")) {
     const TomlView p = v["penalty"];
     p.require_table();

@@ -15,15 +15,11 @@ namespace c2d::constraints {
 /// Penetration tolerance: the absolute option, else relative × the problem's length scale.
 double penetration_tolerance(const StrategyOptions& options, const ConstrainedProblem& p);
 
-/// Gap below which a row counts as touching: 1e-12 × the model size.
-double touch_tolerance(const ConstrainedProblem& p);
 
 /// Rows closed at the start: the problem's warm start if it has one, else the rows with
 /// g0 ≤ 1e-12 × model size (touching or already penetrating).
 std::vector<char> initially_closed(const ConstrainedProblem& p);
 
-/// max(0, −g): the deepest penetration of a gap vector (0 when empty).
-double max_penetration(const VecX& gap);
 
 /// The history record of one active-set iteration that produced `next`.
 IterationRecord make_record(int iteration, const std::vector<char>& next,

@@ -112,17 +112,17 @@ std::string TomlView::string_or(const std::string& fallback) const {
   return node_ ? string() : fallback;
 }
 
-std::string TomlView::choice(std::initializer_list<const char*> choices) const {
+std::string TomlView::choice(const std::vector<std::string>& choices) const {
   std::string list;
-  for (const char* c : choices) list += std::string(list.empty() ? "" : " | ") + '"' + c + '"';
+  for (const std::string& c : choices) list += std::string(list.empty() ? "" : " | ") + '"' + c + '"';
   if (!node_ || !node_->is_string()) fail("one of " + list);
   const std::string v = string();
-  for (const char* c : choices)
+  for (const std::string& c : choices)
     if (v == c) return v;
   fail("one of " + list);
 }
 
-std::string TomlView::choice_or(std::initializer_list<const char*> choices,
+std::string TomlView::choice_or(const std::vector<std::string>& choices,
                                 const std::string& fallback) const {
   return node_ ? choice(choices) : fallback;
 }

@@ -46,8 +46,8 @@ class TomlView {
   std::string string() const;
   std::string string_or(const std::string& fallback) const;
   /// One of `choices` (exact); names them on failure.
-  std::string choice(std::initializer_list<const char*> choices) const;
-  std::string choice_or(std::initializer_list<const char*> choices, const std::string& fallback) const;
+  std::string choice(const std::vector<std::string>& choices) const;
+  std::string choice_or(const std::vector<std::string>& choices, const std::string& fallback) const;
   Vec2 vec2() const;                            ///< [x, y]
   std::vector<Vec2> points() const;             ///< [[x, y], ...]
   /// Entries of an array of tables (missing: empty); each view is named path[i].

@@ -5,9 +5,8 @@
 #include <limits>
 #include <memory>
 #include <set>
+#include <utility>
 
-#include "constraints/saddle_point_solver.hpp"
-#include "constraints/strategy_common.hpp"
 
 namespace c2d::nonlinear {
 
@@ -16,52 +15,29 @@ using namespace c2d::constraints;
 namespace {
 
 /// The nonlinear equations of one outer iteration: the active rows fixed, their gaps linear in
-/// the free displacements, g(u) = c + G u (the linearisation about the detection state).
-///   penalty-type:  R(u)    = f_int(u) − λ f − G_Aᵀ (λ̂ − k g_A(u))             (CHOLMOD)
-///   exact:         R(u, z) = [ f_int(u) − λ f − s G_Aᵀ z_A ;  −s g_A(u) ;  s z_I ]
-/// with z = λ/s the multipliers scaled to the stiffness (s = mean diag K) and the inactive rows
-/// kept as z = 0. The exact methods' Newton systems go to the SaddlePointSolver: a Cholesky of
-/// K_T and the Schur complement of the active rows, or UMFPACK on the saddle point when K_T
-/// alone is singular (a body held only by its contacts).
+/// the free displacements, g(u) = c + G u (the linearisation about the detection state), and
+/// the strategy's terms for that set (its forces and stiffness, or its multipliers):
+///   R(x) = [ f_int(u) − λ f − Gᵀ λ(x) ;  r_terms(x) ],   x = [u; the terms' unknowns].
 class ActiveSetSystem final : public NewtonSystem {
  public:
-  ActiveSetSystem(FiniteStrainSystem& base, bool multipliers, const ConstrainedProblem& qp,
-                  const VecX& c, std::vector<char> active, const VecX& k, const VecX& lambda_hat,
-                  double scale)
-      : base_(base), multipliers_(multipliers), g_(qp.gap_jacobian), gt_(g_.transpose()), c_(c),
-        active_(std::move(active)), k_(k), lambda_hat_(lambda_hat), s_(scale),
-        n_(static_cast<int>(g_.cols())), m_(static_cast<int>(g_.rows())) {
-    if (multipliers_) {
-      problem_.gap_jacobian = g_;
-      problem_.gap0 = VecX::Zero(m_);
-      problem_.load = VecX::Zero(n_);
-      problem_.eq_jacobian = SpMat(0, n_);
-      problem_.eq_rhs = VecX();
-      saddle_ = std::make_unique<SaddlePointSolver>(problem_, s_);
-    } else {
-      VecX ka = VecX::Zero(m_);
-      for (int i = 0; i < m_; ++i)
-        if (active_[i]) ka[i] = k_[i];
-      penalty_ = SpMat(gt_ * ka.asDiagonal() * g_);
-    }
-  }
+  ActiveSetSystem(FiniteStrainSystem& base, const SpMat& g, const VecX& c,
+                  std::unique_ptr<ActiveSetTerms> terms)
+      : base_(base), g_(g), gt_(g_.transpose()), c_(c), terms_(std::move(terms)),
+        n_(static_cast<int>(g_.cols())) {}
 
-  int size() const { return multipliers_ ? n_ + m_ : n_; }
+  int size() const { return n_ + terms_->extra_unknowns(); }
   VecX pack(const VecX& u, const VecX& force) const {
     VecX x(size());
     x.head(n_) = u;
-    if (multipliers_)
-      for (int i = 0; i < m_; ++i) x[n_ + i] = active_[i] ? force[i] / s_ : 0.0;
+    terms_->pack_forces(force, x.tail(size() - n_));
     return x;
   }
   VecX gap(const VecX& x) const { return c_ + g_ * x.head(n_); }
   /// Row forces λ ≥ 0 (compressive) at x.
   VecX forces(const VecX& x, const VecX& gap) const {
-    VecX f = VecX::Zero(m_);
-    for (int i = 0; i < m_; ++i)
-      if (active_[i]) f[i] = multipliers_ ? s_ * x[n_ + i] : lambda_hat_[i] - k_[i] * gap[i];
-    return f;
+    return terms_->forces(gap, x.tail(size() - n_));
   }
+  double row_stiffness() const { return terms_->row_stiffness(); }
 
   bool residual(const VecX& x, VecX& r) override {
     VecX ru;
@@ -69,39 +45,20 @@ class ActiveSetSystem final : public NewtonSystem {
     const VecX g = gap(x);
     r.resize(size());
     r.head(n_) = ru - gt_ * forces(x, g);
-    if (multipliers_)
-      for (int i = 0; i < m_; ++i) r[n_ + i] = active_[i] ? -s_ * g[i] : s_ * x[n_ + i];
+    terms_->extra_residual(g, x.tail(size() - n_), r.tail(size() - n_));
     return true;
   }
   bool factorize_jacobian(const VecX& x) override {
-    if (!base_.assemble(base_.full(x.head(n_)))) return false;
-    if (multipliers_) {
-      problem_.stiffness = base_.matrix();
-      saddle_->stiffness_changed();
-      const bool ok = saddle_->factorize(active_, true, analysed_) == SolveStatus::kConverged;
-      analysed_ = true;
-      return ok;
-    }
-    jacobian_ = base_.matrix() + penalty_;  // the solver keeps a reference for its residual check
-    return spd_.factorize(jacobian_) == SolveStatus::kConverged;
+    return base_.assemble(base_.full(x.head(n_))) && terms_->factorize(base_.matrix());
   }
-  bool solve(const VecX& b, VecX& x) override {
-    return (multipliers_ ? saddle_->solve(b, x) : spd_.solve(b, x)) == SolveStatus::kConverged;
-  }
+  bool solve(const VecX& b, VecX& x) override { return terms_->solve(b, x); }
 
  private:
   FiniteStrainSystem& base_;
-  bool multipliers_;
-  SpMat g_, gt_, penalty_, jacobian_;
+  SpMat g_, gt_;
   VecX c_;
-  std::vector<char> active_;
-  VecX k_, lambda_hat_;
-  double s_;
-  int n_, m_;
-  ConstrainedProblem problem_;
-  std::unique_ptr<SaddlePointSolver> saddle_;
-  bool analysed_ = false;
-  core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
+  std::unique_ptr<ActiveSetTerms> terms_;
+  int n_;
 };
 
 double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
@@ -112,7 +69,6 @@ ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSe
                                      ConstraintStrategy& strategy, const ContactStepInput& in) {
   ContactStepResult out;
   const core::DofMap& dofs = system.model().dofs;
-  const bool exact = is_exact_method(strategy.name());
   const int slots = contact.num_slots();
   VecX u = in.u_free;
   ContactMemory previous = in.memory;
@@ -189,15 +145,11 @@ ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSe
 
     // 3. KINSOL with the set fixed: from the strategy's step when the set changed; from the
     //    state itself (and, for exact methods, its own multipliers) when the strategy kept it.
-    VecX k = s.penalty, lambda_hat = VecX::Zero(m), start_force = s.contact_force;
-    if (!exact)
-      for (int i = 0; i < m; ++i)
-        if (s.active[i]) lambda_hat[i] = s.contact_force[i] + k[i] * s.gap[i];
-    if (exact && same_set)
+    //    (Terms whose forces follow from u, the penalty-type ones, ignore the start forces.)
+    VecX start_force = s.contact_force;
+    if (same_set)
       for (int i = 0; i < m; ++i) start_force[i] = force_by_slot[rows[i].slot];
-    // Without active rows the exact methods' system is K_T alone: CHOLMOD, not the saddle point.
-    const bool multipliers = exact && std::find(s.active.begin(), s.active.end(), 1) != s.active.end();
-    ActiveSetSystem sys(system, multipliers, qp, c, s.active, k, lambda_hat, saddle_point_scale(qp));
+    ActiveSetSystem sys(system, qp.gap_jacobian, c, strategy.active_set_terms(qp, s));
     VecX x = sys.pack(same_set ? u : VecX(u + s.u), start_force);
     NewtonOptions newton = in.newton;
     newton.residual_scale = std::max({newton.residual_scale, inf_norm(s.contact_force),
@@ -225,10 +177,8 @@ ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSe
     // bounds the test from below.
     if (same_set) {
       VecX r;
-      double k_max = multipliers ? saddle_point_scale(qp) : 0.0;
-      for (int i = 0; i < m; ++i)
-        if (s.active[i]) k_max = std::max(k_max, k[i]);
-      const double floor = 16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale * k_max;
+      const double floor =
+          16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale * sys.row_stiffness();
       if (sys.residual(x, r) &&
           inf_norm(r) <= std::max(newton.residual_tolerance * newton.residual_scale, floor)) {
         it.newton.status = SolveStatus::kConverged;

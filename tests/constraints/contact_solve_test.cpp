@@ -9,6 +9,7 @@
 
 #include "constraints/contact_scene.hpp"
 #include "constraints/contact_set.hpp"
+#include "constraints/method_registry.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
 #include "nonlinear/linear_static.hpp"
@@ -101,9 +102,7 @@ TEST_P(HertzRigidExact, AgreeWithLagrangeAndDoNotPenetrate) {
   EXPECT_LE(r.report.max_penetration, 1e-9 * model_->model_size);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, HertzRigid,
-                         ::testing::Values("lagrange", "ssn", "ipopt", "auglag",
-                                           "adaptive_penalty", "penalty"));
+INSTANTIATE_TEST_SUITE_P(Methods, HertzRigid, ::testing::ValuesIn(method_names()));
 INSTANTIATE_TEST_SUITE_P(ExactMethods, HertzRigidExact, ::testing::Values("ssn", "ipopt"));
 
 namespace {

@@ -4,9 +4,14 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
 
 #include "constraints/active_set_tracker.hpp"
 #include "constraints/constraint_strategy.hpp"
+#include "constraints/method_registry.hpp"
 
 using namespace c2d;
 using namespace c2d::constraints;
@@ -117,9 +122,77 @@ TEST_P(EveryMethod, ChainAgainstAStopIsExactWithTheKnownActiveSet) {
   EXPECT_EQ(s.active[0], 1);
 }
 
-INSTANTIATE_TEST_SUITE_P(Constraints, EveryMethod,
-                         ::testing::Values("penalty", "adaptive_penalty", "lagrange", "auglag",
-                                           "ipopt", "ssn"));
+TEST_P(EveryMethod, NewtonTermsHoldTheSolutionOfTheirActiveSet) {
+  // The chain on a ground spring (no equality rows, as in a load step) against the stop: at the
+  // strategy's own solution the Newton residual of its terms, R = K u − f − Gᵀ λ(u) with the
+  // terms' own equations, vanishes and one Newton step from there stays there (to 1e-9
+  // relative, plus the round-off floor 64 ε k |u| of a row of stiffness k).
+  ConstrainedProblem p = spring_chain();
+  p.stiffness.coeffRef(0, 0) += 100.0;
+  p.eq_jacobian = SpMat(0, 7);
+  p.eq_rhs = VecX();
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(1, 7);
+  g(0, 6) = -1;
+  p.gap_jacobian = sparse(g);
+  p.gap0 = VecX::Constant(1, 0.1);
+  // Default options: with the default penalties the round-off floor of the residual,
+  // ε k |u| per row, stays far below the tolerance.
+  StrategyOptions o;
+  o.method = GetParam();
+  const auto strategy = ConstraintStrategy::create(o);
+  EXPECT_EQ(strategy->exact(), is_exact_method(GetParam()));
+  const ConstraintSolution s = strategy->solve(p);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.message;
+  ASSERT_EQ(s.active[0], 1);
+  const auto terms = strategy->active_set_terms(p, s);
+  const int n = 7, size = n + terms->extra_unknowns();
+  VecX x(size);
+  x.head(n) = s.u;
+  terms->pack_forces(s.contact_force, x.tail(size - n));
+  const VecX gap = p.gap0 + p.gap_jacobian * s.u;
+  const VecX force = terms->forces(gap, x.tail(size - n));
+  EXPECT_NEAR(force[0], s.contact_force[0], 1e-9 * s.contact_force[0]);
+  VecX r(size);
+  r.head(n) = p.stiffness * s.u - p.load - SpMat(p.gap_jacobian.transpose()) * force;
+  terms->extra_residual(gap, x.tail(size - n), r.tail(size - n));
+  const double floor = 64 * std::numeric_limits<double>::epsilon() * terms->row_stiffness() *
+                      s.u.cwiseAbs().maxCoeff();
+  EXPECT_LT(r.cwiseAbs().maxCoeff(), 1e-9 * p.load.cwiseAbs().maxCoeff() + floor);
+  ASSERT_TRUE(terms->factorize(p.stiffness));
+  VecX dx;
+  ASSERT_TRUE(terms->solve(-r, dx));
+  EXPECT_LT(dx.head(n).cwiseAbs().maxCoeff(), 1e-9 * s.u.cwiseAbs().maxCoeff());
+  EXPECT_GT(terms->row_stiffness(), 0.0);
+}
+
+// Every registered method runs the shared checks.
+INSTANTIATE_TEST_SUITE_P(Constraints, EveryMethod, ::testing::ValuesIn(method_names()));
+
+TEST(MethodRegistry, NamesAreUniqueAndEachEntryMakesItsOwnMethod) {
+  std::set<std::string> seen;
+  for (const MethodInfo& m : method_registry()) {
+    EXPECT_TRUE(seen.insert(m.name).second) << m.name;
+    EXPECT_FALSE(m.summary.empty()) << m.name;
+    StrategyOptions o;
+    o.method = m.name;
+    const auto strategy = ConstraintStrategy::create(o);
+    EXPECT_EQ(strategy->name(), m.name);
+    EXPECT_EQ(strategy->exact(), m.exact) << m.name;
+    EXPECT_EQ(find_method(m.name), &m);
+  }
+  EXPECT_EQ(find_method("nitsche"), nullptr);
+  StrategyOptions o;
+  o.method = "nitsche";
+  EXPECT_EQ(o.validate(), "method: expected " + method_list(" | ") + ", found 'nitsche'");
+}
+
+TEST(MethodRegistry, DocsSceneMdHoldsTheRegistrysMethodTable) {
+  std::ifstream in(std::string(C2D_SOURCE_DIR) + "/docs/scene.md");
+  std::stringstream doc;
+  doc << in.rdbuf();
+  EXPECT_NE(doc.str().find(method_table_markdown()), std::string::npos)
+      << "docs/scene.md must contain the method table, exactly:\n" << method_table_markdown();
+}
 
 TEST(Penalty, ErrorDecreasesLikeOneOverK) {
   // u2 of the spring chain under penalty: error ~ C / k, so ten times k, a tenth of the error.

@@ -6,16 +6,12 @@
 
 namespace c2d::constraints {
 
-class PenaltyStrategy final : public ConstraintStrategy {
+class PenaltyStrategy final : public RegularisedStrategy {
  public:
-  explicit PenaltyStrategy(const StrategyOptions& options) : options_(options) {}
-  std::string name() const override { return "penalty"; }
+  using RegularisedStrategy::RegularisedStrategy;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
-
- private:
-  StrategyOptions options_;
 };
 
 /// Penalty stiffness per gap row and per equality row: the input's fixed k where it gives one,

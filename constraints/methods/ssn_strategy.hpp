@@ -9,16 +9,12 @@
 
 namespace c2d::constraints {
 
-class SsnStrategy final : public ConstraintStrategy {
+class SsnStrategy final : public ExactStrategy {
  public:
-  explicit SsnStrategy(const StrategyOptions& options) : options_(options) {}
-  std::string name() const override { return "ssn"; }
+  using ExactStrategy::ExactStrategy;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
-
- private:
-  StrategyOptions options_;
 };
 
 }  // namespace c2d::constraints

@@ -1,8 +1,8 @@
-#include "constraints/auglag_strategy.hpp"
+#include "constraints/methods/auglag_strategy.hpp"
 
 #include <cmath>
 
-#include "constraints/penalty_strategy.hpp"
+#include "constraints/methods/penalty_strategy.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {

@@ -7,16 +7,12 @@
 
 namespace c2d::constraints {
 
-class AdaptivePenaltyStrategy final : public ConstraintStrategy {
+class AdaptivePenaltyStrategy final : public RegularisedStrategy {
  public:
-  explicit AdaptivePenaltyStrategy(const StrategyOptions& options) : options_(options) {}
-  std::string name() const override { return "adaptive_penalty"; }
+  using RegularisedStrategy::RegularisedStrategy;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
-
- private:
-  StrategyOptions options_;
 };
 
 }  // namespace c2d::constraints

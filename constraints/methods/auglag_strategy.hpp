@@ -7,16 +7,12 @@
 
 namespace c2d::constraints {
 
-class AugLagStrategy final : public ConstraintStrategy {
+class AugLagStrategy final : public RegularisedStrategy {
  public:
-  explicit AugLagStrategy(const StrategyOptions& options) : options_(options) {}
-  std::string name() const override { return "auglag"; }
+  using RegularisedStrategy::RegularisedStrategy;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
-
- private:
-  StrategyOptions options_;
 };
 
 }  // namespace c2d::constraints

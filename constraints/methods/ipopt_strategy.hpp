@@ -9,16 +9,12 @@
 
 namespace c2d::constraints {
 
-class IpoptStrategy final : public ConstraintStrategy {
+class IpoptStrategy final : public ExactStrategy {
  public:
-  explicit IpoptStrategy(const StrategyOptions& options) : options_(options) {}
-  std::string name() const override { return "ipopt"; }
+  using ExactStrategy::ExactStrategy;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
-
- private:
-  StrategyOptions options_;
 };
 
 }  // namespace c2d::constraints

@@ -1,4 +1,4 @@
-#include "constraints/lagrange_strategy.hpp"
+#include "constraints/methods/lagrange_strategy.hpp"
 
 #include <algorithm>
 

@@ -6,16 +6,12 @@
 
 namespace c2d::constraints {
 
-class LagrangeStrategy final : public ConstraintStrategy {
+class LagrangeStrategy final : public ExactStrategy {
  public:
-  explicit LagrangeStrategy(const StrategyOptions& options) : options_(options) {}
-  std::string name() const override { return "lagrange"; }
+  using ExactStrategy::ExactStrategy;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
-
- private:
-  StrategyOptions options_;
 };
 
 }  // namespace c2d::constraints

@@ -1,4 +1,4 @@
-#include "constraints/ssn_strategy.hpp"
+#include "constraints/methods/ssn_strategy.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "constraints/penalty_strategy.hpp"
+#include "constraints/methods/penalty_strategy.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "constraints/ipopt_strategy.hpp"
+#include "constraints/methods/ipopt_strategy.hpp"
 
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>
