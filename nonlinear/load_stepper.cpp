@@ -122,6 +122,7 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
       u_prev_full = system.full(u_free);
       lambda = target;
       if (with_contact) {
+        strategy->step_accepted();
         memory = cstep.memory;
         last_contact.status = SolveStatus::kConverged;
         contact->report(cstep.rows, cstep.state, last_contact);
@@ -133,6 +134,7 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
     } else if (rec.newton.status == SolveStatus::kIllConditioned) {
       give_up = true;  // a penalty beyond what double precision resolves: no step size cures it
     } else if (cutbacks < options.max_cutbacks) {
+      if (with_contact) strategy->step_rejected();
       ++cutbacks;
       increment *= 0.5;
     } else {
