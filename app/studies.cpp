@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -61,11 +62,19 @@ void run_cases(const std::vector<StudyCase>& cases, int jobs,
   const std::string exe = fs::read_symlink("/proc/self/exe").string();
   std::atomic<size_t> next{0};
   std::mutex done_mutex;
+  std::exception_ptr first_error;  // a worker's exception stops the pool, then is rethrown
   auto worker = [&] {
-    for (size_t i = next++; i < cases.size(); i = next++) {
-      const CaseOutcome outcome = run_one(exe, cases[i]);
+    try {
+      for (size_t i = next++; i < cases.size(); i = next++) {
+        const CaseOutcome outcome = run_one(exe, cases[i]);
+        std::lock_guard<std::mutex> lock(done_mutex);
+        if (first_error) return;
+        on_done(i, outcome);
+      }
+    } catch (...) {
       std::lock_guard<std::mutex> lock(done_mutex);
-      on_done(i, outcome);
+      if (!first_error) first_error = std::current_exception();
+      next = cases.size();
     }
   };
   const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(cases.size())));
@@ -73,6 +82,7 @@ void run_cases(const std::vector<StudyCase>& cases, int jobs,
   for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
+  if (first_error) std::rethrow_exception(first_error);
 }
 
 double json_number(const nlohmann::json& j, std::initializer_list<const char*> path) {

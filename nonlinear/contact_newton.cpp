@@ -7,6 +7,8 @@
 #include <set>
 #include <utility>
 
+#include "core/stopwatch.hpp"
+
 
 namespace c2d::nonlinear {
 
@@ -20,7 +22,7 @@ namespace {
 ///   R(x) = [ f_int(u) − λ f − Gᵀ λ(x) ;  r_terms(x) ],   x = [u; the terms' unknowns].
 class ActiveSetSystem final : public NewtonSystem {
  public:
-  ActiveSetSystem(FiniteStrainSystem& base, const SpMat& g, const VecX& c,
+  ActiveSetSystem(StructuralSystem& base, const SpMat& g, const VecX& c,
                   std::unique_ptr<ActiveSetTerms> terms)
       : base_(base), g_(g), gt_(g_.transpose()), c_(c), terms_(std::move(terms)),
         n_(static_cast<int>(g_.cols())) {}
@@ -49,12 +51,12 @@ class ActiveSetSystem final : public NewtonSystem {
     return true;
   }
   bool factorize_jacobian(const VecX& x) override {
-    return base_.assemble(base_.full(x.head(n_))) && terms_->factorize(base_.matrix());
+    return base_.assemble_tangent(base_.full(x.head(n_))) && terms_->factorize(base_.matrix());
   }
   bool solve(const VecX& b, VecX& x) override { return terms_->solve(b, x); }
 
  private:
-  FiniteStrainSystem& base_;
+  StructuralSystem& base_;
   SpMat g_, gt_;
   VecX c_;
   std::unique_ptr<ActiveSetTerms> terms_;
@@ -65,160 +67,283 @@ double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0
 
 }  // namespace
 
-ContactStepResult solve_contact_step(FiniteStrainSystem& system, const ContactSet& contact,
-                                     ConstraintStrategy& strategy, const ContactStepInput& in) {
-  ContactStepResult out;
-  const core::DofMap& dofs = system.model().dofs;
-  const int slots = contact.num_slots();
-  VecX u = in.u_free;
-  ContactMemory previous = in.memory;
-  previous.resize(slots, 0);
-  std::set<ContactMemory> seen{previous};
-  std::vector<double> force_by_slot(slots, 0.0);  ///< the last KINSOL solve's row forces
-  double coordinate_scale = 0.0;                  ///< largest |coordinate|, for round-off
-  for (const Vec2& xn : system.model().mesh.nodes)
-    coordinate_scale = std::max(coordinate_scale, xn.cwiseAbs().maxCoeff());
-  coordinate_scale += inf_norm(in.u_free) + contact.model_size();
-  std::vector<GapRow> rows, state_rows;
-  ConstraintSolution state;
-  auto fail = [&](SolveStatus status, const std::string& message) {
-    out.status = status;
-    out.message = message;
-    return out;
-  };
-  for (int outer = 1; outer <= in.max_outer; ++outer) {
+namespace {
+
+/// One load step's outer iterations (see contact_newton.hpp), as named steps over the state
+/// they share: the current free displacements, the active set by slot, the last solve's row
+/// forces, and the last state that satisfied the equations with its set held.
+class ConstrainedStep {
+ public:
+  ConstrainedStep(StructuralSystem& system, const ContactSet& contact,
+                  ConstraintStrategy& strategy, const ContactStepInput& in)
+      : system_(system), contact_(contact), strategy_(strategy), in_(in), u_(in.u_free),
+        previous_(in.memory), force_by_slot_(contact.num_slots(), 0.0) {
+    previous_.resize(contact.num_slots(), 0);
+    seen_.insert(previous_);
+    for (const Vec2& xn : system.model().mesh.nodes)
+      coordinate_scale_ = std::max(coordinate_scale_, xn.cwiseAbs().maxCoeff());
+    coordinate_scale_ += inf_norm(in.u_free) + contact.model_size();
+  }
+
+  ContactStepResult run() {
+    for (int outer = 1; outer <= in_.max_outer; ++outer) {
+      where_ = "outer iteration " + std::to_string(outer) + ": ";
+      if (!iterate(outer)) return std::move(out_);
+      if (out_.status == SolveStatus::kConverged) break;
+    }
+    if (out_.status != SolveStatus::kConverged) {
+      fail(SolveStatus::kMaxIterations, "active set or geometry still changing after " +
+                                            std::to_string(in_.max_outer) + " outer iterations");
+      out_.u_free = u_;  // the last state that satisfied the equations with its set held
+      out_.rows = std::move(state_rows_);
+      out_.state = std::move(state_);
+      return std::move(out_);
+    }
+    out_.newton.status = SolveStatus::kConverged;
+    out_.u_free = u_;
+    out_.memory = previous_;
+    // The rows and forces of the solve that produced the state (the strategy confirmed their
+    // linearisation at it).
+    out_.rows = std::move(state_rows_);
+    out_.state = std::move(state_);
+    return std::move(out_);
+  }
+
+ private:
+  /// One outer iteration; false when the step failed (out_ says why), out_.status converged
+  /// when it ended the step.
+  bool iterate(int outer) {
     ContactIteration it;
     it.outer = outer;
-    const std::string where = "outer iteration " + std::to_string(outer) + ": ";
     // 1. The problem linearised at the current state. The first iteration starts from the
     //    previous step's converged state and carries the prescribed increment as a lift.
-    const VecX u_full = system.full(u);
+    const VecX u_full = system_.full(u_);
     VecX load;
-    if (outer == 1) {
-      if (!system.step_predictor(in.u_prev_full, load))
-        return fail(SolveStatus::kFailed, where + "an element is inverted");
-    } else {
-      VecX r;
-      if (!system.residual(u, r) || !system.assemble(u_full))
-        return fail(SolveStatus::kFailed, where + "an element is inverted");
-      load = -r;
+    if (outer == 1 ? !system_.step_predictor(in_.u_prev_full, load) : !linearise(u_full, load)) {
+      fail(SolveStatus::kFailed, where_ + "an element is inverted");
+      return false;
     }
-    rows = contact.detect(u_full);
-    ConstrainedProblem qp = contact.problem(system.matrix(), load, rows, u_full);
+    core::Stopwatch detection;
+    rows_ = contact_.detect(u_full);
+    out_.detection_seconds += detection.lap();
+    // A linear system whose state reproduces the rows and gaps it was solved with poses the
+    // same problem again: the strategy would return the same set and no step.
+    if (outer > 1 && system_.is_linear() && reproduces_state()) {
+      out_.status = SolveStatus::kConverged;
+      return true;
+    }
+    ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full);
     const VecX c = qp.gap0;              // g(u_f) = c + G u_f
-    qp.gap0 += qp.gap_jacobian * u;      // the gaps in terms of the step Δu
+    qp.gap0 += qp.gap_jacobian * u_;     // the gaps in terms of the step Δu
+    warm_start(qp);
+
+    // 2. The strategy on the linearised problem.
+    const ConstraintSolution s = strategy_.solve(qp);
+    out_.strategy.add(s);
+    const ContactMemory next = record_strategy(qp, s, it);
+    if (s.status != SolveStatus::kConverged) {
+      keep_partial(c, qp, s);
+      out_.iterations.push_back(it);
+      fail(s.status, where_ + strategy_.name() + ": " + s.message);
+      return false;
+    }
+    const bool same_set = outer > 1 && next == previous_;
+    if (outer > 1 && !same_set && !seen_.insert(next).second) {
+      out_.iterations.push_back(it);
+      fail(SolveStatus::kCycling, where_ + "the active set returned to an earlier set within the step");
+      return false;
+    }
+    // 3. Newton with the set fixed.
+    if (!hold_set(qp, c, s, same_set, it)) return false;
+    previous_ = next;
+    return true;
+  }
+
+  /// The out-of-balance force and tangent at u_full (outer iterations after the first).
+  bool linearise(const VecX& u_full, VecX& load) {
+    VecX r;
+    if (!system_.residual(u_, r) || !system_.assemble_tangent(u_full)) return false;
+    load = -r;
+    return true;
+  }
+
+  /// The rows detected now are those of the kept state (same slave nodes) with the gaps its
+  /// linearisation predicted (a node sliding along a flat master changes edge, not gap).
+  bool reproduces_state() const {
+    if (rows_.size() != state_rows_.size() || state_.gap.size() != static_cast<int>(rows_.size()))
+      return false;
+    const double tol = 1e-9 * contact_.model_size();
+    for (size_t i = 0; i < rows_.size(); ++i)
+      if (rows_[i].slave != state_rows_[i].slave ||
+          std::abs(rows_[i].gap - state_.gap[static_cast<int>(i)]) > tol)
+        return false;
+    return true;
+  }
+
+  /// Warm start: the rows closed at the last state, and rows touching or penetrating now.
+  void warm_start(ConstrainedProblem& qp) const {
     const int m = qp.num_gaps();
     qp.initial_active.assign(m, 0);
     qp.initial_force = VecX::Zero(m);
-    // Warm start: the rows closed at the last state, and rows touching or penetrating now.
     const double touch = touch_tolerance(qp);
     for (int i = 0; i < m; ++i) {
-      qp.initial_active[i] = previous[rows[i].slot] || qp.gap0[i] <= touch;
-      qp.initial_force[i] = force_by_slot[rows[i].slot];
+      qp.initial_active[i] = previous_[rows_[i].slot] || qp.gap0[i] <= touch;
+      qp.initial_force[i] = force_by_slot_[rows_[i].slot];
     }
+  }
 
-    // 2. The strategy on the linearised problem.
-    const ConstraintSolution s = strategy.solve(qp);
+  /// The strategy's figures in the iteration record; returns its active set by slot.
+  ContactMemory record_strategy(const ConstrainedProblem& qp, const ConstraintSolution& s,
+                                ContactIteration& it) const {
+    const int m = qp.num_gaps(), slots = contact_.num_slots();
     it.strategy_iterations = s.iterations;
     it.strategy_status = s.status;
     it.strategy_step = inf_norm(s.u);
     it.rows = m;
     ContactMemory next(slots, 0);
     for (int i = 0; i < m; ++i)
-      if (s.active[i]) next[rows[i].slot] = 1;
+      if (s.active[i]) next[rows_[i].slot] = 1;
     for (int k = 0; k < slots; ++k) {
-      it.entering += next[k] && !previous[k];
-      it.leaving += !next[k] && previous[k];
+      it.entering += next[k] && !previous_[k];
+      it.leaving += !next[k] && previous_[k];
       it.active += next[k];
     }
     it.penalty = s.penalty.size() ? s.penalty.maxCoeff() : 0.0;
-    if (s.status != SolveStatus::kConverged) {
-      out.iterations.push_back(it);
-      return fail(s.status, where + strategy.name() + ": " + s.message);
-    }
-    const bool same_set = outer > 1 && next == previous;
-    if (outer > 1 && !same_set && !seen.insert(next).second) {
-      out.iterations.push_back(it);
-      return fail(SolveStatus::kCycling,
-                  where + "the active set returned to an earlier set within the step");
-    }
+    return next;
+  }
 
-    // 3. KINSOL with the set fixed: from the strategy's step when the set changed; from the
-    //    state itself (and, for exact methods, its own multipliers) when the strategy kept it.
-    //    (Terms whose forces follow from u, the penalty-type ones, ignore the start forces.)
-    VecX start_force = s.contact_force;
+  /// A strategy that stopped short (iteration limit, cycle, ill-conditioning) leaves its
+  /// trial state for a caller that reports it as such.
+  void keep_partial(const VecX& c, const ConstrainedProblem& qp, const ConstraintSolution& s) {
+    if (s.u.size() != u_.size()) return;
+    out_.u_free = u_ + s.u;
+    out_.rows = rows_;
+    out_.state = s;
+    out_.state.u = out_.u_free;
+    out_.state.gap = c + qp.gap_jacobian * out_.u_free;
+  }
+
+  /// KINSOL with the set fixed, from the strategy's step when the set changed, from the state
+  /// itself (and its own multipliers) when the strategy kept it; no solve when the start
+  /// already satisfies the equations. False when Newton failed.
+  bool hold_set(const ConstrainedProblem& qp, const VecX& c, const ConstraintSolution& s,
+                bool same_set, ContactIteration& it) {
+    const int m = qp.num_gaps();
+    VecX start_force = s.contact_force;  // (terms whose forces follow from u ignore it)
     if (same_set)
-      for (int i = 0; i < m; ++i) start_force[i] = force_by_slot[rows[i].slot];
-    ActiveSetSystem sys(system, qp.gap_jacobian, c, strategy.active_set_terms(qp, s));
-    VecX x = sys.pack(same_set ? u : VecX(u + s.u), start_force);
-    NewtonOptions newton = in.newton;
+      for (int i = 0; i < m; ++i) start_force[i] = force_by_slot_[rows_[i].slot];
+    ActiveSetSystem sys(system_, qp.gap_jacobian, c, strategy_.active_set_terms(qp, s));
+    VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), start_force);
+    NewtonOptions newton = in_.newton;
     newton.residual_scale = std::max({newton.residual_scale, inf_norm(s.contact_force),
-                                      system.reaction_scale(u + s.u), in.floor_scale});
-    auto keep_state = [&]() {
-      state = s;
-      state_rows = rows;
-      state.u = u;
-      state.gap = sys.gap(x);
-      state.contact_force = sys.forces(x, state.gap);
-      state.max_penetration = max_penetration(state.gap);
-      std::fill(force_by_slot.begin(), force_by_slot.end(), 0.0);
-      for (int i = 0; i < m; ++i) force_by_slot[rows[i].slot] = state.contact_force[i];
-      it.max_penetration = state.max_penetration;
-      it.max_force = inf_norm(state.contact_force);
-      ContactReport report;
-      contact.report(rows, state, report);
-      it.max_pressure = report.p_max;
-    };
-    // Converged when the strategy keeps the set and the state already satisfies the equations
-    // with the rows detected at it: a node that slid, a normal that turned or a penalty the
-    // strategy changed would show in this residual. A gap detected from absolute coordinates
-    // carries their round-off, ε·|x|, which a row stiffness k turns into a force of k·ε·|x|:
-    // with penalties 1e3 times the element stiffness that floor can exceed the tolerance, so it
-    // bounds the test from below.
-    if (same_set) {
-      VecX r;
-      const double floor =
-          16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale * sys.row_stiffness();
-      if (sys.residual(x, r) &&
-          inf_norm(r) <= std::max(newton.residual_tolerance * newton.residual_scale, floor)) {
-        it.newton.status = SolveStatus::kConverged;
-        it.newton.final_residual = inf_norm(r);
-        it.newton.residual_norms = {it.newton.final_residual};
-        keep_state();
-        out.iterations.push_back(it);
-        out.status = SolveStatus::kConverged;
-        break;
+                                      system_.reaction_scale(x.head(u_.size())), in_.floor_scale});
+    if (satisfied(sys, x, newton, it)) {
+      if (same_set) out_.status = SolveStatus::kConverged;
+    } else {
+      it.newton = solve_newton_with_fallback(sys, x, newton);
+      out_.newton.iterations += it.newton.iterations;
+      out_.newton.residual_norms.insert(out_.newton.residual_norms.end(),
+                                        it.newton.residual_norms.begin(),
+                                        it.newton.residual_norms.end());
+      out_.newton.final_residual = it.newton.final_residual;
+      out_.newton.last_step = it.newton.last_step;
+      if (it.newton.status != SolveStatus::kConverged) {
+        out_.iterations.push_back(it);
+        fail(it.newton.status, where_ + "Newton with the active set fixed: " + it.newton.message);
+        return false;
       }
     }
-    it.newton = solve_newton_with_fallback(sys, x, newton);
-    out.newton.iterations += it.newton.iterations;
-    out.newton.residual_norms.insert(out.newton.residual_norms.end(),
-                                     it.newton.residual_norms.begin(),
-                                     it.newton.residual_norms.end());
-    out.newton.final_residual = it.newton.final_residual;
-    out.newton.last_step = it.newton.last_step;
-    if (it.newton.status != SolveStatus::kConverged) {
-      out.iterations.push_back(it);
-      return fail(it.newton.status, where + "Newton with the active set fixed: " +
-                                        it.newton.message);
-    }
-    u = x.head(dofs.num_free());
-    keep_state();
-    out.iterations.push_back(it);
-    previous = next;
+    u_ = x.head(u_.size());
+    keep_state(sys, x, s, it);
+    out_.iterations.push_back(it);
+    return true;
   }
-  if (out.status != SolveStatus::kConverged)
-    return fail(SolveStatus::kMaxIterations,
-                "active set or geometry still changing after " + std::to_string(in.max_outer) +
-                    " outer iterations");
-  out.newton.status = SolveStatus::kConverged;
-  out.u_free = u;
-  out.memory = previous;
-  // The rows and forces of the KINSOL solve that produced the state (the strategy confirmed
-  // their linearisation at it).
-  out.rows = std::move(state_rows);
-  out.state = std::move(state);
-  return out;
+
+  /// Whether x already satisfies the equations. A gap detected from absolute coordinates
+  /// carries their round-off, ε·|x|, which a row stiffness k turns into a force of k·ε·|x|:
+  /// with penalties 1e3 times the element stiffness that floor can exceed the tolerance, so it
+  /// bounds the test from below.
+  bool satisfied(ActiveSetSystem& sys, const VecX& x, const NewtonOptions& newton,
+                 ContactIteration& it) const {
+    VecX r;
+    const double floor =
+        16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale_ * sys.row_stiffness();
+    if (!sys.residual(x, r) ||
+        inf_norm(r) > std::max(newton.residual_tolerance * newton.residual_scale, floor))
+      return false;
+    it.newton.status = SolveStatus::kConverged;
+    it.newton.final_residual = inf_norm(r);
+    it.newton.residual_norms = {it.newton.final_residual};
+    return true;
+  }
+
+  void keep_state(const ActiveSetSystem& sys, const VecX& x, const ConstraintSolution& s,
+                  ContactIteration& it) {
+    state_ = s;
+    state_rows_ = rows_;
+    state_.u = u_;
+    state_.gap = sys.gap(x);
+    state_.contact_force = sys.forces(x, state_.gap);
+    state_.max_penetration = max_penetration(state_.gap);
+    std::fill(force_by_slot_.begin(), force_by_slot_.end(), 0.0);
+    for (size_t i = 0; i < rows_.size(); ++i)
+      force_by_slot_[rows_[i].slot] = state_.contact_force[static_cast<int>(i)];
+    it.max_penetration = state_.max_penetration;
+    it.max_force = inf_norm(state_.contact_force);
+    ContactReport report;
+    contact_.report(rows_, state_, report);
+    it.max_pressure = report.p_max;
+  }
+
+  void fail(SolveStatus status, const std::string& message) {
+    out_.status = status;
+    out_.message = message;
+  }
+
+  StructuralSystem& system_;
+  const ContactSet& contact_;
+  ConstraintStrategy& strategy_;
+  const ContactStepInput& in_;
+  VecX u_;
+  ContactMemory previous_;
+  std::set<ContactMemory> seen_;
+  std::vector<double> force_by_slot_;  ///< the last solve's row forces
+  double coordinate_scale_ = 0.0;      ///< largest |coordinate|, for round-off
+  std::vector<GapRow> rows_, state_rows_;
+  ConstraintSolution state_;
+  std::string where_;
+  ContactStepResult out_;
+};
+
+}  // namespace
+
+void StrategyTotals::add(const ConstraintSolution& s) {
+  const int offset = history.empty() ? 0 : history.back().iteration;
+  for (IterationRecord rec : s.history) {
+    rec.iteration += offset;
+    history.push_back(rec);
+  }
+  penalty_history.insert(penalty_history.end(), s.penalty_history.begin(),
+                         s.penalty_history.end());
+  iterations += s.iterations;
+  seconds += s.seconds;
+  factorizations += s.factorizations;
+  symbolic_analyses += s.symbolic_analyses;
+  symbolic_seconds += s.symbolic_seconds;
+  numeric_seconds += s.numeric_seconds;
+  solve_seconds += s.solve_seconds;
+  pivot_ratio = s.pivot_ratio;
+}
+
+double residual_floor_scale(const core::Model& model) {
+  double e_t = 0.0;
+  for (const auto& m : model.materials) e_t = std::max(e_t, m.young * m.thickness);
+  return 1e-6 * e_t * model.mesh.edge_length_range().first;
+}
+
+ContactStepResult solve_contact_step(StructuralSystem& system, const ContactSet& contact,
+                                     ConstraintStrategy& strategy, const ContactStepInput& in) {
+  return ConstrainedStep(system, contact, strategy, in).run();
 }
 
 void store_contact_results(const ContactReport& report, int nn, core::Results& r) {

@@ -16,14 +16,15 @@
 // fixes the active set; the equality-constrained Newton solve with multipliers finishes it.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_set.hpp"
 #include "core/results.hpp"
-#include "nonlinear/finite_strain_system.hpp"
 #include "nonlinear/newton_solver.hpp"
+#include "nonlinear/structural_system.hpp"
 
 namespace c2d::nonlinear {
 
@@ -53,6 +54,17 @@ struct ContactStepInput {
   int max_outer = 15;
 };
 
+/// The strategy's own work over a step's outer iterations: its iteration records (numbered on),
+/// penalty raises, iterations, time and linear-solver figures, and the last solve's pivot ratio.
+struct StrategyTotals {
+  int iterations = 0, factorizations = 0, symbolic_analyses = 0;
+  double seconds = 0, symbolic_seconds = 0, numeric_seconds = 0, solve_seconds = 0;
+  double pivot_ratio = std::numeric_limits<double>::quiet_NaN();
+  std::vector<constraints::IterationRecord> history;
+  std::vector<double> penalty_history;
+  void add(const constraints::ConstraintSolution& s);
+};
+
 struct ContactStepResult {
   SolveStatus status = SolveStatus::kFailed;
   std::string message;
@@ -62,14 +74,25 @@ struct ContactStepResult {
   NewtonReport newton;  ///< the KINSOL solves of the step combined (iterations, norms)
   std::vector<constraints::GapRow> rows;   ///< at the converged state
   constraints::ConstraintSolution state;   ///< gaps, forces, active set, penalties there
+  StrategyTotals strategy;                 ///< the strategy's solves over the outer iterations
+  double detection_seconds = 0.0;          ///< contact search, every outer iteration
 };
 
-/// One load step to the load factor and prescribed values set on `system`, from the converged
-/// state in `in`. Never throws for numerical trouble; the caller keeps `in` as its snapshot.
-ContactStepResult solve_contact_step(FiniteStrainSystem& system,
+/// The constrained step: one load step to the load factor and prescribed values set on
+/// `system` (finite or small strain), from the converged state in `in`. Every analysis with
+/// contact passes through it, a linear one as a single step. Never throws for numerical
+/// trouble; the caller keeps `in` as its snapshot. When the step fails, u_free, rows and state
+/// hold the last trial state where one exists (a strategy that stopped at its iteration limit,
+/// or the outer iteration cap), for a caller that reports it under the failed status.
+ContactStepResult solve_contact_step(StructuralSystem& system,
                                      const constraints::ContactSet& contact,
                                      constraints::ConstraintStrategy& strategy,
                                      const ContactStepInput& in);
+
+/// The smallest residual scale of a model: residuals are measured against the largest nodal
+/// force in the system (load, reaction or contact force); a displacement-driven problem free of
+/// stress falls back to the force of a 1e-6 strain on the smallest element edge.
+double residual_floor_scale(const core::Model& model);
 
 /// The contact quantities of a report as result globals (contact_pressure_max, contact_length,
 /// contact_force, contact_penetration) and point fields (contact_gap, contact_pressure,

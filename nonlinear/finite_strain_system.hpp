@@ -7,33 +7,35 @@
 #include "core/model.hpp"
 #include "core/spd_solver.hpp"
 #include "nonlinear/newton_solver.hpp"
+#include "nonlinear/structural_system.hpp"
 
 namespace c2d::nonlinear {
 
-class FiniteStrainSystem final : public NewtonSystem {
+class FiniteStrainSystem final : public StructuralSystem {
  public:
   explicit FiniteStrainSystem(const core::Model& model);
 
   /// The load factor and the full vector carrying the prescribed values at it.
   void set_state(double lambda, const VecX& u_prescribed);
   double load_factor() const { return lambda_; }
-  const core::Model& model() const { return model_; }
-  /// Full displacement from the free values and the current prescribed values.
-  VecX full(const VecX& u_free) const;
+  const core::Model& model() const override { return model_; }
+  VecX full(const VecX& u_free) const override;
   /// Full internal force vector at a full displacement; false if an element is inverted.
   bool internal_force(const VecX& u_full, VecX& f) const;
   /// Assembles K_T,ff at u (full) into matrix(); with `du_constrained`, also lift = K_fc du_c.
   /// False if an element is inverted.
   bool assemble(const VecX& u_full, const VecX* du_constrained = nullptr, VecX* lift = nullptr);
+  bool assemble_tangent(const VecX& u_full) override { return assemble(u_full); }
+  bool is_linear() const override { return false; }
   /// Largest support reaction |f_int| on the prescribed DOFs at the free values u_free (0 if an
   /// element is inverted): the force scale of supports that carry the load.
-  double reaction_scale(const VecX& u_free) const;
-  const SpMat& matrix() const { return assembler_.matrix(); }
+  double reaction_scale(const VecX& u_free) const override;
+  const SpMat& matrix() const override { return assembler_.matrix(); }
   /// The load step's linearisation about the converged full state u0 (with its own prescribed
   /// values): assembles K_T(u0) into matrix() and returns the out-of-balance force at the
   /// current load factor, the prescribed increment carried as a lift:
   /// λ f − f_int(u0) − K_fc (u_c − u0_c). False if an element is inverted.
-  bool step_predictor(const VecX& u0, VecX& load);
+  bool step_predictor(const VecX& u0, VecX& load) override;
   const VecX& f_ext_free() const { return f_ext_free_; }
 
   // NewtonSystem: the unconstrained problem, factorised with CHOLMOD (symbolic analysis kept).

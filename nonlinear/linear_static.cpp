@@ -5,6 +5,7 @@
 #include "core/linear_solve.hpp"
 #include "core/stopwatch.hpp"
 #include "nonlinear/contact_newton.hpp"
+#include "nonlinear/structural_system.hpp"
 
 namespace c2d::nonlinear {
 
@@ -12,74 +13,48 @@ using namespace c2d::core;
 
 namespace {
 
-/// The contact solve: detect, solve with the scene's strategy, re-detect at the deformed
-/// configuration, repeat while slave nodes change master. Fills the report and the VTU fields.
-void solve_with_contact(const constraints::ContactSet& contact, const DofMap& dofs,
-                        const SpMat& k_ff, const VecX& f_ff, const VecX& u_prescribed, Results& r,
-                        VecX& u_free,
-                        constraints::ContactReport* report_out) {
+/// The contact solve of a linear analysis: the constrained step of the load-stepped analysis,
+/// taken once on the small-strain system (K_ff constant, K_σ = 0) to the full load. Fills the
+/// report and the VTU fields.
+void solve_with_contact_step(const constraints::ContactSet& contact, const Model& model,
+                             const SpMat& k_ff, const VecX& rhs, const VecX& u_prescribed,
+                             Results& r, VecX& u_free, constraints::ContactReport* report_out) {
   using namespace c2d::constraints;
   const auto strategy = ConstraintStrategy::create(contact.options());
+  SmallStrainSystem system(model, k_ff, rhs, u_prescribed);
+  ContactStepInput in;
+  in.u_free = VecX::Zero(model.dofs.num_free());
+  in.u_prev_full = VecX::Zero(model.mesh.num_dofs());
+  in.newton.residual_scale = rhs.size() ? rhs.cwiseAbs().maxCoeff() : 0.0;
+  in.floor_scale = residual_floor_scale(model);
+  ContactStepResult step = solve_contact_step(system, contact, *strategy, in);
+
   ContactReport report;
   report.method = strategy->name();
-  VecX u_full = u_prescribed;
-  core::Stopwatch detection;
-  std::vector<GapRow> rows = contact.detect(u_full);
-  report.detection_seconds += detection.lap();
-  ConstraintSolution s;
-  constexpr int kMaxPasses = 5;
-  std::vector<char> warm;
-  for (int pass = 1; pass <= kMaxPasses; ++pass) {
-    ConstrainedProblem problem = contact.problem(k_ff, f_ff, rows, u_full);
-    problem.initial_active = warm;
-    s = strategy->solve(problem);
-    report.detection_passes = pass;
-    report.iterations += s.iterations;
-    report.seconds += s.seconds;
-    const int offset = report.history.empty() ? 0 : report.history.back().iteration;
-    for (IterationRecord rec : s.history) {
-      rec.iteration += offset;
-      report.history.push_back(rec);
-    }
-    report.penalty_history.insert(report.penalty_history.end(), s.penalty_history.begin(),
-                                  s.penalty_history.end());
-    if (s.status != SolveStatus::kConverged) break;
-    u_full = dofs.expand(s.u);
-    // The linearisation holds if detection at the deformed configuration finds the same rows
-    // with the gaps the linearised rows predicted (a node sliding along a flat master changes
-    // edge without changing its gap); otherwise linearise again about u, warm-started.
-    detection.lap();
-    std::vector<GapRow> next = contact.detect(u_full);
-    report.detection_seconds += detection.lap();
-    bool same = next.size() == rows.size();
-    const double tol = 1e-9 * contact.model_size();
-    for (size_t i = 0; same && i < rows.size(); ++i)
-      same = rows[i].slave == next[i].slave &&
-             std::abs(next[i].gap - s.gap[static_cast<int>(i)]) <= tol;
-    if (same) break;
-    std::vector<char> by_slot(contact.num_slots(), 0);
-    for (size_t k = 0; k < rows.size(); ++k) by_slot[rows[k].slot] = s.active[k];
-    warm.assign(next.size(), 0);
-    for (size_t i = 0; i < next.size(); ++i) warm[i] = by_slot[next[i].slot];
-    rows = std::move(next);
-  }
-  report.status = s.status;
-  report.message = s.message;
-  report.pivot_ratio = s.pivot_ratio;
+  report.status = step.status;
+  report.message = step.message;
+  report.iterations = step.strategy.iterations;
+  report.detection_passes = static_cast<int>(step.iterations.size());
+  report.seconds = step.strategy.seconds;
+  report.detection_seconds = step.detection_seconds;
+  report.history = step.strategy.history;
+  report.penalty_history = step.strategy.penalty_history;
+  report.pivot_ratio = step.strategy.pivot_ratio;
   report.stiffness_max = k_ff.nonZeros() ? k_ff.coeffs().cwiseAbs().maxCoeff() : 0.0;
-  contact.report(rows, s, report);
-  r.status = s.status;
-  r.message = s.message;
+  if (step.state.gap.size() == static_cast<int>(step.rows.size()))
+    contact.report(step.rows, step.state, report);
+  r.status = step.status;
+  r.message = step.message;
   r.solver.backend = report.method;
-  r.solver.status = s.status;
-  r.solver.message = s.message;
-  r.solver.numeric_factorizations = s.factorizations;
-  r.solver.symbolic_seconds = s.symbolic_seconds;
-  r.solver.symbolic_analyses = s.symbolic_analyses;
-  r.solver.numeric_seconds = s.numeric_seconds;
-  r.solver.solve_seconds = s.solve_seconds;
-  u_free = s.u;
-  store_contact_results(report, static_cast<int>(u_prescribed.size() / 2), r);
+  r.solver.status = step.status;
+  r.solver.message = step.message;
+  r.solver.numeric_factorizations = step.strategy.factorizations;
+  r.solver.symbolic_seconds = step.strategy.symbolic_seconds;
+  r.solver.symbolic_analyses = step.strategy.symbolic_analyses;
+  r.solver.numeric_seconds = step.strategy.numeric_seconds;
+  r.solver.solve_seconds = step.strategy.solve_seconds;
+  u_free = step.u_free;
+  store_contact_results(report, model.mesh.num_nodes(), r);
   if (report_out) *report_out = std::move(report);
 }
 }  // namespace
@@ -91,8 +66,8 @@ Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
   return solve_linear(model, analysis,
                       [&](const SpMat& k_ff, const VecX& rhs, const VecX& u_prescribed,
                           VecX& u_free, Results& r) {
-                        solve_with_contact(*contact, model.dofs, k_ff, rhs, u_prescribed, r,
-                                           u_free, contact_report);
+                        solve_with_contact_step(*contact, model, k_ff, rhs, u_prescribed, r,
+                                                u_free, contact_report);
                       });
 }
 

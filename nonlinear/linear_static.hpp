@@ -1,5 +1,5 @@
-// The small-displacement analysis: one load step, K_σ = 0. The load stepper of the geometric
-// nonlinear analysis reduces to this path for a linear scene.
+// The small-displacement analysis: one load step, K_σ = 0, through the same constrained step
+// as the load-stepped analysis when the scene has contact.
 #pragma once
 
 #include "constraints/contact_set.hpp"
@@ -9,11 +9,11 @@
 
 namespace c2d::nonlinear {
 
-/// Assembles K_ff and solves K_ff u_f = f_f - K_fc u_c with CHOLMOD, or, with contact, hands
-/// K_ff, f and the gap rows to the contact strategy; then recovers reactions, stresses,
-/// smoothed stresses and the ZZ estimate. With contact, detection is repeated at the deformed
-/// configuration until no slave node changes its master (a node sliding to the next edge), at
-/// most 5 passes. Never throws on a numerical failure: the status says.
+/// core::solve_linear; with contact, its solve is the constrained step of the load-stepped
+/// analysis (solve_contact_step) taken once on the small-strain system: detect, solve with the
+/// scene's method, hold the set, re-detect at the deformed configuration until the rows and
+/// gaps reproduce the state, at most 15 outer iterations (a cap reached is status
+/// max_iterations, not converged). Never throws on a numerical failure: the status says.
 core::Results solve_linear_static(const core::Model& model, const core::AnalysisSpec& analysis,
                                   const constraints::ContactSet* contact = nullptr,
                                   constraints::ContactReport* contact_report = nullptr);

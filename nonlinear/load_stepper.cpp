@@ -13,194 +13,238 @@ namespace c2d::nonlinear {
 
 using namespace c2d::core;
 
-Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analysis,
-                                  const StepperOptions& options, std::vector<StepRecord>* trace,
-                                  const constraints::ContactSet* contact,
-                                  constraints::ContactReport* contact_report) {
-  using constraints::ContactReport;
-  const Stopwatch run_clock;
-  const DofMap& dofs = model.dofs;
-  const Mesh& mesh = model.mesh;
-  auto prescribe = [&](double lambda) {
-    VecX u = VecX::Zero(mesh.num_dofs());
-    if (options.prescribe) options.prescribe(lambda, u);
-    else u = prescribed_displacement(model, lambda);
+namespace {
+
+/// The load-step driver's state and its named steps: attempt a step (with contact through the
+/// constrained step, else Newton from a linear predictor), accept it or cut it back, record it,
+/// and recover the fields of a converged state.
+class LoadStepper {
+ public:
+  LoadStepper(const Model& model, const AnalysisSpec& analysis, const StepperOptions& options,
+              std::vector<StepRecord>* trace, const constraints::ContactSet* contact)
+      : model_(model), analysis_(analysis), options_(options), trace_(trace), contact_(contact),
+        system_(model), with_contact_(contact && !contact->empty()),
+        floor_scale_(residual_floor_scale(model)),
+        u_free_(VecX::Zero(model.dofs.num_free())), u_prev_full_(prescribe(0.0)),
+        memory_(with_contact_ ? contact->num_slots() : 0, 0),
+        nominal_(1.0 / std::max(1, options.steps)), increment_(nominal_) {
+    if (with_contact_) strategy_ = constraints::ConstraintStrategy::create(contact->options());
+    last_contact_.method = strategy_ ? strategy_->name() : "";
+    r_.time.mesh = model.mesh_seconds;
+    r_.status = SolveStatus::kConverged;
+  }
+
+  Results run(constraints::ContactReport* contact_report) {
+    while (lambda_ < 1.0 - 1e-12)
+      if (!step()) break;
+    return finish(contact_report);
+  }
+
+ private:
+  /// Prescribed displacements at load factor λ (full vector).
+  VecX prescribe(double lambda) const {
+    VecX u = VecX::Zero(model_.mesh.num_dofs());
+    if (options_.prescribe) options_.prescribe(lambda, u);
+    else u = prescribed_displacement(model_, lambda);
     return u;
-  };
-  FiniteStrainSystem system(model);
-  const bool with_contact = contact && !contact->empty();
-  std::unique_ptr<constraints::ConstraintStrategy> strategy;
-  if (with_contact) strategy = constraints::ConstraintStrategy::create(contact->options());
-  // Residuals are measured against the largest nodal force in the system (load, reaction or
-  // contact force); a displacement-driven problem free of stress falls back to the force of a
-  // 1e-6 strain on the smallest element edge.
-  double e_t = 0.0;
-  for (const auto& m : model.materials) e_t = std::max(e_t, m.young * m.thickness);
-  const double floor_scale = 1e-6 * e_t * mesh.edge_length_range().first;
+  }
 
-  Results r;
-  r.time.mesh = model.mesh_seconds;
-  // The converged state: everything a failed attempt must not touch. An attempt works on
-  // copies (its trial displacements, its own detection, active set, multipliers and penalties),
-  // so a cutback restarts from exactly this.
-  VecX u_free = VecX::Zero(dofs.num_free());
-  VecX u_prev_full = prescribe(0.0);
-  double lambda = 0.0;
-  ContactMemory memory(with_contact ? contact->num_slots() : 0, 0);
-  ContactReport last_contact;
-  last_contact.method = strategy ? strategy->name() : "";
-  // The fields of a converged state: displacement, reactions, stresses (smoothed, ZZ estimate)
-  // and the contact fields. For the final results and, on request, every converged step (the
-  // last of which then is the final results).
-  Results last_state;
-  bool have_state = false;
-  double recovery_seconds = 0.0, output_seconds = 0.0;  // spent on on_state, not on solving
-  auto fill_state = [&](Results& out, double lam, const VecX& u_full,
-                        const ContactReport* contact_state) {
-    system.set_state(lam, u_full);
-    out.displacement = u_full;
-    VecX f_int;
-    system.internal_force(out.displacement, f_int);
-    out.reaction = VecX::Zero(mesh.num_dofs());
-    for (int dof = 0; dof < mesh.num_dofs(); ++dof)
-      if (dofs.is_constrained(dof)) out.reaction[dof] = f_int[dof] - lam * model.external_force[dof];
-    out.element_stresses = compute_element_stresses(mesh, model.materials, out.displacement, true);
-    out.nodal_stress = smooth_stresses(mesh, model.materials, out.element_stresses, analysis.smoothing);
-    out.error = estimate_error(mesh, model.materials, out.element_stresses, out.nodal_stress,
-                               analysis.target_error);
-    out.globals["load_factor"] = lam;
-    if (contact_state) store_contact_results(*contact_state, mesh.num_nodes(), out);
-  };
-
-  const double nominal = 1.0 / std::max(1, options.steps);
-  double increment = nominal;
-  int converged_steps = 0, cutbacks = 0;
-  r.status = SolveStatus::kConverged;
-  while (lambda < 1.0 - 1e-12) {
+  /// One attempt; false when the analysis gives up.
+  bool step() {
     const Stopwatch step_clock;
-    const double target = std::min(1.0, lambda + increment);
-    const VecX u_target = prescribe(target);
+    const double target = std::min(1.0, lambda_ + increment_);
     StepRecord rec;
     rec.load_factor = target;
-    rec.attempt = cutbacks;
-    const double load_scale =
-        system.f_ext_free().size() ? target * system.f_ext_free().cwiseAbs().maxCoeff() : 0.0;
-    VecX trial;
+    rec.attempt = cutbacks_;
+    // An attempt works on copies (its trial displacements, its own detection, active set,
+    // multipliers and penalties), so a cutback restarts from exactly the converged state.
     ContactStepResult cstep;
-    system.set_state(target, u_target);
-    if (with_contact) {
+    const VecX trial = attempt(target, rec, cstep);
+    rec.seconds = step_clock.elapsed();
+    const bool ok = rec.newton.status == SolveStatus::kConverged;
+    bool give_up = false;
+    if (ok) accept(target, trial, cstep, rec);
+    else if (rec.newton.status == SolveStatus::kIllConditioned)
+      give_up = true;  // a penalty beyond what double precision resolves: no step size cures it
+    else if (cutbacks_ < options_.max_cutbacks) cut_back();
+    else give_up = true;
+    rec.step = converged_steps_;
+    if (with_contact_) record_contact_history(rec);
+    if (trace_) trace_->push_back(rec);
+    if (options_.on_step) options_.on_step(rec);
+    if (ok && options_.on_state) emit_state(rec);
+    if (!ok && give_up) {
+      r_.status = rec.newton.status;
+      r_.message = "load step to λ = " + std::to_string(target) + " failed after " +
+                   std::to_string(cutbacks_) + " cutbacks (" + rec.newton.message + ")";
+      return false;
+    }
+    return true;
+  }
+
+  /// Solves toward `target`; returns the trial free displacements, `rec.newton` says how.
+  VecX attempt(double target, StepRecord& rec, ContactStepResult& cstep) {
+    const double load_scale =
+        system_.f_ext_free().size() ? target * system_.f_ext_free().cwiseAbs().maxCoeff() : 0.0;
+    system_.set_state(target, prescribe(target));
+    if (with_contact_) {
       ContactStepInput in;
-      in.u_free = u_free;
-      in.u_prev_full = u_prev_full;
-      in.memory = memory;
-      in.newton = options.newton;
+      in.u_free = u_free_;
+      in.u_prev_full = u_prev_full_;
+      in.memory = memory_;
+      in.newton = options_.newton;
       in.newton.residual_scale = load_scale;
-      in.floor_scale = floor_scale;
-      cstep = solve_contact_step(system, *contact, *strategy, in);
+      in.floor_scale = floor_scale_;
+      cstep = solve_contact_step(system_, *contact_, *strategy_, in);
       rec.newton = cstep.newton;
       rec.newton.status = cstep.status;
       rec.newton.message = cstep.message;
       rec.contact = cstep.iterations;
-      trial = cstep.u_free;
+      return cstep.u_free;
+    }
+    // Linear predictor from the last converged state: K_T Δu_f = λ f − f_int − K_fc Δu_c.
+    VecX guess = u_free_, rhs, step;
+    if (system_.step_predictor(u_prev_full_, rhs) && system_.factorize_jacobian_assembled() &&
+        system_.solve(rhs, step) && step.allFinite())
+      guess = u_free_ + step;
+    NewtonOptions newton = options_.newton;
+    newton.residual_scale = std::max({load_scale, system_.reaction_scale(guess), floor_scale_});
+    VecX trial = guess;
+    rec.newton = solve_newton_with_fallback(system_, trial, newton);
+    return trial;
+  }
+
+  void accept(double target, const VecX& trial, const ContactStepResult& cstep, StepRecord& rec) {
+    ++converged_steps_;
+    u_free_ = trial;
+    u_prev_full_ = system_.full(u_free_);
+    lambda_ = target;
+    if (with_contact_) {
+      strategy_->step_accepted();
+      memory_ = cstep.memory;
+      last_contact_.status = SolveStatus::kConverged;
+      contact_->report(cstep.rows, cstep.state, last_contact_);
+      rec.contact_state = last_contact_;
+    }
+    // After a cutback, grow back toward the nominal increment once a step comes easily.
+    if (cutbacks_ > 0 && rec.newton.iterations <= 4) increment_ = std::min(nominal_, 2.0 * increment_);
+    cutbacks_ = 0;
+  }
+
+  void cut_back() {
+    if (with_contact_) strategy_->step_rejected();
+    ++cutbacks_;
+    increment_ *= 0.5;
+  }
+
+  /// The attempt's outer iterations in the contact report's history.
+  void record_contact_history(const StepRecord& rec) {
+    for (const auto& it : rec.contact) {
+      last_contact_.iterations += it.strategy_iterations;
+      ++last_contact_.detection_passes;
+      constraints::IterationRecord h;
+      h.iteration = static_cast<int>(last_contact_.history.size()) + 1;
+      h.active = it.active;
+      h.entering = it.entering;
+      h.leaving = it.leaving;
+      h.max_penetration = it.max_penetration;
+      h.penalty = it.penalty;
+      h.residual = it.newton.final_residual;
+      last_contact_.history.push_back(h);
+    }
+  }
+
+  /// The fields of a converged state: displacement, reactions, stresses (smoothed, ZZ
+  /// estimate) and the contact fields.
+  void fill_state(Results& out, double lam, const VecX& u_full) {
+    const Mesh& mesh = model_.mesh;
+    system_.set_state(lam, u_full);
+    out.displacement = u_full;
+    VecX f_int;
+    system_.internal_force(out.displacement, f_int);
+    out.reaction = VecX::Zero(mesh.num_dofs());
+    for (int dof = 0; dof < mesh.num_dofs(); ++dof)
+      if (model_.dofs.is_constrained(dof))
+        out.reaction[dof] = f_int[dof] - lam * model_.external_force[dof];
+    out.element_stresses = compute_element_stresses(mesh, model_.materials, out.displacement, true);
+    out.nodal_stress = smooth_stresses(mesh, model_.materials, out.element_stresses, analysis_.smoothing);
+    out.error = estimate_error(mesh, model_.materials, out.element_stresses, out.nodal_stress,
+                               analysis_.target_error);
+    out.globals["load_factor"] = lam;
+    if (with_contact_) store_contact_results(last_contact_, mesh.num_nodes(), out);
+  }
+
+  /// Every converged step's fields for on_state (the last of which then is the final results).
+  void emit_state(const StepRecord& rec) {
+    Stopwatch clock;
+    last_state_ = Results();
+    last_state_.status = SolveStatus::kConverged;
+    fill_state(last_state_, lambda_, u_prev_full_);
+    last_state_.globals["steps"] = converged_steps_;
+    recovery_seconds_ += clock.lap();
+    options_.on_state(rec, last_state_);
+    output_seconds_ += clock.lap();
+    have_state_ = true;
+  }
+
+  Results finish(constraints::ContactReport* contact_report) {
+    r_.time.solve = run_clock_.elapsed() - recovery_seconds_ - output_seconds_;
+    r_.time.output = output_seconds_;
+    r_.solver = system_.linear_report();
+    const Stopwatch recovery_clock;
+    if (have_state_) {
+      // The last converged step's fields, recovered for on_state already.
+      r_.displacement = std::move(last_state_.displacement);
+      r_.reaction = std::move(last_state_.reaction);
+      r_.element_stresses = std::move(last_state_.element_stresses);
+      r_.nodal_stress = std::move(last_state_.nodal_stress);
+      r_.error = std::move(last_state_.error);
+      r_.point_fields = std::move(last_state_.point_fields);
+      for (const auto& [key, value] : last_state_.globals) r_.globals[key] = value;
     } else {
-      // Linear predictor from the last converged state: K_T Δu_f = λ f − f_int − K_fc Δu_c.
-      VecX guess = u_free, rhs, step;
-      if (system.step_predictor(u_prev_full, rhs) && system.factorize_jacobian_assembled() &&
-          system.solve(rhs, step) && step.allFinite())
-        guess = u_free + step;
-      NewtonOptions newton = options.newton;
-      newton.residual_scale = std::max({load_scale, system.reaction_scale(guess), floor_scale});
-      trial = guess;
-      rec.newton = solve_newton_with_fallback(system, trial, newton);
+      fill_state(r_, lambda_, u_prev_full_);
     }
-    rec.seconds = step_clock.elapsed();
-    const bool ok = rec.newton.status == SolveStatus::kConverged;
-    bool give_up = false;
-    if (ok) {
-      ++converged_steps;
-      u_free = trial;
-      u_prev_full = system.full(u_free);
-      lambda = target;
-      if (with_contact) {
-        strategy->step_accepted();
-        memory = cstep.memory;
-        last_contact.status = SolveStatus::kConverged;
-        contact->report(cstep.rows, cstep.state, last_contact);
-        rec.contact_state = last_contact;
-      }
-      // After a cutback, grow back toward the nominal increment once a step comes easily.
-      if (cutbacks > 0 && rec.newton.iterations <= 4) increment = std::min(nominal, 2.0 * increment);
-      cutbacks = 0;
-    } else if (rec.newton.status == SolveStatus::kIllConditioned) {
-      give_up = true;  // a penalty beyond what double precision resolves: no step size cures it
-    } else if (cutbacks < options.max_cutbacks) {
-      if (with_contact) strategy->step_rejected();
-      ++cutbacks;
-      increment *= 0.5;
-    } else {
-      give_up = true;
+    r_.globals["steps"] = converged_steps_;
+    if (with_contact_) {
+      last_contact_.status = r_.status;
+      last_contact_.message = r_.message;
+      r_.solver.backend = last_contact_.method;
+      if (contact_report) *contact_report = last_contact_;
     }
-    rec.step = converged_steps;
-    if (with_contact) {
-      for (const auto& it : rec.contact) {
-        last_contact.iterations += it.strategy_iterations;
-        ++last_contact.detection_passes;
-        constraints::IterationRecord h;
-        h.iteration = static_cast<int>(last_contact.history.size()) + 1;
-        h.active = it.active;
-        h.entering = it.entering;
-        h.leaving = it.leaving;
-        h.max_penetration = it.max_penetration;
-        h.penalty = it.penalty;
-        h.residual = it.newton.final_residual;
-        last_contact.history.push_back(h);
-      }
-    }
-    if (trace) trace->push_back(rec);
-    if (options.on_step) options.on_step(rec);
-    if (ok && options.on_state) {
-      Stopwatch clock;
-      last_state = Results();
-      last_state.status = SolveStatus::kConverged;
-      fill_state(last_state, lambda, u_prev_full, with_contact ? &last_contact : nullptr);
-      last_state.globals["steps"] = converged_steps;
-      recovery_seconds += clock.lap();
-      options.on_state(rec, last_state);
-      output_seconds += clock.lap();
-      have_state = true;
-    }
-    if (!ok && give_up) {
-      r.status = rec.newton.status;
-      r.message = "load step to λ = " + std::to_string(target) + " failed after " +
-                  std::to_string(cutbacks) + " cutbacks (" + rec.newton.message + ")";
-      break;
-    }
+    r_.time.recovery = recovery_seconds_ + recovery_clock.elapsed();
+    return std::move(r_);
   }
-  r.time.solve = run_clock.elapsed() - recovery_seconds - output_seconds;
-  r.time.output = output_seconds;
-  r.solver = system.linear_report();
-  const Stopwatch recovery_clock;
-  if (have_state) {
-    // The last converged step's fields, recovered for on_state already.
-    r.displacement = std::move(last_state.displacement);
-    r.reaction = std::move(last_state.reaction);
-    r.element_stresses = std::move(last_state.element_stresses);
-    r.nodal_stress = std::move(last_state.nodal_stress);
-    r.error = std::move(last_state.error);
-    r.point_fields = std::move(last_state.point_fields);
-    for (const auto& [key, value] : last_state.globals) r.globals[key] = value;
-  } else {
-    fill_state(r, lambda, u_prev_full, with_contact ? &last_contact : nullptr);
-  }
-  r.globals["steps"] = converged_steps;
-  if (with_contact) {
-    last_contact.status = r.status;
-    last_contact.message = r.message;
-    r.solver.backend = last_contact.method;
-    if (contact_report) *contact_report = last_contact;
-  }
-  r.time.recovery = recovery_seconds + recovery_clock.elapsed();
-  return r;
+
+  const Stopwatch run_clock_;
+  const Model& model_;
+  const AnalysisSpec& analysis_;
+  const StepperOptions& options_;
+  std::vector<StepRecord>* trace_;
+  const constraints::ContactSet* contact_;
+  FiniteStrainSystem system_;
+  const bool with_contact_;
+  const double floor_scale_;
+  std::unique_ptr<constraints::ConstraintStrategy> strategy_;
+  // The converged state: everything a failed attempt must not touch.
+  VecX u_free_, u_prev_full_;
+  double lambda_ = 0.0;
+  ContactMemory memory_;
+  constraints::ContactReport last_contact_;
+  Results r_, last_state_;
+  bool have_state_ = false;
+  double recovery_seconds_ = 0.0, output_seconds_ = 0.0;  // spent on on_state, not on solving
+  const double nominal_;
+  double increment_;
+  int converged_steps_ = 0, cutbacks_ = 0;
+};
+
+}  // namespace
+
+Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analysis,
+                                  const StepperOptions& options, std::vector<StepRecord>* trace,
+                                  const constraints::ContactSet* contact,
+                                  constraints::ContactReport* contact_report) {
+  return LoadStepper(model, analysis, options, trace, contact).run(contact_report);
 }
 
 }  // namespace c2d::nonlinear
