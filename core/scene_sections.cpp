@@ -1,0 +1,364 @@
+// The parsers of a scene's sections, each from its TOML table to its spec with located errors.
+#include "core/scene_sections.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+namespace c2d::core {
+
+SelectionSpec parse_selection(const TomlView& v) {
+  v.require_table();
+  v.check_keys({"body", "group", "edge", "line", "segment", "box", "arc", "nearest", "nodes",
+                "tol"});
+  SelectionSpec s;
+  s.at.where = v.where();
+  s.body = v["body"].string_or("");
+  s.tol = v.has("tol") ? v["tol"].positive() : -1.0;
+  int kinds = 0;
+  if (v.has("group")) {
+    s.kind = SelectionSpec::Kind::kGroup;
+    s.name = v["group"].string();
+    ++kinds;
+  }
+  if (v.has("edge")) {
+    s.kind = SelectionSpec::Kind::kEdge;
+    s.name = v["edge"].string();
+    ++kinds;
+  }
+  if (v.has("line")) {
+    const TomlView l = v["line"];
+    l.require_table();
+    l.check_keys({"point", "direction"});
+    s.kind = SelectionSpec::Kind::kLine;
+    s.p0 = l["point"].vec2();
+    s.p1 = l["direction"].vec2();
+    if (s.p1.norm() == 0.0) l["direction"].fail("a non-zero direction");
+    ++kinds;
+  }
+  if (v.has("segment")) {
+    const auto pts = v["segment"].points();
+    if (pts.size() != 2) v["segment"].fail("two points [[x0, y0], [x1, y1]]");
+    s.kind = SelectionSpec::Kind::kSegment;
+    s.p0 = pts[0];
+    s.p1 = pts[1];
+    ++kinds;
+  }
+  if (v.has("box")) {
+    const auto pts = v["box"].points();
+    if (pts.size() != 2) v["box"].fail("two corners [[xmin, ymin], [xmax, ymax]]");
+    s.kind = SelectionSpec::Kind::kBox;
+    s.p0 = pts[0].cwiseMin(pts[1]);
+    s.p1 = pts[0].cwiseMax(pts[1]);
+    ++kinds;
+  }
+  if (v.has("arc")) {
+    const TomlView a = v["arc"];
+    a.require_table();
+    a.check_keys({"center", "radius", "from_deg", "to_deg"});
+    s.kind = SelectionSpec::Kind::kArc;
+    s.p0 = a["center"].vec2();
+    s.radius = a["radius"].positive();
+    s.from_deg = a["from_deg"].number_or(-1e9);
+    s.to_deg = a["to_deg"].number_or(1e9);
+    ++kinds;
+  }
+  if (v.has("nearest")) {
+    s.kind = SelectionSpec::Kind::kNearest;
+    s.p0 = v["nearest"].vec2();
+    ++kinds;
+  }
+  if (v.has("nodes")) {
+    s.kind = SelectionSpec::Kind::kNodes;
+    for (const auto& item : v["nodes"].items()) {
+      const int id = item.integer();
+      if (id < 1) item.fail("a node number >= 1");
+      s.nodes.push_back(id - 1);
+    }
+    ++kinds;
+  }
+  if (kinds > 1)
+    v.fail_message("give one predicate (group, edge, line, segment, box, arc, nearest or nodes), "
+                   "found " + std::to_string(kinds));
+  if (kinds == 0 && s.body.empty())
+    v.fail("a predicate: body, group, edge, line, segment, box, arc, nearest or nodes");
+  return s;
+}
+
+RefineSpec parse_refine(const TomlView& v) {
+  v.require_table();
+  v.check_keys({"near", "near_segment", "size", "radius", "growth"});
+  RefineSpec r;
+  if (v.has("near") == v.has("near_segment")) v.fail("exactly one of 'near' or 'near_segment'");
+  if (v.has("near")) {
+    r.p0 = v["near"].vec2();
+  } else {
+    const auto pts = v["near_segment"].points();
+    if (pts.size() != 2) v["near_segment"].fail("two points [[x0, y0], [x1, y1]]");
+    r.segment = true;
+    r.p0 = pts[0];
+    r.p1 = pts[1];
+  }
+  r.size = v["size"].positive();
+  r.radius = v.has("radius") ? v["radius"].number() : 0.0;
+  if (r.radius < 0) v["radius"].fail("a radius >= 0");
+  r.growth = v["growth"].number_or(1.2);
+  if (r.growth < 1.0 || r.growth > 10.0) v["growth"].fail("a growth rate in [1, 10]");
+  return r;
+}
+
+ShapeSpec parse_shape(const TomlView& v) {
+  v.require_table();
+  ShapeSpec s;
+  s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment", "points"});
+  if (s.type == "rectangle") {
+    v.check_keys({"type", "min", "max"});
+    s.min = v["min"].vec2();
+    s.max = v["max"].vec2();
+    if (!(s.max.array() > s.min.array()).all())
+      v["max"].fail("max > min in both coordinates");
+  } else if (s.type == "polygon") {
+    v.check_keys({"type", "points"});
+    s.points = v["points"].points();
+    if (s.points.size() < 3) v["points"].fail("at least 3 points");
+  } else if (s.type == "points") {
+    // A point cloud triangulated as it is (Delaunay): the seed's pre-processor. The checks of
+    // the cloud itself (duplicates, collinear, outside the boundary) are the mesher's.
+    v.check_keys({"type", "points", "boundary"});
+    s.points = v["points"].points();
+    if (s.points.size() < 3) v["points"].fail("at least 3 points");
+    if (v.has("boundary")) {
+      s.boundary = v["boundary"].points();
+      if (s.boundary.size() < 3) v["boundary"].fail("a polygon of at least 3 points");
+    }
+  } else {
+    if (s.type == "disk")
+      v.check_keys({"type", "center", "radius"});
+    else
+      v.check_keys({"type", "center", "radius", "from_deg", "to_deg"});
+    s.center = v["center"].vec2();
+    s.radius = v["radius"].positive();
+    if (s.type == "disk_segment") {
+      s.from_deg = v["from_deg"].number();
+      s.to_deg = v["to_deg"].number();
+      if (!(s.to_deg > s.from_deg) || s.to_deg - s.from_deg > 360.0)
+        v["to_deg"].fail("to_deg in (from_deg, from_deg + 360]");
+    }
+  }
+  return s;
+}
+
+void parse_analysis(const TomlView& v, AnalysisSpec& a) {
+  if (!v.exists()) return;
+  v.require_table();
+  v.check_keys({"kind", "element", "geometric_nonlinearity", "steps", "smoothing", "target_error",
+                "solver", "mesh_scale", "max_newton_iterations"});
+  a.state = v["kind"].choice_or({"plane_stress", "plane_strain"}, "plane_stress") == "plane_strain"
+                ? PlaneState::kPlaneStrain
+                : PlaneState::kPlaneStress;
+  a.order = v["element"].choice_or({"T3", "T6"}, "T3") == "T6" ? 2 : 1;
+  a.geometric_nonlinearity = v["geometric_nonlinearity"].boolean_or(false);
+  if (v.has("steps")) {
+    a.steps = v["steps"].integer();
+    if (a.steps < 1) v["steps"].fail("an integer >= 1");
+  }
+  const std::string sm = v["smoothing"].choice_or({"average", "area_average", "l2"}, "l2");
+  a.smoothing = sm == "average"        ? Smoothing::kDirectAverage
+                : sm == "area_average" ? Smoothing::kAreaAverage
+                                       : Smoothing::kGlobalL2;
+  a.target_error = v["target_error"].number_or(0.05);
+  if (!(a.target_error > 0 && a.target_error < 1))
+    v["target_error"].fail("a relative error in (0, 1), e.g. 0.05");
+  a.solver = v["solver"].choice_or({"cholmod", "ldlt"}, "cholmod");
+  if (v.has("mesh_scale")) a.mesh_scale = v["mesh_scale"].positive();
+  if (v.has("max_newton_iterations")) {
+    a.max_newton_iterations = v["max_newton_iterations"].integer();
+    if (a.max_newton_iterations < 1) v["max_newton_iterations"].fail("an integer >= 1");
+  }
+}
+
+void parse_adapt(const TomlView& v, AdaptSpec& a) {
+  if (!v.exists()) return;
+  v.require_table();
+  v.check_keys({"enabled", "target", "max_cycles", "max_shrink", "max_growth"});
+  a.enabled = v["enabled"].boolean_or(true);
+  a.target = v["target"].number_or(a.target);
+  if (!(a.target > 0 && a.target < 1)) v["target"].fail("a relative error in (0, 1), e.g. 0.05");
+  if (v.has("max_cycles")) {
+    a.max_cycles = v["max_cycles"].integer();
+    if (a.max_cycles < 1) v["max_cycles"].fail("an integer >= 1");
+  }
+  a.limits.max_shrink = v["max_shrink"].number_or(a.limits.max_shrink);
+  if (!(a.limits.max_shrink > 0 && a.limits.max_shrink < 1))
+    v["max_shrink"].fail("a factor in (0, 1): the smallest h_new / h per cycle");
+  a.limits.max_growth = v["max_growth"].number_or(a.limits.max_growth);
+  if (!(a.limits.max_growth >= 1)) v["max_growth"].fail("a factor >= 1: the largest h_new / h per cycle");
+}
+
+ProbeSpec parse_probe(const TomlView& v) {
+  v.check_keys({"name", "quantity", "at", "on", "reduce"});
+  ProbeSpec p;
+  p.at.where = v.where();
+  p.name = v["name"].string();
+  p.quantity = v["quantity"].choice({"ux", "uy", "umag", "sx", "sy", "sxy", "vm", "s1", "s2",
+                                     "reaction_x", "reaction_y", "contact_pressure_max",
+                                     "contact_length", "contact_force", "contact_penetration"});
+  if (p.quantity.rfind("contact_", 0) == 0) {
+    if (v.has("at") || v.has("on") || v.has("reduce"))
+      v.fail_message("a contact probe is a global quantity: give no 'at', 'on' or 'reduce'");
+    return p;
+  }
+  if (v.has("at") == v.has("on")) v.fail("exactly one of 'at = [x, y]' or 'on = { ... }'");
+  if (v.has("at")) p.point = v["at"].vec2();
+  if (v.has("on")) p.on = parse_selection(v["on"]);
+  const bool reaction = p.quantity.rfind("reaction", 0) == 0;
+  if (reaction && p.point) v["at"].fail("a selection 'on = { ... }' for a reaction probe");
+  const std::string fallback = p.point ? "value" : (reaction ? "sum" : "maxabs");
+  p.reduce = v["reduce"].choice_or({"value", "max", "min", "maxabs", "sum", "mean"}, fallback);
+  if (p.on && p.reduce == "value" && p.on->kind != SelectionSpec::Kind::kNearest)
+    v["reduce"].fail("max | min | maxabs | sum | mean for a probe over a selection");
+  return p;
+}
+
+MaterialSpec parse_material(const TomlView& m, const std::vector<MaterialSpec>& earlier) {
+  m.check_keys({"name", "E", "nu", "thickness"});
+  MaterialSpec ms;
+  ms.at.where = m.where();
+  ms.name = m["name"].string();
+  ms.young = m["E"].positive();
+  ms.poisson = m["nu"].number();
+  if (!(ms.poisson > -1.0 && ms.poisson < 0.5)) m["nu"].fail("a Poisson ratio in (-1, 0.5)");
+  ms.thickness = m.has("thickness") ? m["thickness"].positive() : 1.0;
+  for (const auto& other : earlier)
+    if (other.name == ms.name) m["name"].fail("a unique material name");
+  return ms;
+}
+
+namespace {
+
+/// The body's mesh: a .msh file (resolved against the scene's folder) or a shape with sizes.
+void parse_body_mesh(const TomlView& b, const Scene& scene, BodySpec& bs) {
+  const TomlView mesh = b["mesh"];
+  const bool cloud = b["shape"].exists() && b["shape"]["type"].exists() &&
+                     b["shape"]["type"].string() == "points";
+  if (!(cloud && !mesh.exists())) mesh.require_table();
+  mesh.check_keys({"size", "refine", "algorithm", "file"});
+  if (mesh.has("file")) {
+    if (b.has("shape")) b["shape"].fail_message("give either 'shape' or 'mesh.file', not both");
+    bs.msh_file = mesh["file"].string();
+    const std::filesystem::path rel(bs.msh_file);
+    if (rel.is_relative())
+      bs.msh_file = (std::filesystem::path(scene.path).parent_path() / rel).lexically_normal().string();
+    if (!std::filesystem::exists(bs.msh_file))
+      mesh["file"].fail("an existing .msh file (looked for " + bs.msh_file + ")");
+    return;
+  }
+  bs.shape = parse_shape(b["shape"]);
+  // A point cloud is meshed as given: no size (mesh_size stays 0).
+  if (!cloud) bs.mesh_size = mesh["size"].positive() * scene.analysis.mesh_scale;
+  for (const auto& r : mesh["refine"].items()) {
+    bs.refine.push_back(parse_refine(r));
+    bs.refine.back().size *= scene.analysis.mesh_scale;
+  }
+  bs.algorithm = mesh["algorithm"].choice_or({"frontal", "delaunay"}, "frontal");
+}
+
+}  // namespace
+
+BodySpec parse_body(const TomlView& b, const Scene& scene) {
+  b.check_keys({"name", "material", "shape", "mesh"});
+  BodySpec bs;
+  bs.at.where = b.where();
+  bs.name = b["name"].string();
+  for (const auto& other : scene.bodies)
+    if (other.name == bs.name) b["name"].fail("a unique body name");
+  bs.material = b["material"].string();
+  bool known = false;
+  std::vector<std::string> names;
+  for (const auto& m : scene.materials) {
+    known |= m.name == bs.material;
+    names.push_back(m.name);
+  }
+  if (!known) {
+    const std::string near = nearest_name(bs.material, names);
+    b["material"].fail("the name of a [[material]]" +
+                       (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
+  }
+  parse_body_mesh(b, scene, bs);
+  return bs;
+}
+
+SupportSpec parse_support(const TomlView& s) {
+  s.check_keys({"on", "fix", "ux", "uy", "rotate"});
+  SupportSpec ss;
+  ss.at.where = s.where();
+  ss.on = parse_selection(s["on"]);
+  for (const auto& item : s["fix"].items()) {
+    const std::string c = item.choice({"ux", "uy"});
+    (c == "ux" ? ss.ux : ss.uy) = 0.0;
+  }
+  if (s.has("ux")) {
+    if (ss.ux) s["ux"].fail_message("ux is both fixed and prescribed");
+    ss.ux = s["ux"].number();
+  }
+  if (s.has("uy")) {
+    if (ss.uy) s["uy"].fail_message("uy is both fixed and prescribed");
+    ss.uy = s["uy"].number();
+  }
+  if (s.has("rotate")) {
+    if (ss.ux || ss.uy)
+      s["rotate"].fail_message("a rotated support cannot also fix or prescribe ux/uy");
+    const TomlView r = s["rotate"];
+    r.check_keys({"center", "angle_deg"});
+    RotationSpec rot;
+    rot.center = r["center"].vec2();
+    rot.angle = r["angle_deg"].number() * M_PI / 180.0;
+    ss.rotate = rot;
+    ss.ux = ss.uy = 0.0;  // both components prescribed (values from the rotation)
+  }
+  if (!ss.ux && !ss.uy)
+    s.fail("'fix = [\"ux\", \"uy\"]', a prescribed 'ux'/'uy' or 'rotate = { center, angle_deg }'");
+  return ss;
+}
+
+LoadSpec parse_load(const TomlView& l) {
+  l.check_keys({"on", "force", "total_force", "traction", "pressure", "body_force"});
+  LoadSpec ls;
+  ls.at.where = l.where();
+  ls.on = parse_selection(l["on"]);
+  int kinds = 0;
+  if (l.has("force")) ls.kind = LoadSpec::Kind::kNodalForce, ls.vector = l["force"].vec2(), ++kinds;
+  if (l.has("total_force"))
+    ls.kind = LoadSpec::Kind::kTotalForce, ls.vector = l["total_force"].vec2(), ++kinds;
+  if (l.has("traction"))
+    ls.kind = LoadSpec::Kind::kTraction, ls.vector = l["traction"].vec2(), ++kinds;
+  if (l.has("pressure"))
+    ls.kind = LoadSpec::Kind::kPressure, ls.value = l["pressure"].number(), ++kinds;
+  if (l.has("body_force"))
+    ls.kind = LoadSpec::Kind::kBodyForce, ls.vector = l["body_force"].vec2(), ++kinds;
+  if (kinds != 1)
+    l.fail("exactly one of force, total_force, traction, pressure, body_force (found " +
+           std::to_string(kinds) + ")");
+  return ls;
+}
+
+void parse_reference_and_output(const TomlView& root, Scene& scene) {
+  if (root.has("reference")) {
+    const TomlView r = root["reference"];
+    r.require_table();
+    scene.reference_kind = r["kind"].string();
+    for (const auto& [key, value] : *r.node()->as_table()) {
+      const std::string k(key.str());
+      if (k != "kind") scene.reference[k] = r[k].number();
+    }
+  }
+  if (root.has("output")) {
+    const TomlView o = root["output"];
+    o.require_table();
+    o.check_keys({"dir", "fields", "charts"});
+    scene.output_dir = o["dir"].string_or("");
+    scene.output_fields = o["fields"].boolean_or(true);
+    scene.output_charts = o["charts"].boolean_or(true);
+  }
+}
+
+}  // namespace c2d::core

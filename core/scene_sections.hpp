@@ -1,0 +1,28 @@
+// The parsers of a scene's sections (internal to core's scene reader). Each takes the section's
+// TOML view and fails with a located InputError; the checks that span sections (a selection's
+// body exists, names are unique) are the caller's, except where a parser is given the earlier
+// entries.
+#pragma once
+
+#include <vector>
+
+#include "core/scene.hpp"
+#include "core/toml_view.hpp"
+
+namespace c2d::core {
+
+RefineSpec parse_refine(const TomlView& v);
+ShapeSpec parse_shape(const TomlView& v);
+void parse_analysis(const TomlView& v, AnalysisSpec& a);
+void parse_adapt(const TomlView& v, AdaptSpec& a);
+ProbeSpec parse_probe(const TomlView& v);
+/// A [[material]]; `earlier` for the unique-name check.
+MaterialSpec parse_material(const TomlView& m, const std::vector<MaterialSpec>& earlier);
+/// A [[body]] of `scene` (its materials, earlier bodies and mesh scale already read).
+BodySpec parse_body(const TomlView& b, const Scene& scene);
+SupportSpec parse_support(const TomlView& s);
+LoadSpec parse_load(const TomlView& l);
+/// [reference] and [output].
+void parse_reference_and_output(const TomlView& root, Scene& scene);
+
+}  // namespace c2d::core
