@@ -32,97 +32,12 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
   for (size_t c = 0; c < spec.pairs.size(); ++c) {
     const ContactPairSpec& cs = spec.pairs[c];
     const std::vector<int> slave_nodes = core::select_nodes(model, cs.slave);
-    std::vector<int> slave_edges;
-    try {
-      slave_edges = core::select_edges(model, cs.slave);
-    } catch (const InputError&) {
-      if (cs.detection != "node_to_node") throw;
-    }
-    for (int id : slave_edges) {
-      slave_edges_.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
-      slave_edge_thickness_.push_back(
-          model.materials[mesh.element_material[mesh.boundary_edges[id].element]].thickness);
-    }
+    add_slave_edges(cs);
     slaves.insert(slaves.end(), slave_nodes.begin(), slave_nodes.end());
-    if (cs.detection == "node_to_node") {
-      // Each slave node paired with its nearest master node (bucket grid, O(n)).
-      const std::vector<int> masters = core::select_nodes(model, *cs.master);
-      Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
-      for (int n : masters) lo = lo.cwiseMin(mesh.nodes[n]), hi = hi.cwiseMax(mesh.nodes[n]);
-      const double cell =
-          std::max((hi - lo).norm() / std::sqrt(static_cast<double>(masters.size())), 1e-12);
-      std::map<std::pair<long, long>, std::vector<int>> grid;
-      auto key = [&](const Vec2& p) {
-        return std::make_pair(static_cast<long>(std::floor((p.x() - lo.x()) / cell)),
-                              static_cast<long>(std::floor((p.y() - lo.y()) / cell)));
-      };
-      for (int n : masters) grid[key(mesh.nodes[n])].push_back(n);
-      for (int s : slave_nodes) {
-        const auto [ci, cj] = key(mesh.nodes[s]);
-        int best = -1;
-        double best_d = 1e300;
-        // Square rings of cells around the slave's cell; every node in ring r + 1 lies at least
-        // r cells away, so the search stops once the best distance is within that.
-        for (int ring = 0; ring <= 4096; ++ring) {
-          for (long i = ci - ring; i <= ci + ring; ++i)
-            for (long j = cj - ring; j <= cj + ring; ++j) {
-              if (std::max(std::abs(i - ci), std::abs(j - cj)) != ring) continue;
-              const auto it = grid.find({i, j});
-              if (it == grid.end()) continue;
-              for (int n : it->second) {
-                const double d = (mesh.nodes[n] - mesh.nodes[s]).norm();
-                if (n != s && d < best_d) best_d = d, best = n;
-              }
-            }
-          if (best >= 0 && best_d <= ring * cell) break;
-        }
-        if (best < 0) throw InputError(cs.where + ": no master node for slave node " + std::to_string(s + 1));
-        NodePair np;
-        np.master = best;
-        np.slave = s;
-        np.index = static_cast<int>(c);
-        if (cs.direction) {
-          np.direction = *cs.direction;
-        } else if (best_d > 0) {
-          np.direction = (mesh.nodes[s] - mesh.nodes[best]) / best_d;
-        } else {
-          throw InputError(cs.where + ": slave node " + std::to_string(s + 1) +
-                           " coincides with its master node; give 'direction = [nx, ny]'");
-        }
-        node_pairs_.push_back(np);
-      }
-      continue;
-    }
-    Pair p;
-    p.slaves = slave_nodes;
-    p.index = static_cast<int>(c);
-    p.obstacle = cs.obstacle;
-    if (cs.obstacle < 0) {
-      for (int id : core::select_edges(model, *cs.master))
-        p.master_edges.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
-      double longest = 0.0;
-      for (const auto& e : p.master_edges) longest = std::max(longest, chord(mesh.nodes, e));
-      p.search = cs.search_distance > 0 ? cs.search_distance : 2.0 * longest;
-    } else if (cs.search_distance > 0) {
-      p.search = cs.search_distance;
-    }
-    pairs_.push_back(p);
+    if (cs.detection == "node_to_node") add_nearest_node_pairs(cs, static_cast<int>(c), slave_nodes);
+    else add_surface_pair(cs, static_cast<int>(c), slave_nodes);
   }
-  if (scene.explicit_model) {
-    // The seed's gap elements: direction from node a to node b (the file's (nx, ny) when they
-    // coincide), gap = d · (x_b − x_a), the file's stiffness for penalty methods.
-    for (const auto& g : scene.explicit_model->gaps) {
-      NodePair np;
-      np.master = g.node_a;
-      np.slave = g.node_b;
-      const Vec2 d = mesh.nodes[g.node_b] - mesh.nodes[g.node_a];
-      np.direction = d.norm() > 0 ? Vec2(d.normalized()) : Vec2(g.direction.normalized());
-      np.penalty = g.stiffness;
-      np.index = static_cast<int>(spec.pairs.size());
-      node_pairs_.push_back(np);
-      slaves.push_back(g.node_b);
-    }
-  }
+  if (scene.explicit_model) add_gap_elements(*scene.explicit_model, slaves);
   for (Pair& p : pairs_) {
     p.first_slot = num_slots_;
     num_slots_ += static_cast<int>(p.slaves.size());
@@ -135,6 +50,108 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
   for (const auto& e : slave_edges_) shortest = std::min(shortest, chord(mesh.nodes, e));
   if (shortest == 1e300) shortest = mesh.edge_length_range().first;
   length_scale_ = shortest > 0 && shortest < 1e300 ? shortest : model.model_size * 1e-3;
+}
+
+void ContactSet::add_slave_edges(const ContactPairSpec& cs) {
+  const core::Mesh& mesh = model_.mesh;
+  std::vector<int> slave_edges;
+  try {
+    slave_edges = core::select_edges(model_, cs.slave);
+  } catch (const InputError&) {
+    if (cs.detection != "node_to_node") throw;
+  }
+  for (int id : slave_edges) {
+    slave_edges_.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
+    slave_edge_thickness_.push_back(
+        model_.materials[mesh.element_material[mesh.boundary_edges[id].element]].thickness);
+  }
+}
+
+void ContactSet::add_nearest_node_pairs(const ContactPairSpec& cs, int index,
+                                        const std::vector<int>& slave_nodes) {
+  // Each slave node paired with its nearest master node (bucket grid, O(n)).
+  const core::Mesh& mesh = model_.mesh;
+  const std::vector<int> masters = core::select_nodes(model_, *cs.master);
+  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+  for (int n : masters) lo = lo.cwiseMin(mesh.nodes[n]), hi = hi.cwiseMax(mesh.nodes[n]);
+  const double cell =
+      std::max((hi - lo).norm() / std::sqrt(static_cast<double>(masters.size())), 1e-12);
+  std::map<std::pair<long, long>, std::vector<int>> grid;
+  auto key = [&](const Vec2& p) {
+    return std::make_pair(static_cast<long>(std::floor((p.x() - lo.x()) / cell)),
+                          static_cast<long>(std::floor((p.y() - lo.y()) / cell)));
+  };
+  for (int n : masters) grid[key(mesh.nodes[n])].push_back(n);
+  for (int s : slave_nodes) {
+    const auto [ci, cj] = key(mesh.nodes[s]);
+    int best = -1;
+    double best_d = 1e300;
+    // Square rings of cells around the slave's cell; every node in ring r + 1 lies at least
+    // r cells away, so the search stops once the best distance is within that.
+    for (int ring = 0; ring <= 4096; ++ring) {
+      for (long i = ci - ring; i <= ci + ring; ++i)
+        for (long j = cj - ring; j <= cj + ring; ++j) {
+          if (std::max(std::abs(i - ci), std::abs(j - cj)) != ring) continue;
+          const auto it = grid.find({i, j});
+          if (it == grid.end()) continue;
+          for (int n : it->second) {
+            const double d = (mesh.nodes[n] - mesh.nodes[s]).norm();
+            if (n != s && d < best_d) best_d = d, best = n;
+          }
+        }
+      if (best >= 0 && best_d <= ring * cell) break;
+    }
+    if (best < 0) throw InputError(cs.where + ": no master node for slave node " + std::to_string(s + 1));
+    NodePair np;
+    np.master = best;
+    np.slave = s;
+    np.index = index;
+    if (cs.direction) {
+      np.direction = *cs.direction;
+    } else if (best_d > 0) {
+      np.direction = (mesh.nodes[s] - mesh.nodes[best]) / best_d;
+    } else {
+      throw InputError(cs.where + ": slave node " + std::to_string(s + 1) +
+                       " coincides with its master node; give 'direction = [nx, ny]'");
+    }
+    node_pairs_.push_back(np);
+  }
+}
+
+void ContactSet::add_surface_pair(const ContactPairSpec& cs, int index,
+                                  const std::vector<int>& slave_nodes) {
+  const core::Mesh& mesh = model_.mesh;
+  Pair p;
+  p.slaves = slave_nodes;
+  p.index = index;
+  p.obstacle = cs.obstacle;
+  if (cs.obstacle < 0) {
+    for (int id : core::select_edges(model_, *cs.master))
+      p.master_edges.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
+    double longest = 0.0;
+    for (const auto& e : p.master_edges) longest = std::max(longest, chord(mesh.nodes, e));
+    p.search = cs.search_distance > 0 ? cs.search_distance : 2.0 * longest;
+  } else if (cs.search_distance > 0) {
+    p.search = cs.search_distance;
+  }
+  pairs_.push_back(p);
+}
+
+void ContactSet::add_gap_elements(const core::ExplicitModel& legacy, std::vector<int>& slaves) {
+  // The seed's gap elements: direction from node a to node b (the file's (nx, ny) when they
+  // coincide), gap = d · (x_b − x_a), the file's stiffness for penalty methods.
+  const core::Mesh& mesh = model_.mesh;
+  for (const auto& g : legacy.gaps) {
+    NodePair np;
+    np.master = g.node_a;
+    np.slave = g.node_b;
+    const Vec2 d = mesh.nodes[g.node_b] - mesh.nodes[g.node_a];
+    np.direction = d.norm() > 0 ? Vec2(d.normalized()) : Vec2(g.direction.normalized());
+    np.penalty = g.stiffness;
+    np.index = static_cast<int>(spec_.pairs.size());
+    node_pairs_.push_back(np);
+    slaves.push_back(g.node_b);
+  }
 }
 
 std::vector<GapRow> ContactSet::detect(const VecX& u) const {

@@ -94,6 +94,16 @@ class ContactSet {
     int index = 0;
     int slot = 0;
   };
+  /// The slave surface of one [[contact]] (for pressure recovery; none for a node_to_node pair
+  /// given by nodes only).
+  void add_slave_edges(const ContactPairSpec& cs);
+  /// node_to_node: each slave node with its nearest master node.
+  void add_nearest_node_pairs(const ContactPairSpec& cs, int index, const std::vector<int>& slave_nodes);
+  /// node_to_segment: the slave nodes against master edges or an obstacle.
+  void add_surface_pair(const ContactPairSpec& cs, int index, const std::vector<int>& slave_nodes);
+  /// The seed's gap elements of a legacy model; their slave nodes are added to `slaves`.
+  void add_gap_elements(const core::ExplicitModel& legacy, std::vector<int>& slaves);
+
   const core::Model& model_;
   ContactSceneSpec spec_;
   std::vector<Pair> pairs_;
