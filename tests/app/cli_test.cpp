@@ -1,10 +1,10 @@
 // End to end through the executable: exit codes, summary.json, VTU consistency.
 #include <gtest/gtest.h>
 
-#include "app/field_plot.hpp"
+#include "app/report/field_plot.hpp"
 #include "app/process.hpp"
-#include "app/studies.hpp"
-#include "app/trace_charts.hpp"
+#include "app/studies/studies.hpp"
+#include "app/report/trace_charts.hpp"
 
 #include <unistd.h>
 

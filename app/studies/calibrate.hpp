@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "app/studies.hpp"
+#include "app/studies/studies.hpp"
 
 namespace c2d::app {
 

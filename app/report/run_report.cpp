@@ -1,4 +1,4 @@
-#include "app/run_report.hpp"
+#include "app/report/run_report.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <limits>
 #include <sstream>
 
-#include "app/charts.hpp"
+#include "app/report/charts.hpp"
 
 namespace c2d::app {
 

@@ -1,4 +1,4 @@
-#include "app/adapt.hpp"
+#include "app/run/adapt.hpp"
 
 #include <algorithm>
 #include <chrono>

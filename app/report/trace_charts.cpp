@@ -1,4 +1,4 @@
-#include "app/trace_charts.hpp"
+#include "app/report/trace_charts.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include <set>
 #include <sstream>
 
-#include "app/charts.hpp"
+#include "app/report/charts.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 

@@ -1,4 +1,4 @@
-#include "app/bench.hpp"
+#include "app/studies/bench.hpp"
 
 #include <omp.h>
 
@@ -13,8 +13,8 @@
 #include <map>
 #include <sstream>
 
-#include "app/charts.hpp"
-#include "app/studies.hpp"
+#include "app/report/charts.hpp"
+#include "app/studies/studies.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "core/assembler.hpp"
 #include "core/errors.hpp"

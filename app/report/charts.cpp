@@ -1,4 +1,4 @@
-#include "app/charts.hpp"
+#include "app/report/charts.hpp"
 
 #include <algorithm>
 #include <filesystem>

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "app/solve_scene.hpp"
+#include "app/run/solve_scene.hpp"
 #include "core/scene.hpp"
 
 namespace c2d::app {

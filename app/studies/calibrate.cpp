@@ -1,4 +1,4 @@
-#include "app/calibrate.hpp"
+#include "app/studies/calibrate.hpp"
 
 #include <ceres/ceres.h>
 #include <toml++/toml.h>
@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/solve_scene.hpp"
-#include "app/trace_charts.hpp"
+#include "app/run/solve_scene.hpp"
+#include "app/report/trace_charts.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 

@@ -1,4 +1,4 @@
-#include "app/field_plot.hpp"
+#include "app/report/field_plot.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <regex>
 #include <sstream>
 
-#include "app/charts.hpp"
-#include "app/trace_charts.hpp"
+#include "app/report/charts.hpp"
+#include "app/report/trace_charts.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 

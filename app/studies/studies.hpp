@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "app/run_report.hpp"
+#include "app/report/run_report.hpp"
 
 namespace c2d::app {
 

@@ -1,4 +1,4 @@
-#include "app/studies.hpp"
+#include "app/studies/studies.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -13,10 +13,10 @@
 #include <sstream>
 #include <thread>
 
-#include "app/calibrate.hpp"
-#include "app/charts.hpp"
+#include "app/studies/calibrate.hpp"
+#include "app/report/charts.hpp"
 #include "app/process.hpp"
-#include "app/trace_charts.hpp"
+#include "app/report/trace_charts.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_scene.hpp"
 #include "core/errors.hpp"
