@@ -1,96 +1,22 @@
 #include "app/report/charts.hpp"
 
-#include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
-#include "app/process.hpp"
-#include "core/errors.hpp"
+#include "app/report/gnuplot.hpp"
+#include "app/report/hertz.hpp"
+#include "app/report/pressure_profile.hpp"
 #include "core/probes.hpp"
 #include "core/writers.hpp"
 
-#ifndef C2D_GNUPLOT
-#define C2D_GNUPLOT "gnuplot"
-#endif
-
 namespace c2d::app {
-
-namespace {
-
-bool has_control_character(std::string_view text) {
-  return std::any_of(text.begin(), text.end(),
-                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
-}
-
-/// Doubles every single quote: inside '...' gnuplot substitutes nothing (no backquotes, no
-/// macros, no escapes), and '' stands for one quote.
-std::string single_quoted(std::string_view text) {
-  std::string out = "'";
-  for (char c : text) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-
-}  // namespace
-
-std::string gp_text(std::string_view text) {
-  std::string clean(text);
-  for (char& c : clean)
-    if (has_control_character({&c, 1})) c = ' ';
-  return single_quoted(clean);
-}
-
-std::string gp_file(const std::string& path) {
-  if (has_control_character(path))
-    throw InputError(path + ": expected a file path without control characters, found one");
-  // Absolute, so that the name can never start with '<' or '|' (gnuplot runs those as commands).
-  return single_quoted(std::filesystem::absolute(path).lexically_normal().string());
-}
-
-std::string run_gnuplot(const std::string& script_path) {
-  const std::string exe = std::filesystem::exists(C2D_GNUPLOT) ? C2D_GNUPLOT : "gnuplot";
-  const std::string script = std::filesystem::absolute(script_path).string();
-  const std::string log = script + ".log";
-  const ProcessOutcome run = run_process(exe, {script}, log);
-  if (!run.started) return run.error;
-  if (run.exit_code != 0)
-    return "gnuplot failed (exit " + std::to_string(run.exit_code) + "), see " + log;
-  std::filesystem::remove(log);
-  return "";
-}
-
-std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
-                             const std::string& commands) {
-  std::ostringstream gp;
-  for (const char* term : {"png", "svg"}) {
-    gp << (std::string(term) == "png" ? "set terminal pngcairo size 1200,800 font 'Sans,11'\n"
-                                      : "set terminal svg size 1200,800 font 'Sans,11'\n")
-       << "set output " << gp_file(dir + "/" + stem + "." + term) << "\n"
-       << commands << "unset output\n";
-  }
-  const std::string script = dir + "/" + stem + ".gp";
-  core::write_file_atomic(script, gp.str());
-  const std::string err = run_gnuplot(script);
-  if (err.empty()) std::filesystem::remove(script);
-  return err;
-}
-
-int spread_axis(const std::vector<Vec2>& points) {
-  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
-  for (const auto& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-  return hi.y() - lo.y() > hi.x() - lo.x() ? 1 : 0;
-}
 
 std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
                                    const core::Scene& scene) {
   // Abscissa: the reference coordinate along which the slave nodes spread most.
-  std::vector<Vec2> positions;
-  for (const auto& n : c.nodes) positions.push_back(n.x);
-  const int axis = spread_axis(positions);
-  std::vector<std::pair<double, double>> pts;
-  for (const auto& n : c.nodes) pts.emplace_back(n.x[axis], n.pressure);
-  std::sort(pts.begin(), pts.end());
+  int axis = 0;
+  const auto pts = pressure_profile(c, &axis);
   std::ostringstream data;
   data << std::setprecision(12);
   for (const auto& [x, p] : pts) data << x << ' ' << p << '\n';
@@ -101,17 +27,15 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
       << gp_text("Contact pressure (" + c.method + ", recovered from nodal forces)")
       << "\nset xlabel '" << (axis ? "y" : "x")
       << "'\nset ylabel 'pressure'\nset grid\nset key top left\n";
-  const auto p0 = scene.reference.find("p_max"), b = scene.reference.find("contact_length");
-  const bool hertz = scene.reference_kind.rfind("hertz", 0) == 0 &&
-                     p0 != scene.reference.end() && b != scene.reference.end();
+  const auto hertz = hertz_reference(scene);
   // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
-  if (hertz)
-    cmd << "set xrange [" << std::max(pts.front().first, -1.6 * b->second) << ":"
-        << std::min(pts.back().first, 1.6 * b->second) << "]\nset samples 400\n";
+  if (hertz) write_hertz_window(cmd, *hertz, pts.front().first, pts.back().first);
   cmd << "plot " << gp_file(data_path) << " using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
-  if (hertz)
-    cmd << ", \\\n     (abs(x) < " << b->second << " ? " << p0->second << "*sqrt(1-(x/"
-        << b->second << ")**2) : 0) with lines lw 2 dt 2 title 'Hertz'";
+  if (hertz) {
+    cmd << ", \\\n     ";
+    write_hertz_curve(cmd, *hertz);
+    cmd << " with lines lw 2 dt 2 title 'Hertz'";
+  }
   cmd << "\n";
   const std::string err = plot_png_and_svg(dir, "pressure", cmd.str());
   std::filesystem::remove(data_path);

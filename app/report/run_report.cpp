@@ -7,7 +7,8 @@
 #include <limits>
 #include <sstream>
 
-#include "app/report/charts.hpp"
+#include "app/report/hertz.hpp"
+#include "app/report/pressure_profile.hpp"
 
 namespace c2d::app {
 
@@ -20,30 +21,6 @@ constexpr const char* kTraceHeader =
     "step,load_factor,attempt,outer,iteration,residual,increment_norm,active,entering,leaving,"
     "max_penetration,max_pressure,penalty,status\n";
 }  // namespace
-
-double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b) {
-  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
-  std::vector<std::pair<double, double>> pts = x_p;
-  std::sort(pts.begin(), pts.end());
-  const double lo = std::max(pts.front().first, -1.5 * b), hi = std::min(pts.back().first, 1.5 * b);
-  if (!(hi > lo)) return std::nan("");
-  constexpr int kSamples = 4000;
-  double err2 = 0.0, ref2 = 0.0;
-  size_t k = 0;
-  for (int i = 0; i <= kSamples; ++i) {
-    const double x = lo + (hi - lo) * i / kSamples;
-    while (k + 2 < pts.size() && pts[k + 1].first < x) ++k;
-    const auto& a = pts[k];
-    const auto& c = pts[k + 1];
-    const double t = c.first > a.first ? std::clamp((x - a.first) / (c.first - a.first), 0.0, 1.0) : 0.0;
-    const double ph = a.second + t * (c.second - a.second);
-    const double pa = std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
-    const double w = (i == 0 || i == kSamples) ? 0.5 : 1.0;
-    err2 += w * (ph - pa) * (ph - pa);
-    ref2 += w * pa * pa;
-  }
-  return ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan("");
-}
 
 nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
                             const core::Results* r, const std::string& status,
@@ -138,16 +115,10 @@ nlohmann::json make_summary(const core::Scene& scene, const core::Model* model,
       }
       // Hertz references: the pressure profile as a whole (DESIGN's accuracy measure for the
       // time-to-accuracy benchmark), not only its peak and width.
-      const auto p0 = scene.reference.find("p_max"), b = scene.reference.find("contact_length");
-      if (contact && contact->has_surface && scene.reference_kind.rfind("hertz", 0) == 0 &&
-          p0 != scene.reference.end() && b != scene.reference.end()) {
-        std::vector<Vec2> x;
-        for (const auto& n : contact->nodes) x.push_back(n.x);
-        const int axis = spread_axis(x);
-        std::vector<std::pair<double, double>> profile;
-        for (const auto& n : contact->nodes) profile.emplace_back(n.x[axis], n.pressure);
-        err["pressure_profile_l2"] = number(hertz_profile_error(profile, p0->second, b->second));
-      }
+      const auto hertz = hertz_reference(scene);
+      if (contact && contact->has_surface && hertz)
+        err["pressure_profile_l2"] =
+            number(hertz_profile_error(pressure_profile(*contact), hertz->p0, hertz->b));
       ref["relative_error"] = err;
     }
     j["reference"] = ref;

@@ -34,9 +34,4 @@ std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps);
 /// (reference position), gap, force, pressure, active.
 std::string contact_steps_csv(const std::vector<nonlinear::StepRecord>& steps);
 
-/// Relative L2 error of a pressure profile against Hertz's p0 √(1 − x²/b²) over the sampled
-/// range |x| ≤ 1.5 b within the nodes' span (linear interpolation between sorted nodes;
-/// x measured along the surface's main direction from the reference's centre at 0).
-double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b);
-
 }  // namespace c2d::app

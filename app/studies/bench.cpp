@@ -13,7 +13,7 @@
 #include <map>
 #include <sstream>
 
-#include "app/report/charts.hpp"
+#include "app/report/gnuplot.hpp"
 #include "app/studies/studies.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "core/assembler.hpp"

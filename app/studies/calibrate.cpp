@@ -14,90 +14,13 @@
 #include <sstream>
 
 #include "app/run/solve_scene.hpp"
-#include "app/report/trace_charts.hpp"
+#include "app/report/csv_table.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 
 namespace fs = std::filesystem;
 
 namespace c2d::app {
-
-// ---------------------------------------------------------------------------------------------
-// Hertz profile fit
-
-namespace {
-
-struct HertzResidual {
-  HertzResidual(double x, double p) : x_(x), p_(p) {}
-  template <typename T>
-  bool operator()(const T* const p0, const T* const b, const T* const x0, T* r) const {
-    const T s = (T(x_) - x0[0]) / b[0];
-    const T arg = T(1.0) - s * s;
-    const T model = arg > T(1e-14) ? p0[0] * sqrt(arg) : T(0.0) * p0[0];
-    r[0] = T(p_) - model;
-    return true;
-  }
-  double x_, p_;
-};
-
-}  // namespace
-
-HertzFit fit_hertz_profile(const std::vector<std::pair<double, double>>& x_p) {
-  HertzFit fit;
-  double pmax = 0.0, xmin = 1e300, xmax = -1e300, lo = 1e300, hi = -1e300;
-  for (const auto& [x, p] : x_p) {
-    xmin = std::min(xmin, x), xmax = std::max(xmax, x);
-    if (p > pmax) pmax = p;
-    if (p > 0) lo = std::min(lo, x), hi = std::max(hi, x);
-  }
-  if (!(pmax > 0) || x_p.size() < 3) {
-    fit.message = "no positive pressure to fit";
-    return fit;
-  }
-  const double span = xmax - xmin;
-  const bool half = xmin >= -1e-9 * span || xmax <= 1e-9 * span;  // nodes on one side of 0
-  double p0 = pmax, x0 = half ? 0.0 : 0.5 * (lo + hi);
-  double b = half ? std::max(std::abs(lo), std::abs(hi)) : 0.5 * (hi - lo);
-  b = std::max(b * 1.05, 1e-9 * span);
-  ceres::Problem problem;
-  for (const auto& [x, p] : x_p)
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<HertzResidual, 1, 1, 1, 1>(new HertzResidual(x, p)),
-        nullptr, &p0, &b, &x0);
-  problem.SetParameterLowerBound(&b, 0, 1e-6 * span);
-  problem.SetParameterLowerBound(&p0, 0, 0.0);
-  if (half) problem.SetParameterBlockConstant(&x0);
-  ceres::Solver::Options options;
-  options.linear_solver_type = ceres::DENSE_QR;
-  options.logging_type = ceres::SILENT;
-  options.max_num_iterations = 100;
-  options.function_tolerance = 1e-14;
-  options.parameter_tolerance = 1e-12;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  fit.ok = summary.IsSolutionUsable() && std::isfinite(p0) && std::isfinite(b);
-  fit.p0 = p0;
-  fit.b = b;
-  fit.x0 = x0;
-  fit.iterations = static_cast<int>(summary.iterations.size());
-  fit.message = summary.BriefReport();
-  ceres::Covariance::Options co;
-  ceres::Covariance covariance(co);
-  std::vector<std::pair<const double*, const double*>> blocks{{&p0, &p0}, {&b, &b}};
-  const int m = static_cast<int>(x_p.size()), n = half ? 2 : 3;
-  if (fit.ok && m > n && covariance.Compute(blocks, &problem)) {
-    double cpp = 0.0, cbb = 0.0;
-    covariance.GetCovarianceBlock(&p0, &p0, &cpp);
-    covariance.GetCovarianceBlock(&b, &b, &cbb);
-    const double variance = 2.0 * summary.final_cost / (m - n);
-    fit.sigma_p0 = std::sqrt(std::max(0.0, cpp * variance));
-    fit.sigma_b = std::sqrt(std::max(0.0, cbb * variance));
-  }
-  return fit;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Calibration
 
 namespace {
 

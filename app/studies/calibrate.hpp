@@ -1,5 +1,5 @@
-// Least-squares fitting with Ceres: `contact2d calibrate` (scene parameters against measured
-// probe values) and the Hertz profile fit that `compare` applies to every method's pressures.
+// `contact2d calibrate`: scene parameters fitted to measured probe values by least squares
+// (Ceres), one in-process solve per evaluation.
 #pragma once
 
 #include <string>
@@ -21,19 +21,5 @@ struct CalibrateOptions : StudyOptions {
 /// standard deviations from Ceres's covariance (scaled by the residual variance when there are
 /// more data than parameters), the residuals and the solver's summary. Returns the exit code.
 int run_calibrate(const CalibrateOptions& o);
-
-struct HertzFit {
-  bool ok = false;
-  double p0 = 0.0, b = 0.0, x0 = 0.0;
-  double sigma_p0 = 0.0, sigma_b = 0.0;  ///< from the covariance (0 when unavailable)
-  int iterations = 0;
-  std::string message;
-};
-
-/// Fits p0 √(1 − ((x − x0)/b)²) (zero outside |x − x0| < b) to nodal pressures by nonlinear
-/// least squares, so the contact width does not depend on where the nodes fall. x0 is fixed at 0
-/// when the nodes lie on one side of it (a symmetric half model). Starts from the largest
-/// pressure and the extent of the positive ones.
-HertzFit fit_hertz_profile(const std::vector<std::pair<double, double>>& x_p);
 
 }  // namespace c2d::app

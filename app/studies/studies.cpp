@@ -13,10 +13,10 @@
 #include <sstream>
 #include <thread>
 
-#include "app/studies/calibrate.hpp"
-#include "app/report/charts.hpp"
 #include "app/process.hpp"
-#include "app/report/trace_charts.hpp"
+#include "app/report/gnuplot.hpp"
+#include "app/report/hertz.hpp"
+#include "app/report/pressure_profile.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_scene.hpp"
 #include "core/errors.hpp"
@@ -135,19 +135,6 @@ bool RunFigures::read(const CaseOutcome& c) {
 // Pressure profiles
 
 namespace {
-
-/// Slave-node pressures of a finished run along the surface's main direction.
-std::vector<std::pair<double, double>> read_profile(const std::string& dir) {
-  std::vector<std::pair<double, double>> pts;
-  if (!fs::exists(dir + "/contact.csv")) return pts;
-  const CsvTable t = read_csv(dir + "/contact.csv");
-  const int cp = t.column("pressure");
-  const std::vector<Vec2> positions = t.points("x", "y");
-  const int axis = spread_axis(positions);
-  for (size_t r = 0; r < t.rows.size(); ++r) pts.emplace_back(positions[r][axis], t.number(r, cp));
-  std::sort(pts.begin(), pts.end());
-  return pts;
-}
 
 std::string cell(double v) { return csv_number(v); }
 
@@ -358,10 +345,8 @@ int run_compare(const CompareOptions& o) {
   fs::create_directories(out);
 
   // The accuracy metric the scene's reference allows.
-  const auto p0 = scene.reference.find("p_max"), b = scene.reference.find("contact_length");
-  const bool hertz = scene.reference_kind.rfind("hertz", 0) == 0 && p0 != scene.reference.end() &&
-                     b != scene.reference.end();
-  const std::string metric = hertz ? "profile" : p0 != scene.reference.end() ? "p_max" : "";
+  const auto hertz = hertz_reference(scene);
+  const std::string metric = hertz ? "profile" : scene.reference.count("p_max") ? "p_max" : "";
 
   std::vector<StudyCase> cases;
   std::vector<CompareRow> rows;
@@ -392,7 +377,7 @@ int run_compare(const CompareOptions& o) {
     if (!r.read(c)) crashed = true;
     {
       if (r.converged()) {
-        r.profile = read_profile(cases[i].out_dir);
+        r.profile = read_pressure_profile(cases[i].out_dir);
         // The run computed it from its own nodes (summary.json); the profile is read for the
         // chart and the fit.
         if (hertz) r.err_profile = json_number(c.summary, {"reference", "relative_error", "pressure_profile_l2"});
@@ -401,8 +386,8 @@ int run_compare(const CompareOptions& o) {
           r.fit_p0 = fit.p0;
           r.fit_b = fit.b;
           if (hertz) {
-            r.err_fit_p0 = fit.p0 / p0->second - 1.0;
-            r.err_fit_b = fit.b / b->second - 1.0;
+            r.err_fit_p0 = fit.p0 / hertz->p0 - 1.0;
+            r.err_fit_b = fit.b / hertz->b - 1.0;
           }
         }
       }
@@ -440,8 +425,8 @@ int run_compare(const CompareOptions& o) {
       for (const auto& r : rows)
         if (r.level == o.levels - 1)
           for (const auto& xp : r.profile) lo = std::min(lo, xp.first), hi = std::max(hi, xp.first);
-      plot << "set xrange [" << std::max(lo, -1.6 * b->second) << ":"
-           << std::min(hi, 1.6 * b->second) << "]\nset samples 400\nset key top left\n";
+      write_hertz_window(plot, *hertz, lo, hi);
+      plot << "set key top left\n";
     }
     plot << "plot ";
     int n = 0;
@@ -456,10 +441,11 @@ int run_compare(const CompareOptions& o) {
            << 4 + n << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
       ++n;
     }
-    if (hertz)
-      plot << (n ? ", \\\n     " : "") << "(abs(x) < " << b->second << " ? " << p0->second
-           << "*sqrt(1-(x/" << b->second << ")**2) : 0) with lines lw 2 lc rgb 'black' dt 2 "
-           << "title 'Hertz'";
+    if (hertz) {
+      plot << (n ? ", \\\n     " : "");
+      write_hertz_curve(plot, *hertz);
+      plot << " with lines lw 2 lc rgb 'black' dt 2 title 'Hertz'";
+    }
     plot << "\n";
     if (n && chart_error.empty()) {
       chart_error = plot_png_and_svg(out, "pressure_profiles", plot.str());

@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "app/report/run_report.hpp"
 
 namespace c2d::app {
 

@@ -3,8 +3,8 @@
 
 #include "app/report/field_plot.hpp"
 #include "app/process.hpp"
-#include "app/studies/studies.hpp"
-#include "app/report/trace_charts.hpp"
+#include "app/report/hertz.hpp"
+#include "app/report/csv_table.hpp"
 
 #include <unistd.h>
 
