@@ -18,7 +18,8 @@
 #include "app/studies/calibrate.hpp"
 #include "app/report/charts.hpp"
 #include "app/report/field_plot.hpp"
-#include "app/report/run_report.hpp"
+#include "app/report/summary.hpp"
+#include "app/run/run_output.hpp"
 #include "app/run/solve_scene.hpp"
 #include "app/studies/studies.hpp"
 #include "app/report/trace_charts.hpp"
@@ -307,16 +308,8 @@ class Reporter {
   std::ostringstream log_;
 };
 
-std::string default_out(const Options& o, const core::Scene& scene) {
-  if (!o.out.empty()) return o.out;
-  if (!scene.output_dir.empty()) return scene.output_dir;
-  return "out/" + fs::path(o.scene).stem().string();
-}
-
-int cmd_run(const Options& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Reporter rep(o.quiet);
-  rep.phase("reading " + o.scene);
+/// The scene with --set and, for --adapt, the [adapt] overrides applied.
+core::Scene load_run_scene(const Options& o) {
   core::Scene scene = core::load_scene(o.scene, o.sets);
   if (o.adapt && scene.explicit_model) {
     scene.adapt.enabled = true;  // --set does not apply to legacy files; solve_adaptive refuses it
@@ -325,122 +318,59 @@ int cmd_run(const Options& o) {
     sets.insert(sets.end(), o.adapt_sets.begin(), o.adapt_sets.end());
     scene = core::load_scene(o.scene, sets);
   }
-  const std::string out = default_out(o, scene);
-  fs::create_directories(out);
+  return scene;
+}
+
+std::string cycle_line(const app::AdaptCycle& c) {
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "adapt %2d   %8d DOFs   xi_g %8.3g   max xi_e %8.3g   error %6.2f %%   %7.2f s\n",
+                c.cycle, c.dofs, c.global_parameter, c.max_local, 100 * c.relative_error,
+                c.seconds);
+  return line;
+}
+
+std::string default_out(const Options& o, const core::Scene& scene) {
+  if (!o.out.empty()) return o.out;
+  if (!scene.output_dir.empty()) return scene.output_dir;
+  return "out/" + fs::path(o.scene).stem().string();
+}
+
+int cmd_run(const Options& o) {
+  const auto t0 = app::RunOutput::Clock::now();
+  Reporter rep(o.quiet);
+  rep.phase("reading " + o.scene);
+  const core::Scene scene = load_run_scene(o);
+  app::RunOutput output(scene, default_out(o, scene));
   const auto phase = [&](const std::string& line) { rep.phase(line); };
-  // A VTU of a series (load steps, adaptive cycles): the file, then its collection rewritten,
-  // so the .pvd always lists what exists.
-  auto write_series = [&out, &scene](std::vector<std::pair<double, std::string>>& files,
-                                     const std::string& pvd, const char* pattern, int number,
-                                     double time, const core::Model& m, const core::Results& r) {
-    if (!scene.output_fields) return;
-    char name[32];
-    std::snprintf(name, sizeof name, pattern, number);
-    core::write_file_atomic(out + "/" + name, core::vtu_document(m, r));
-    files.emplace_back(time, name);
-    core::write_file_atomic(out + "/" + pvd, core::pvd_document(files));
-  };
   std::unique_ptr<app::SceneRun> solved;
   app::AdaptRun adapt;
-  std::vector<std::pair<double, std::string>> step_files;
   if (scene.adapt.enabled) {
-    // Every cycle leaves its mesh and fields (cycle_NN.vtu, listed in adapt.pvd) and a row of
-    // adapt.csv as soon as it is solved.
-    std::vector<std::pair<double, std::string>> vtus;
-    std::vector<app::AdaptCycle> done;
-    adapt = app::solve_adaptive(scene, o.method, phase,
-                                [&](const app::AdaptCycle& c, const app::SceneRun& r) {
-      write_series(vtus, "adapt.pvd", "cycle_%02d.vtu", c.cycle, c.cycle, r.model, r.results);
-      done.push_back(c);
-      core::write_file_atomic(out + "/adapt.csv", app::adapt_csv(done));
-      char line[200];
-      std::snprintf(line, sizeof line,
-                    "adapt %2d   %8d DOFs   xi_g %8.3g   max xi_e %8.3g   error %6.2f %%   %7.2f s\n",
-                    c.cycle, c.dofs, c.global_parameter, c.max_local, 100 * c.relative_error,
-                    c.seconds);
-      rep.line(line);
+    // Every cycle leaves its mesh and fields and a row of adapt.csv as soon as it is solved.
+    adapt = app::solve_adaptive(scene, o.method, phase, [&](const app::AdaptCycle& c, const app::SceneRun& r) {
+      output.write_cycle(c, r);
+      rep.line(cycle_line(c));
     });
     solved = std::move(adapt.last);
   } else {
-    // A load-stepped run leaves every converged step (step_NNNN.vtu, listed in results.pvd).
+    // A load-stepped run leaves every converged step as soon as it is solved.
     solved = app::solve_scene(scene, o.method, phase,
-                              [&](const nonlinear::StepRecord& s, const core::Model& m,
-                                  const core::Results& r) {
-      write_series(step_files, "results.pvd", "step_%04d.vtu", s.step, s.load_factor, m, r);
-    });
+                         [&](const nonlinear::StepRecord& s, const core::Model& m,
+                             const core::Results& r) { output.write_step(s, m, r); });
   }
-  const core::Model& model = solved->model;
-  const constraints::ContactSet* contact = solved->contact.get();
-  const constraints::ContactReport& contact_report = solved->contact_report;
-  const std::vector<nonlinear::StepRecord>& steps = solved->steps;
-  core::Results& results = solved->results;
-  const bool ok = results.status == SolveStatus::kConverged;
-
-  const auto t_out = std::chrono::steady_clock::now();
-  rep.phase("writing results to " + out);
-  if ((step_files.empty() || !ok) && scene.output_fields) {
-    // A linear run is one step; a failed load-stepped run adds its last converged state.
-    write_series(step_files, "results.pvd", "step_%04d.vtu", static_cast<int>(step_files.size()) + 1,
-                 step_files.empty() ? 1.0 : results.globals["load_factor"], model, results);
-  }
-  if (scene.output_fields) core::write_file_atomic(out + "/nodes.csv", core::nodes_csv(model, results));
-  if (contact) {
-    core::write_file_atomic(out + "/contact.csv", app::contact_csv(contact_report));
-    core::write_file_atomic(out + "/trace.csv", app::trace_csv(contact_report));
-  }
-  if (!steps.empty()) core::write_file_atomic(out + "/trace.csv", app::newton_trace_csv(steps));
-  if (contact) {
-    // A linear run is one step at load factor 1.
-    std::vector<nonlinear::StepRecord> one(1);
-    one[0].step = 1;
-    one[0].load_factor = 1.0;
-    one[0].newton.status = results.status;
-    one[0].contact_state = contact_report;
-    core::write_file_atomic(out + "/contact_steps.csv",
-                            app::contact_steps_csv(steps.empty() ? one : steps));
-  }
-  std::string chart_error;
-  if (ok && scene.output_charts) chart_error = app::chart_deformed_mesh(out, model, results);
-  if (ok && scene.output_charts && contact && contact_report.has_surface && chart_error.empty())
-    chart_error = app::chart_contact_pressure(out, contact_report, scene);
-  results.time.output +=  // per-step VTUs written during the solve, then the rest
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_out).count();
-  results.time.total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
-  const std::string status =
-      ok ? "converged"
-         : std::string("failed: ") +
-               (results.status == SolveStatus::kFailed ? std::string()
-                                                       : std::string(to_string(results.status)) + ": ") +
-               results.message;
-  nlohmann::json summary = app::make_summary(scene, &model, &results, status,
-                                                contact ? &contact_report : nullptr);
-  if (!steps.empty()) {
-    int newton = 0;
-    for (const auto& s : steps) newton += s.newton.iterations;
-    summary["steps"] = static_cast<int>(results.globals["steps"]);
-    summary["newton_iterations"] = newton;
-    summary["load_factor"] = results.globals["load_factor"];
-  }
-  if (scene.adapt.enabled) {
-    nlohmann::json a = {{"target", scene.adapt.target}, {"max_cycles", scene.adapt.max_cycles},
-                        {"reached", adapt.reached}, {"stop", adapt.stop}};
-    for (const auto& c : adapt.cycles)
-      a["cycles"].push_back({{"cycle", c.cycle}, {"dofs", c.dofs}, {"elements", c.elements},
-                             {"xi_g", c.global_parameter}, {"xi_max", c.max_local},
-                             {"relative_error", c.relative_error}, {"h_min", c.h_min},
-                             {"seconds", c.seconds}, {"status", c.status}, {"probes", c.probes}});
-    summary["adapt"] = a;
-  }
-  core::write_file_atomic(out + "/summary.json", summary.dump(2) + "\n");
-  rep.line(app::terminal_summary(summary, out));
+  rep.phase("writing results to " + output.dir());
+  const std::string chart_error = output.write_results(*solved, t0);
+  const nlohmann::json summary =
+      output.write_summary(*solved, scene.adapt.enabled ? &adapt : nullptr);
+  rep.line(app::terminal_summary(summary, output.dir()));
   if (scene.adapt.enabled)
     rep.line(std::string(adapt.reached ? "adapt      " : "warning    adapt: ") + adapt.stop +
              " (adapt.csv, cycle_NN.vtu)\n");
   if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
-  core::write_file_atomic(out + "/run.log", rep.log());
-  return ok ? kExitOk : kExitSolveFailed;
+  output.write_log(rep.log());
+  return solved->results.status == SolveStatus::kConverged ? kExitOk : kExitSolveFailed;
 }
+
 
 /// The options every study verb shares.
 void fill_study(const Options& o, app::StudyOptions& s) {

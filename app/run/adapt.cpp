@@ -104,6 +104,17 @@ AdaptRun solve_adaptive(const core::Scene& scene_in, const std::string& method,
   return out;
 }
 
+nlohmann::json adapt_summary(const core::AdaptSpec& spec, const AdaptRun& run) {
+  nlohmann::json a = {{"target", spec.target}, {"max_cycles", spec.max_cycles},
+                      {"reached", run.reached}, {"stop", run.stop}};
+  for (const auto& c : run.cycles)
+    a["cycles"].push_back({{"cycle", c.cycle}, {"dofs", c.dofs}, {"elements", c.elements},
+                           {"xi_g", c.global_parameter}, {"xi_max", c.max_local},
+                           {"relative_error", c.relative_error}, {"h_min", c.h_min},
+                           {"seconds", c.seconds}, {"status", c.status}, {"probes", c.probes}});
+  return a;
+}
+
 std::string adapt_csv(const std::vector<AdaptCycle>& cycles) {
   std::set<std::string> names;
   for (const auto& c : cycles)
