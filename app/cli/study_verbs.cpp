@@ -2,7 +2,8 @@
 #include "app/cli/verbs.hpp"
 #include "app/studies/bench.hpp"
 #include "app/studies/calibrate.hpp"
-#include "app/studies/studies.hpp"
+#include "app/studies/compare.hpp"
+#include "app/studies/sweep.hpp"
 #include "core/errors.hpp"
 
 namespace c2d::app {

@@ -13,8 +13,7 @@
 #include <map>
 #include <sstream>
 
-#include "app/report/gnuplot.hpp"
-#include "app/studies/studies.hpp"
+#include "app/studies/bench_report.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "core/assembler.hpp"
 #include "core/errors.hpp"
@@ -53,12 +52,6 @@ constexpr Family kFamilies[] = {
 };
 
 double scale_for(double base_dofs, double dofs) { return std::sqrt(base_dofs / dofs); }
-
-std::string rounded(double v) {
-  std::ostringstream os;
-  os << std::setprecision(3) << v;
-  return os.str();
-}
 
 /// Every case: charts off (pictures for people, not a solver phase). The Hertz ladder narrows
 /// the slave arc to the 4.4 mm (2.6 b) that can touch: the same physics with fewer rows.
@@ -124,19 +117,6 @@ double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) 
 
 namespace {
 
-/// What a bench row holds: the case, the figures every study reads (RunFigures), and the
-/// solver phases, detection and accuracy its summary.json gave.
-struct BenchRow : RunFigures {
-  BenchCase c;
-  double factorizations = NAN;
-  double t_symbolic = NAN, t_numeric = NAN, t_triangular = NAN, t_contact_other = NAN,
-         t_detection = NAN, t_recovery = NAN, t_output = NAN;
-  std::string accuracy_measure;
-  double accuracy = NAN, overhead = NAN;
-  double one_linear_solve = NAN;  ///< symbolic + one numeric factorisation of this run
-  double excluding_mesh() const { return t_total - t_mesh; }
-};
-
 void read_row(BenchRow& r, const CaseOutcome& out) {
   if (!r.read(out)) return;
   const auto& s = out.summary;
@@ -164,7 +144,6 @@ void read_row(BenchRow& r, const CaseOutcome& out) {
   }
 }
 
-std::string cell(double v) { return csv_number(v, 6); }
 
 std::string csv_of(const std::vector<BenchRow>& rows) {
   std::ostringstream os;
@@ -172,14 +151,14 @@ std::string csv_of(const std::vector<BenchRow>& rows) {
   for (const auto& r : rows) {
     if (!r.done) continue;
     os << r.c.family << ',' << r.c.scene << ',' << r.c.element << ',' << r.c.method << ','
-       << r.c.nominal << ',' << cell(r.c.mesh_scale) << ',' << cell(r.dofs) << ','
-       << r.csv_status() << ',' << r.exit_code << ',' << cell(r.newton) << ',' << cell(r.iterations) << ','
-       << cell(r.factorizations) << ',' << cell(r.t_mesh) << ',' << cell(r.t_assemble) << ','
-       << cell(r.t_symbolic) << ',' << cell(r.t_numeric) << ',' << cell(r.t_triangular) << ','
-       << cell(r.t_contact_other) << ',' << cell(r.t_detection) << ',' << cell(r.t_solve) << ','
-       << cell(r.t_recovery) << ',' << cell(r.t_output) << ',' << cell(r.t_total) << ','
-       << cell(r.wall) << ',' << cell(r.peak_rss_mb) << ',' << r.accuracy_measure << ','
-       << cell(r.accuracy) << ',' << cell(r.zz) << ',' << cell(r.overhead) << '\n';
+       << r.c.nominal << ',' << bench_cell(r.c.mesh_scale) << ',' << bench_cell(r.dofs) << ','
+       << r.csv_status() << ',' << r.exit_code << ',' << bench_cell(r.newton) << ',' << bench_cell(r.iterations) << ','
+       << bench_cell(r.factorizations) << ',' << bench_cell(r.t_mesh) << ',' << bench_cell(r.t_assemble) << ','
+       << bench_cell(r.t_symbolic) << ',' << bench_cell(r.t_numeric) << ',' << bench_cell(r.t_triangular) << ','
+       << bench_cell(r.t_contact_other) << ',' << bench_cell(r.t_detection) << ',' << bench_cell(r.t_solve) << ','
+       << bench_cell(r.t_recovery) << ',' << bench_cell(r.t_output) << ',' << bench_cell(r.t_total) << ','
+       << bench_cell(r.wall) << ',' << bench_cell(r.peak_rss_mb) << ',' << r.accuracy_measure << ','
+       << bench_cell(r.accuracy) << ',' << bench_cell(r.zz) << ',' << bench_cell(r.overhead) << '\n';
   }
   return os.str();
 }
@@ -200,11 +179,6 @@ void fill_overheads(std::vector<BenchRow>& rows) {
   }
 }
 
-/// In-process refill assembly throughput on structured grids, one thread and all threads.
-struct Throughput {
-  double t3_serial = NAN, t6_serial = NAN, t3_parallel = NAN, t6_parallel = NAN;
-  int threads = 1;
-};
 
 Throughput measure_assembly(bool quick) {
   Throughput t;
@@ -256,234 +230,12 @@ std::string machine_line() {
   return os.str();
 }
 
-std::string fmt_s(double v) { return std::isfinite(v) ? rounded(v) + " s" : "–"; }
-std::string fmt_pct(double v) { return std::isfinite(v) ? rounded(100 * v) + " %" : "–"; }
-
-const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& family,
-                         const std::string& element, const std::string& nominal,
-                         const std::string& scene = "", const std::string& method = "") {
-  for (const auto& r : rows)
-    if (r.done && r.c.family == family && (element.empty() || r.c.element == element) &&
-        r.c.nominal == nominal && (scene.empty() || r.c.scene == scene) &&
-        (method.empty() || r.c.method == method))
-      return &r;
-  return nullptr;
-}
-
-std::string verdict(bool measured, bool met) { return !measured ? "not run" : met ? "met" : "**not met**"; }
-
-std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick) {
-  std::ostringstream md;
-  md << "| target | required | measured | verdict |\n|---|---|---|---|\n";
-  md << "| refill assembly, T3, per core | ≥ 2 M elements/s | " << rounded(t.t3_serial / 1e6)
-     << " M/s (" << t.threads << " threads: " << rounded(t.t3_parallel / 1e6) << " M/s) | "
-     << verdict(true, t.t3_serial >= 2e6) << " |\n";
-  md << "| refill assembly, T6, per core | ≥ 0.5 M elements/s | " << rounded(t.t6_serial / 1e6)
-     << " M/s (" << t.threads << " threads: " << rounded(t.t6_parallel / 1e6) << " M/s) | "
-     << verdict(true, t.t6_serial >= 0.5e6) << " |\n";
-  for (const char* el : {"T3", "T6"}) {
-    const BenchRow* r = find_row(rows, "elasticity", el, "1M");
-    const bool ok = r && r->converged();
-    const double solve = ok ? r->t_assemble + r->t_solve : NAN;
-    md << "| 1M-DOF linear elastic solve, " << el << " (assemble + factorise + solve) | < 10 s | "
-       << (ok ? fmt_s(solve) + " at " + cell(r->dofs) + " DOFs; mesh excluded with recovery "
-                                                          "and output: " +
-                    fmt_s(r->excluding_mesh())
-              : std::string(quick ? "–" : "failed"))
-       << " | " << verdict(ok, solve < 10) << " |\n";
-    md << "| 1M-DOF linear elastic run, " << el << ", peak memory | < 4 GB | "
-       << (ok ? rounded(r->peak_rss_mb / 1024) + " GB" : "–") << " | " << verdict(ok, ok && r->peak_rss_mb < 4096)
-       << " |\n";
-  }
-  // Contact overhead: every Hertz ladder run and every method of the panel.
-  double worst_exact = 0;
-  std::ostringstream list;
-  bool any = false;
-  for (const auto& r : rows)
-    if (std::isfinite(r.overhead) && r.c.family != "two_cantilevers") {
-      any = true;
-      if (r.c.method == "lagrange" || r.c.method == "ssn") worst_exact = std::max(worst_exact, r.overhead);
-    }
-  for (const auto& r : rows)
-    if (std::isfinite(r.overhead) && r.c.family != "methods" && r.c.family != "two_cantilevers")
-      list << r.c.family << " " << r.c.element << " " << r.c.nominal << ": " << rounded(r.overhead) << "; ";
-  md << "| contact overhead, lagrange and ssn (contact solve / one linear solve) | ≤ 2 | worst "
-     << rounded(worst_exact) << " (ladder, lagrange: " << list.str()
-     << "every method: table below) | " << verdict(any, worst_exact <= 2) << " |\n";
-  for (const auto& [scene, limit, goal] :
-       {std::tuple{"hertz_rigid_fast.toml", 0.1, 0.005}, std::tuple{"hertz_block_fast.toml", 1.0, 0.01}}) {
-    const BenchRow* r = find_row(rows, "methods", "T6", "as shipped", scene, "lagrange");
-    const bool ok = r && r->converged();
-    md << "| Hertz " << (std::string(scene).find("rigid") != std::string::npos ? "rigid flat" : "elastic block")
-       << ", time to accuracy (" << scene << ", lagrange) | ≤ " << rounded(100 * goal) << " % in < "
-       << limit << " s | "
-       << (ok ? fmt_pct(r->accuracy) + " in " + fmt_s(r->t_total) + " scene to summary (process " +
-                    fmt_s(r->wall) + " with start-up), " + cell(r->dofs) + " DOFs"
-              : std::string("–"))
-       << " | " << verdict(ok, ok && r->accuracy <= goal && r->t_total < limit) << " |\n";
-  }
-  double worst_detection = NAN;
-  for (const auto& r : rows)
-    if (r.c.nominal == "1M" && r.converged() && std::isfinite(r.t_detection) && r.t_solve > 0)
-      worst_detection = std::max(std::isfinite(worst_detection) ? worst_detection : 0.0,
-                                 r.t_detection / r.t_solve);
-  md << "| contact detection at 1M DOFs | ≤ 5 % of the solve | "
-     << (std::isfinite(worst_detection) ? "worst " + fmt_pct(worst_detection) : std::string("–"))
-     << " | " << verdict(std::isfinite(worst_detection), worst_detection <= 0.05) << " |\n";
-  return md.str();
-}
-
-std::string ladder_md(const std::vector<BenchRow>& rows) {
-  std::ostringstream md;
-  md << "| family | element | rung | DOFs | status | mesh | assemble | symbolic | numeric | "
-        "triangular | contact other | recovery | output | total | process | peak RSS | "
-        "accuracy | overhead |\n"
-     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& r : rows) {
-    if (!r.done || r.c.family == "methods") continue;
-    md << "| " << r.c.family << " | " << r.c.element << " | " << r.c.nominal << " | "
-       << cell(r.dofs) << " | " << r.status << " | " << fmt_s(r.t_mesh) << " | "
-       << fmt_s(r.t_assemble) << " | " << fmt_s(r.t_symbolic) << " | " << fmt_s(r.t_numeric)
-       << " | " << fmt_s(r.t_triangular) << " | " << fmt_s(r.t_contact_other) << " | "
-       << fmt_s(r.t_recovery) << " | " << fmt_s(r.t_output) << " | " << fmt_s(r.t_total) << " | "
-       << fmt_s(r.wall) << " | " << rounded(r.peak_rss_mb) << " MB | "
-       << (r.accuracy_measure.empty() ? "–" : r.accuracy_measure + " " + fmt_pct(r.accuracy))
-       << " | " << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " |\n";
-  }
-  return md.str();
-}
-
-std::string methods_md(const std::vector<BenchRow>& rows) {
-  std::ostringstream md;
-  md << "| scene | mesh | method | DOFs | status | iterations | factorisations | solve | "
-        "scene to summary | overhead | profile error |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const auto& r : rows) {
-    if (!r.done || r.c.family != "methods") continue;
-    md << "| " << r.c.scene << " | " << r.c.nominal << " | " << r.c.method << " | " << cell(r.dofs)
-       << " | " << r.status << " | " << cell(r.iterations) << " | " << cell(r.factorizations)
-       << " | " << fmt_s(r.t_solve) << " | " << fmt_s(r.t_total) << " | "
-       << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " | " << fmt_pct(r.accuracy)
-       << " |\n";
-  }
-  return md.str();
-}
-
-/// Time against DOFs, log-log: left, the whole run without meshing per family; right, the
-/// phases of the linear elastic T6 ladder. Each line's title carries its fitted slope.
-std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows,
-                       std::string& slopes_md) {
-  std::ostringstream data, left, right;
-  int block = 0;
-  std::ostringstream slopes;
-  slopes << "| series | fitted slope (log time / log DOFs) |\n|---|---|\n";
-  auto series = [&](std::ostringstream& plot, const std::string& title,
-                    const std::vector<std::pair<double, double>>& pts) {
-    if (pts.size() < 2) return;
-    std::vector<double> x, y;
-    for (const auto& [a, b] : pts) x.push_back(a), y.push_back(b), data << a << ' ' << b << '\n';
-    data << "\n\n";
-    const double slope = loglog_slope(x, y);
-    slopes << "| " << title << " | " << rounded(slope) << " |\n";
-    plot << (plot.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/time_vs_dofs.dat")
-         << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
-         << gp_text(title + " (slope " + rounded(slope) + ")") << " noenhanced";
-  };
-  std::map<std::string, std::vector<std::pair<double, double>>> families;
-  for (const auto& r : rows)
-    if (r.converged() && r.c.family != "methods" && std::isfinite(r.dofs))
-      families[r.c.family + " " + r.c.element].emplace_back(r.dofs, r.excluding_mesh());
-  for (const auto& [name, pts] : families) series(left, name + ", run without mesh", pts);
-  std::map<std::string, std::vector<std::pair<double, double>>> phases;
-  for (const auto& r : rows)
-    if (r.converged() && r.c.family == "elasticity" && r.c.element == "T6") {
-      phases["mesh"].emplace_back(r.dofs, r.t_mesh);
-      phases["assemble"].emplace_back(r.dofs, r.t_assemble);
-      phases["factorise (symbolic + numeric)"].emplace_back(r.dofs, r.t_symbolic + r.t_numeric);
-      phases["triangular solve"].emplace_back(r.dofs, r.t_triangular);
-      phases["recovery (L2 smoothing, ZZ)"].emplace_back(r.dofs, r.t_recovery);
-      phases["output"].emplace_back(r.dofs, r.t_output);
-    }
-  for (const auto& [name, pts] : phases) series(right, "elasticity T6: " + name, pts);
-  slopes_md = slopes.str();
-  if (block == 0) return "";
-  core::write_file_atomic(out + "/time_vs_dofs.dat", data.str());
-  std::ostringstream plot;
-  plot << "set multiplot layout 1," << ((left.tellp() > 0) + (right.tellp() > 0))
-       << "\nset logscale xy\nset grid\nset xlabel 'DOFs'\n"
-       << "set ylabel 'seconds'\nset key top left font ',9'\nset format x '10^{%L}'\n";
-  if (left.tellp() > 0) plot << "set title 'Whole run without meshing, per family'\n" << left.str() << "\n";
-  if (right.tellp() > 0) plot << "set title 'Phases, linear elasticity T6'\n" << right.str() << "\n";
-  plot << "unset multiplot\n";
-  const std::string err = plot_png_and_svg(out, "time_vs_dofs", plot.str());
-  fs::remove(out + "/time_vs_dofs.dat");
-  return err;
-}
-
-/// Accuracy against time: every method on the time-to-accuracy scenes (one panel per scene,
-/// one line per method through its meshes), with the lagrange Hertz ladders for scale.
-std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& rows) {
-  std::ostringstream data, panels;
-  int block = 0, count = 0;
-  for (const auto& [scene, ladder] : {std::pair{"hertz_rigid_fast.toml", "hertz_rigid"},
-                                      std::pair{"hertz_block_fast.toml", "hertz_block"}}) {
-    std::ostringstream lines;
-    auto line = [&](const std::string& title, const std::vector<std::pair<double, double>>& pts) {
-      if (pts.empty()) return;
-      for (const auto& [a, b] : pts) data << a << ' ' << b << '\n';
-      data << "\n\n";
-      lines << (lines.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/accuracy_vs_time.dat")
-            << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
-            << gp_text(title) << " noenhanced";
-    };
-    for (const auto& m : constraints::method_names()) {
-      std::vector<std::pair<double, double>> pts;
-      for (const auto& r : rows)
-        if (r.c.family == "methods" && r.c.scene == scene && r.c.method == m && r.converged() &&
-            r.accuracy > 0)
-          pts.emplace_back(r.t_total, r.accuracy);
-      std::sort(pts.begin(), pts.end());
-      line(m, pts);
-    }
-    for (const char* el : {"T3", "T6"}) {
-      std::vector<std::pair<double, double>> pts;
-      for (const auto& r : rows)
-        if (r.c.family == ladder && r.c.element == el && r.converged() && r.accuracy > 0)
-          pts.emplace_back(r.t_total, r.accuracy);
-      std::sort(pts.begin(), pts.end());
-      line(std::string(ladder) + " ladder " + el + " (lagrange, point-graded mesh)", pts);
-    }
-    if (lines.tellp() > 0)
-      panels << "set title " << gp_text(scene) << " noenhanced\n" << lines.str() << "\n", ++count;
-  }
-  if (count == 0) return "";
-  std::ostringstream plot;
-  plot << "set multiplot layout 1," << count << "\nset logscale xy\nset grid\n"
-       << "set xlabel 'seconds, scene to summary'\n"
-       << "set ylabel 'pressure profile error (relative L2)'\nset key top right font ',9'\n"
-       << panels.str() << "unset multiplot\n";
-  core::write_file_atomic(out + "/accuracy_vs_time.dat", data.str());
-  const std::string err = plot_png_and_svg(out, "accuracy_vs_time", plot.str());
-  fs::remove(out + "/accuracy_vs_time.dat");
-  return err;
-}
-
-}  // namespace
-
-int run_bench(const BenchOptions& o) {
-  const std::string out = o.out.empty() ? "out/bench" : o.out;
-  const std::string examples = o.examples;
-  const std::vector<BenchCase> ladder = bench_ladder(o.quick);
-  for (const auto& c : ladder)
-    if (!fs::exists(examples + "/" + c.scene))
-      throw InputError(examples + "/" + c.scene + ": bench scene not found (expected the bundled "
-                       "examples folder; pass --examples DIR)");
-  fs::create_directories(out);
-  const core::Stopwatch clock;
-  std::vector<BenchRow> rows(ladder.size());
+/// One `contact2d run` per rung, in its own folder NN_family_scene_element_method.
+std::vector<StudyCase> bench_cases(const std::vector<BenchCase>& ladder, const std::string& out,
+                                   const std::string& examples) {
   std::vector<StudyCase> cases;
   for (size_t i = 0; i < ladder.size(); ++i) {
     const BenchCase& c = ladder[i];
-    rows[i].c = c;
     StudyCase s;
     char dir[160];
     std::snprintf(dir, sizeof dir, "%s/%02zu_%s_%s_%s_%s", out.c_str(), i, c.family.c_str(),
@@ -492,40 +244,32 @@ int run_bench(const BenchOptions& o) {
     s.out_dir = dir;
     s.args = {examples + "/" + c.scene, "--quiet", "--out", s.out_dir,
               "--set", "analysis.element=" + c.element,
-              "--set", "analysis.mesh_scale=" + cell(c.mesh_scale)};
+              "--set", "analysis.mesh_scale=" + bench_cell(c.mesh_scale)};
     if (!c.method.empty()) s.args.insert(s.args.end(), {"--method", c.method});
     for (const auto& set : c.sets) s.args.insert(s.args.end(), {"--set", set});
     cases.push_back(s);
   }
-  // One case at a time: timings of concurrent runs would measure each other.
-  size_t finished = 0;
-  run_cases(cases, 1, [&](size_t i, const CaseOutcome& outcome) {
-    read_row(rows[i], outcome);
-    ++finished;
-    if (!o.quiet) {
-      const BenchRow& r = rows[i];
-      std::printf("bench %2zu/%zu  %-15s %-22s %s %-16s %9s DOFs  %8.3f s  %7.0f MB  %s\n",
-                  finished, rows.size(), r.c.family.c_str(), r.c.scene.c_str(), r.c.element.c_str(),
-                  r.c.method.empty() ? "-" : r.c.method.c_str(), cell(r.dofs).c_str(), r.wall,
-                  r.peak_rss_mb, r.status.c_str());
-      std::fflush(stdout);
-    }
-    fill_overheads(rows);
-    core::write_file_atomic(out + "/bench.csv", csv_of(rows));  // complete after the last case
-  });
-  if (!o.quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
-  const Throughput t = measure_assembly(o.quick);
+  return cases;
+}
 
-  std::string slopes;
-  std::string chart_error = chart_time(out, rows, slopes);
-  if (chart_error.empty()) chart_error = chart_accuracy(out, rows);
+void print_row(size_t finished, const std::vector<BenchRow>& rows, const BenchRow& r) {
+  std::printf("bench %2zu/%zu  %-15s %-22s %s %-16s %9s DOFs  %8.3f s  %7.0f MB  %s\n",
+              finished, rows.size(), r.c.family.c_str(), r.c.scene.c_str(), r.c.element.c_str(),
+              r.c.method.empty() ? "-" : r.c.method.c_str(), bench_cell(r.dofs).c_str(), r.wall,
+              r.peak_rss_mb, r.status.c_str());
+  std::fflush(stdout);
+}
+
+/// bench.md: when and where, how the figures were taken, the targets, the tables, the slopes.
+std::string bench_md(const BenchOptions& o, const std::vector<BenchRow>& rows, const Throughput& t,
+                     double seconds, const std::string& slopes, const std::string& chart_error) {
   const std::time_t now = std::time(nullptr);
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   std::ostringstream md;
   md << "# contact2d bench" << (o.quick ? " --quick" : "") << "\n\n"
      << date << "; " << machine_line() << "; " << rows.size() << " runs in "
-     << rounded(clock.elapsed()) << " s.\n\n"
+     << rounded(seconds) << " s.\n\n"
      << "Every run is a separate `contact2d run` process with charts off (the time-to-accuracy "
         "runs also without VTU/nodes.csv); phase times come from its summary.json, peak memory "
         "from the process (wait4), \"process\" is the wall time including start-up (loading "
@@ -543,7 +287,39 @@ int run_bench(const BenchOptions& o) {
      << (chart_error.empty() ? "![time against DOFs](time_vs_dofs.png)\n\n"
                                "![accuracy against time](accuracy_vs_time.png)\n"
                              : "Charts not written: " + chart_error + "\n");
-  core::write_file_atomic(out + "/bench.md", md.str());
+  return md.str();
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& o) {
+  const std::string out = o.out.empty() ? "out/bench" : o.out;
+  const std::vector<BenchCase> ladder = bench_ladder(o.quick);
+  for (const auto& c : ladder)
+    if (!fs::exists(o.examples + "/" + c.scene))
+      throw InputError(o.examples + "/" + c.scene + ": bench scene not found (expected the bundled "
+                       "examples folder; pass --examples DIR)");
+  fs::create_directories(out);
+  const core::Stopwatch clock;
+  std::vector<BenchRow> rows(ladder.size());
+  for (size_t i = 0; i < ladder.size(); ++i) rows[i].c = ladder[i];
+  // One case at a time: timings of concurrent runs would measure each other.
+  size_t finished = 0;
+  run_cases(bench_cases(ladder, out, o.examples), 1, [&](size_t i, const CaseOutcome& outcome) {
+    read_row(rows[i], outcome);
+    ++finished;
+    if (!o.quiet) print_row(finished, rows, rows[i]);
+    fill_overheads(rows);
+    core::write_file_atomic(out + "/bench.csv", csv_of(rows));  // complete after the last case
+  });
+  if (!o.quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
+  const Throughput t = measure_assembly(o.quick);
+
+  std::string slopes;
+  std::string chart_error = chart_time(out, rows, slopes);
+  if (chart_error.empty()) chart_error = chart_accuracy(out, rows);
+  core::write_file_atomic(out + "/bench.md",
+                          bench_md(o, rows, t, clock.elapsed(), slopes, chart_error));
   bool crashed = false;
   for (const auto& r : rows) crashed = crashed || r.status.rfind("crashed", 0) == 0;
   if (!o.quiet) {

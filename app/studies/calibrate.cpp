@@ -166,16 +166,8 @@ struct CalibrationCost {
   }
 };
 
-}  // namespace
-
-int run_calibrate(const CalibrateOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const core::Scene scene = core::load_scene(o.scene, o.sets);
-  if (o.fits.empty()) throw InputError("calibrate: expected --fit key[,key...], found none");
-  if (o.data.empty()) throw InputError("calibrate: expected --data measured.csv, found none");
-  std::vector<Parameter> params;
-  for (const auto& f : o.fits) params.push_back(parse_parameter(f, scene));
-  // Measured data.
+/// The measured probe values of --data, each naming one of the scene's [[probe]]s.
+std::vector<Datum> read_measured(const CalibrateOptions& o, const core::Scene& scene) {
   const CsvTable table = read_csv(o.data);
   const int c_probe = table.column("probe"), c_value = table.column("value");
   const auto w_it = std::find(table.columns.begin(), table.columns.end(), "weight");
@@ -204,129 +196,180 @@ int run_calibrate(const CalibrateOptions& o) {
     data.push_back(d);
   }
   if (data.empty()) throw InputError(o.data + ": expected at least one measured probe value");
-  const std::string out = o.out.empty() ? "out/calibrate_" + fs::path(o.scene).stem().string() : o.out;
-  fs::create_directories(out);
+  return data;
+}
 
-  CalibrationModel model{o, params, data, 0, {}};
-  const int n = static_cast<int>(params.size()), m = static_cast<int>(data.size());
-  std::vector<double> theta(n);
-  for (int j = 0; j < n; ++j) theta[j] = params[j].log ? std::log(params[j].initial) : params[j].initial;
-  const std::vector<double> theta0 = theta;
-  std::vector<double> initial_probes;
-  if (!model.probes(theta.data(), initial_probes))
-    throw InputError(o.scene + ": the scene does not solve at the initial parameters (" +
-                     model.last_failure + ")");
+/// What a calibration found, for the files and the terminal.
+struct Calibration {
+  std::vector<double> theta;  ///< fitted, in the parameters' scales (log or lin)
+  std::vector<double> sigma;  ///< standard deviations of the values (NaN when not estimated)
+  std::string covariance_note;
+  ceres::Solver::Summary summary;
+  std::vector<double> initial_probes, fitted_probes;
+  bool solved = false;  ///< the scene solves at the fitted parameters
+  double seconds = 0.0;
+  std::string status() const {
+    return summary.IsSolutionUsable() && solved ? "converged" : "failed";
+  }
+};
 
+/// Standard deviations: Ceres's covariance of θ, scaled by the residual variance.
+void estimate_sigmas(ceres::Problem& problem, const CalibrationModel& model, Calibration& c) {
+  const int n = static_cast<int>(model.params.size()), m = static_cast<int>(model.data.size());
+  c.sigma.assign(n, std::nan(""));
+  ceres::Covariance::Options co;
+  co.algorithm_type = ceres::DENSE_SVD;
+  co.null_space_rank = -1;
+  ceres::Covariance covariance(co);
+  double* theta = c.theta.data();
+  std::vector<std::pair<const double*, const double*>> blocks{{theta, theta}};
+  if (m <= n) {
+    c.covariance_note = "not estimated: as many data as parameters leave no residual variance";
+  } else if (c.summary.IsSolutionUsable() && covariance.Compute(blocks, &problem)) {
+    std::vector<double> cov(n * n);
+    covariance.GetCovarianceBlock(theta, theta, cov.data());
+    const double variance = 2.0 * c.summary.final_cost / (m - n);
+    c.covariance_note = "from the covariance, scaled by the residual variance";
+    for (int j = 0; j < n; ++j) {
+      const double s_theta = std::sqrt(std::max(0.0, cov[j * n + j] * variance));
+      c.sigma[j] = model.params[j].log ? model.value(j, c.theta[j]) * s_theta : s_theta;
+    }
+  } else {
+    c.covariance_note = "not available (rank-deficient Jacobian: the data do not determine every parameter)";
+  }
+}
+
+/// Levenberg-Marquardt from the parameters' initial values within their bounds.
+void fit_parameters(CalibrationModel& model, int max_iterations, Calibration& c) {
+  const auto& params = model.params;
+  const int n = static_cast<int>(params.size()), m = static_cast<int>(model.data.size());
   ceres::Problem problem;
   auto* cost = new ceres::DynamicNumericDiffCostFunction<CalibrationCost, ceres::CENTRAL>(
       new CalibrationCost{&model});
   cost->AddParameterBlock(n);
   cost->SetNumResiduals(m);
-  problem.AddResidualBlock(cost, nullptr, theta.data());
+  double* theta = c.theta.data();
+  problem.AddResidualBlock(cost, nullptr, theta);
   for (int j = 0; j < n; ++j) {
-    problem.SetParameterLowerBound(theta.data(), j, params[j].log ? std::log(params[j].lower) : params[j].lower);
-    problem.SetParameterUpperBound(theta.data(), j, params[j].log ? std::log(params[j].upper) : params[j].upper);
+    problem.SetParameterLowerBound(theta, j, params[j].log ? std::log(params[j].lower) : params[j].lower);
+    problem.SetParameterUpperBound(theta, j, params[j].log ? std::log(params[j].upper) : params[j].upper);
   }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
   options.logging_type = ceres::SILENT;
-  options.max_num_iterations = o.max_iterations;
+  options.max_num_iterations = max_iterations;
   options.function_tolerance = 1e-12;
   options.gradient_tolerance = 1e-14;
   options.parameter_tolerance = 1e-10;
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
+  ceres::Solve(options, &problem, &c.summary);
+  estimate_sigmas(problem, model, c);
+}
 
-  // Standard deviations: Ceres's covariance of θ, scaled by the residual variance.
-  std::vector<double> sigma(n, std::nan(""));
-  ceres::Covariance::Options co;
-  co.algorithm_type = ceres::DENSE_SVD;
-  co.null_space_rank = -1;
-  ceres::Covariance covariance(co);
-  std::vector<std::pair<const double*, const double*>> blocks{{theta.data(), theta.data()}};
-  std::string covariance_note;
-  if (m <= n) {
-    covariance_note = "not estimated: as many data as parameters leave no residual variance";
-  } else if (summary.IsSolutionUsable() && covariance.Compute(blocks, &problem)) {
-    std::vector<double> c(n * n);
-    covariance.GetCovarianceBlock(theta.data(), theta.data(), c.data());
-    const double variance = 2.0 * summary.final_cost / (m - n);
-    covariance_note = "from the covariance, scaled by the residual variance";
-    for (int j = 0; j < n; ++j) {
-      const double s_theta = std::sqrt(std::max(0.0, c[j * n + j] * variance));
-      sigma[j] = params[j].log ? model.value(j, theta[j]) * s_theta : s_theta;
-    }
-  } else {
-    covariance_note = "not available (rank-deficient Jacobian: the data do not determine every parameter)";
-  }
-  std::vector<double> fitted_probes;
-  const bool solved = model.probes(theta.data(), fitted_probes);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-
+nlohmann::json calibration_json(const CalibrateOptions& o, const CalibrationModel& model,
+                                const Calibration& c) {
+  const auto& params = model.params;
+  const auto& data = model.data;
   nlohmann::json j;
   j["scene"] = o.scene;
   j["data"] = o.data;
-  j["status"] = summary.IsSolutionUsable() && solved ? "converged" : "failed";
-  j["ceres"] = {{"termination", ceres::TerminationTypeToString(summary.termination_type)},
-                {"message", summary.message},
-                {"iterations", static_cast<int>(summary.iterations.size())},
-                {"initial_cost", summary.initial_cost},
-                {"final_cost", summary.final_cost},
+  j["status"] = c.status();
+  j["ceres"] = {{"termination", ceres::TerminationTypeToString(c.summary.termination_type)},
+                {"message", c.summary.message},
+                {"iterations", static_cast<int>(c.summary.iterations.size())},
+                {"initial_cost", c.summary.initial_cost},
+                {"final_cost", c.summary.final_cost},
                 {"solves", model.evaluations},
-                {"seconds", seconds}};
-  j["covariance"] = covariance_note;
-  for (int k = 0; k < n; ++k)
+                {"seconds", c.seconds}};
+  j["covariance"] = c.covariance_note;
+  for (size_t k = 0; k < params.size(); ++k)
     j["parameters"].push_back({{"key", params[k].key},
                                {"initial", params[k].initial},
-                               {"fitted", model.value(k, theta[k])},
-                               {"sigma", std::isfinite(sigma[k]) ? nlohmann::json(sigma[k]) : nlohmann::json()},
+                               {"fitted", model.value(static_cast<int>(k), c.theta[k])},
+                               {"sigma", std::isfinite(c.sigma[k]) ? nlohmann::json(c.sigma[k]) : nlohmann::json()},
                                {"lower", params[k].lower},
                                {"upper", params[k].upper},
                                {"scale", params[k].log ? "log" : "lin"}});
-  for (int i = 0; i < m; ++i)
+  for (size_t i = 0; i < data.size(); ++i)
     j["residuals"].push_back({{"probe", data[i].probe},
                               {"measured", data[i].value},
                               {"weight", data[i].weight},
-                              {"initial", initial_probes[i]},
-                              {"fitted", solved ? nlohmann::json(fitted_probes[i]) : nlohmann::json()},
+                              {"initial", c.initial_probes[i]},
+                              {"fitted", c.solved ? nlohmann::json(c.fitted_probes[i]) : nlohmann::json()},
                               {"relative_residual",
-                               solved ? nlohmann::json((fitted_probes[i] - data[i].value) / data[i].scale)
-                                      : nlohmann::json()}});
-  core::write_file_atomic(out + "/calibrate.json", j.dump(2) + "\n");
+                               c.solved ? nlohmann::json((c.fitted_probes[i] - data[i].value) / data[i].scale)
+                                        : nlohmann::json()}});
+  return j;
+}
 
+std::string calibration_md(const CalibrateOptions& o, const CalibrationModel& model,
+                           const Calibration& c) {
+  const auto& params = model.params;
+  const auto& data = model.data;
   std::ostringstream md;
   md << std::setprecision(6) << "# contact2d calibrate: " << o.scene << " against " << o.data
      << "\n\nCeres (Levenberg-Marquardt, central differences, one solve per evaluation): "
-     << ceres::TerminationTypeToString(summary.termination_type) << " after "
-     << summary.iterations.size() << " iterations and " << model.evaluations << " solves ("
-     << seconds << " s); cost " << summary.initial_cost << " -> " << summary.final_cost
-     << ". Standard deviations: " << covariance_note << ".\n\n| parameter | initial | fitted | ± σ | bounds |\n|---|---|---|---|---|\n";
-  for (int k = 0; k < n; ++k)
-    md << "| " << params[k].key << " | " << params[k].initial << " | " << model.value(k, theta[k])
-       << " | " << (std::isfinite(sigma[k]) ? format(sigma[k]) : "–") << " | [" << params[k].lower
+     << ceres::TerminationTypeToString(c.summary.termination_type) << " after "
+     << c.summary.iterations.size() << " iterations and " << model.evaluations << " solves ("
+     << c.seconds << " s); cost " << c.summary.initial_cost << " -> " << c.summary.final_cost
+     << ". Standard deviations: " << c.covariance_note << ".\n\n| parameter | initial | fitted | ± σ | bounds |\n|---|---|---|---|---|\n";
+  for (size_t k = 0; k < params.size(); ++k)
+    md << "| " << params[k].key << " | " << params[k].initial << " | "
+       << model.value(static_cast<int>(k), c.theta[k]) << " | "
+       << (std::isfinite(c.sigma[k]) ? format(c.sigma[k]) : "–") << " | [" << params[k].lower
        << ", " << params[k].upper << "] " << (params[k].log ? "log" : "lin") << " |\n";
   md << "\n| probe | measured | initial | fitted | relative residual |\n|---|---|---|---|---|\n";
-  for (int i = 0; i < m; ++i)
-    md << "| " << data[i].probe << " | " << data[i].value << " | " << initial_probes[i] << " | "
-       << (solved ? format(fitted_probes[i]) : "–") << " | "
-       << (solved ? format((fitted_probes[i] - data[i].value) / data[i].scale) : "–") << " |\n";
-  core::write_file_atomic(out + "/calibrate.md", md.str());
-  if (!o.quiet) {
-    std::cout << "calibrate  " << j["status"].get<std::string>() << ": "
-              << ceres::TerminationTypeToString(summary.termination_type) << ", "
-              << summary.iterations.size() << " iterations, " << model.evaluations << " solves, "
-              << std::setprecision(3) << seconds << " s\n";
-    for (int k = 0; k < n; ++k)
-      std::cout << "parameter  " << params[k].key << " = " << std::setprecision(8)
-                << model.value(k, theta[k]) << (std::isfinite(sigma[k]) ? " ± " + format(sigma[k]) : "")
-                << " (initial " << params[k].initial << ")\n";
-    for (int i = 0; i < m; ++i)
-      std::cout << "probe      " << data[i].probe << ": measured " << data[i].value << ", fitted "
-                << (solved ? format(fitted_probes[i]) : "–") << "\n";
-    std::cout << "wrote " << out << "/calibrate.json, calibrate.md\n";
-  }
-  return j["status"] == "converged" ? 0 : 1;
+  for (size_t i = 0; i < data.size(); ++i)
+    md << "| " << data[i].probe << " | " << data[i].value << " | " << c.initial_probes[i] << " | "
+       << (c.solved ? format(c.fitted_probes[i]) : "–") << " | "
+       << (c.solved ? format((c.fitted_probes[i] - data[i].value) / data[i].scale) : "–") << " |\n";
+  return md.str();
+}
+
+void print_calibration(const std::string& out, const CalibrationModel& model, const Calibration& c) {
+  const auto& params = model.params;
+  const auto& data = model.data;
+  std::cout << "calibrate  " << c.status() << ": "
+            << ceres::TerminationTypeToString(c.summary.termination_type) << ", "
+            << c.summary.iterations.size() << " iterations, " << model.evaluations << " solves, "
+            << std::setprecision(3) << c.seconds << " s\n";
+  for (size_t k = 0; k < params.size(); ++k)
+    std::cout << "parameter  " << params[k].key << " = " << std::setprecision(8)
+              << model.value(static_cast<int>(k), c.theta[k])
+              << (std::isfinite(c.sigma[k]) ? " ± " + format(c.sigma[k]) : "") << " (initial "
+              << params[k].initial << ")\n";
+  for (size_t i = 0; i < data.size(); ++i)
+    std::cout << "probe      " << data[i].probe << ": measured " << data[i].value << ", fitted "
+              << (c.solved ? format(c.fitted_probes[i]) : "–") << "\n";
+  std::cout << "wrote " << out << "/calibrate.json, calibrate.md\n";
+}
+
+}  // namespace
+
+int run_calibrate(const CalibrateOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const core::Scene scene = core::load_scene(o.scene, o.sets);
+  if (o.fits.empty()) throw InputError("calibrate: expected --fit key[,key...], found none");
+  if (o.data.empty()) throw InputError("calibrate: expected --data measured.csv, found none");
+  std::vector<Parameter> params;
+  for (const auto& f : o.fits) params.push_back(parse_parameter(f, scene));
+  const std::vector<Datum> data = read_measured(o, scene);
+  const std::string out = o.out.empty() ? "out/calibrate_" + fs::path(o.scene).stem().string() : o.out;
+  fs::create_directories(out);
+
+  CalibrationModel model{o, params, data, 0, {}};
+  Calibration c;
+  for (const auto& p : params) c.theta.push_back(p.log ? std::log(p.initial) : p.initial);
+  if (!model.probes(c.theta.data(), c.initial_probes))
+    throw InputError(o.scene + ": the scene does not solve at the initial parameters (" +
+                     model.last_failure + ")");
+  fit_parameters(model, o.max_iterations, c);
+  c.solved = model.probes(c.theta.data(), c.fitted_probes);
+  c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  core::write_file_atomic(out + "/calibrate.json", calibration_json(o, model, c).dump(2) + "\n");
+  core::write_file_atomic(out + "/calibrate.md", calibration_md(o, model, c));
+  if (!o.quiet) print_calibration(out, model, c);
+  return c.status() == "converged" ? 0 : 1;
 }
 
 }  // namespace c2d::app

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "app/studies/studies.hpp"
+#include "app/studies/study.hpp"
 
 namespace c2d::app {
 

@@ -1,5 +1,5 @@
-// Studies over many runs of one scene: `contact2d compare` (methods × refinement levels) and
-// `contact2d sweep` (a scene key over a range). Each case is a separate `contact2d run` process
+// What the studies over many runs of one scene share (compare, sweep, bench; calibrate takes
+// their options). Each case is a separate `contact2d run` process
 // (up to --jobs at a time): cases cannot disturb one another (gmsh keeps global state; a crash
 // in one case is that case's status), every case writes its own folder, and the table is
 // rewritten after each finished case, so an interrupted study keeps its finished rows.
@@ -10,7 +10,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
 
 namespace c2d::app {
 
@@ -71,28 +70,10 @@ struct StudyOptions {
   bool quiet = false;
 };
 
-struct CompareOptions : StudyOptions {
-  std::vector<std::string> methods;  ///< empty: all six
-  int levels = 1;
-};
+/// "12.3 %" with `digits` significant digits; "–" when not finite.
+std::string percent_text(double v, int digits = 3);
 
-/// `contact2d compare`: writes compare.csv, compare.md (verdict first), accuracy_time,
-/// pressure_profiles and penetration charts. Returns the exit code (0 when every case ran,
-/// converged or not; 1 when a case crashed or a chart failed).
-int run_compare(const CompareOptions& o);
-
-/// sets: exactly one of them a range, key=a:b:log:n, key=a:b:lin:n or key=v1,v2,...
-struct SweepOptions : StudyOptions {
-  double accuracy = 0.01;  ///< relative p_max error a value must meet
-};
-
-/// The values of a range spec (a:b:log:n, a:b:lin:n or a comma list); throws InputError naming
-/// `where` on a malformed spec.
-std::vector<double> parse_range(const std::string& spec, const std::string& where);
-
-/// `contact2d sweep`: writes sweep.csv, sweep.md and sweep.png/svg (p_max error, penetration,
-/// iterations, solve time and the factorisation's pivot ratio against the swept value, failed
-/// values marked). Returns the exit code.
-int run_sweep(const SweepOptions& o);
+/// "1.23 s".
+std::string seconds_text(double v);
 
 }  // namespace c2d::app
