@@ -21,7 +21,6 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   data << std::setprecision(12);
   for (const auto& [x, p] : pts) data << x << ' ' << p << '\n';
   const std::string data_path = dir + "/pressure.dat";
-  core::write_file_atomic(data_path, data.str());
   std::ostringstream cmd;
   cmd << std::setprecision(10) << "set title "
       << gp_text("Contact pressure (" + c.method + ", recovered from nodal forces)")
@@ -37,9 +36,7 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
     cmd << " with lines lw 2 dt 2 title 'Hertz'";
   }
   cmd << "\n";
-  const std::string err = plot_png_and_svg(dir, "pressure", cmd.str());
-  std::filesystem::remove(data_path);
-  return err;
+  return plot_with_data(dir, "pressure", cmd.str(), {{data_path, data.str()}});
 }
 
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
@@ -66,8 +63,6 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
     outline << mesh.nodes[be.nodes[0]].x() << ' ' << mesh.nodes[be.nodes[0]].y() << '\n'
             << mesh.nodes[be.nodes[1]].x() << ' ' << mesh.nodes[be.nodes[1]].y() << "\n\n";
   const std::string data_path = dir + "/deformed.dat", outline_path = dir + "/outline.dat";
-  core::write_file_atomic(data_path, data.str());
-  core::write_file_atomic(outline_path, outline.str());
   std::ostringstream scale_text;
   scale_text << std::setprecision(3) << scale;
   const std::string commands =
@@ -76,10 +71,8 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
       "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
       "plot " + gp_file(data_path) + " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
       "     " + gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
-  const std::string err = plot_png_and_svg(dir, "deformed", commands);
-  std::filesystem::remove(data_path);
-  std::filesystem::remove(outline_path);
-  return err;
+  return plot_with_data(dir, "deformed", commands,
+                        {{data_path, data.str()}, {outline_path, outline.str()}});
 }
 
 }  // namespace c2d::app

@@ -269,20 +269,18 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::stri
   if (value.def->cell) draw_error_map(vtu, x, value, o, title, data, cmd, sum);
   else draw_isobands(vtu, x, value, o, title, data, cmd, sum);
   const std::string data_path = dir + "/" + stem + ".dat", edges_path = dir + "/" + stem + "_edges.dat";
-  core::write_file_atomic(data_path, data.str());
+  std::vector<PlotData> files{{data_path, data.str()}};
   cmd << window_commands(o.zoom) << "unset key\nset style fill solid 1.0 noborder\n"
       << "plot " << gp_file(data_path) << " using 1:2:3 with filledcurves closed fc palette z";
   if (o.edges) {
     std::ostringstream edges;
     edges << std::setprecision(9);
     write_edges(edges, vtu, x, o.zoom);
-    core::write_file_atomic(edges_path, edges.str());
+    files.push_back({edges_path, edges.str()});
     cmd << ", \\\n     " << gp_file(edges_path) << " using 1:2 with lines lc rgb '#303030' lw 0.4";
   }
   cmd << "\n";
-  sum.error = plot_png_and_svg(dir, stem, cmd.str());
-  std::filesystem::remove(data_path);
-  std::filesystem::remove(edges_path);
+  sum.error = plot_with_data(dir, stem, cmd.str(), files);
   return sum;
 }
 
@@ -290,7 +288,7 @@ std::string plot_mesh_comparison(const std::vector<std::pair<std::string, VtuDat
                                  const std::optional<std::array<double, 4>>& zoom,
                                  const std::string& dir, const std::string& stem) {
   std::ostringstream cmd;
-  std::vector<std::string> files;
+  std::vector<PlotData> files;
   const int n = static_cast<int>(meshes.size());
   cmd << "set multiplot layout " << (n <= 2 ? 1 : 2) << "," << (n <= 2 ? n : 2)
       << " title 'Adaptive cycles: element edges"
@@ -301,15 +299,12 @@ std::string plot_mesh_comparison(const std::vector<std::pair<std::string, VtuDat
     std::ostringstream edges;
     edges << std::setprecision(9);
     write_edges(edges, meshes[i].second, meshes[i].second.points, zoom);
-    core::write_file_atomic(path, edges.str());
-    files.push_back(path);
+    files.push_back({path, edges.str()});
     cmd << "set title " << gp_text(meshes[i].first) << "\nplot " << gp_file(path)
         << " using 1:2 with lines lc rgb '#1f4e79' lw 0.5\n";
   }
   cmd << "unset multiplot\n";
-  const std::string err = plot_png_and_svg(dir, stem, cmd.str());
-  for (const auto& f : files) std::filesystem::remove(f);
-  return err;
+  return plot_with_data(dir, stem, cmd.str(), files);
 }
 
 namespace {

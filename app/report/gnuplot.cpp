@@ -73,4 +73,12 @@ std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
   return err;
 }
 
+std::string plot_with_data(const std::string& dir, const std::string& stem,
+                           const std::string& commands, const std::vector<PlotData>& data) {
+  for (const auto& d : data) core::write_file_atomic(d.path, d.text);
+  const std::string err = plot_png_and_svg(dir, stem, commands);
+  for (const auto& d : data) std::filesystem::remove(d.path);
+  return err;
+}
+
 }  // namespace c2d::app

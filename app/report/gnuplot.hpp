@@ -4,6 +4,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace c2d::app {
 
@@ -23,5 +24,15 @@ std::string run_gnuplot(const std::string& script_path);
 /// Writes DIR/STEM.png and DIR/STEM.svg from gnuplot plot commands; "" or the failure reason.
 std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
                              const std::string& commands);
+
+/// A data file that plot commands read: where, and what it holds.
+struct PlotData {
+  std::string path, text;
+};
+
+/// plot_png_and_svg with the data files its commands read: each written before gnuplot runs
+/// and removed after, whether or not it succeeded. Returns "" or the failure reason.
+std::string plot_with_data(const std::string& dir, const std::string& stem,
+                           const std::string& commands, const std::vector<PlotData>& data);
 
 }  // namespace c2d::app

@@ -42,7 +42,6 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
     active_per_step[step] += active;
   }
   const std::string act_path = dir + "/activation.dat";
-  core::write_file_atomic(act_path, act.str());
   std::ostringstream cmd;
   cmd << "set title 'Contact activation per load step (" << t.rows.size() / std::max<size_t>(1, per_step.size())
       << " slave nodes)'\nset xlabel 'slave node position " << (axis ? "y" : "x")
@@ -53,8 +52,7 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
       << "lc rgb 'gray60' title 'open', \\\n     '' using 1:($4 > 0 ? $2 : 1/0):3 with points "
       << "pt 5 ps 1.4 lc palette title 'in contact (colour: "
       << (any_pressure ? "pressure" : "force") << ")'\n";
-  std::string err = plot_png_and_svg(dir, "activation", cmd.str());
-  std::filesystem::remove(act_path);
+  std::string err = plot_with_data(dir, "activation", cmd.str(), {{act_path, act.str()}});
   if (!err.empty()) return err;
   out.written.emplace_back("activation", "slave node position x load factor, coloured by " +
                                              std::string(any_pressure ? "pressure" : "force"));
@@ -64,7 +62,6 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
   for (const auto& [step, s] : per_step)
     force << s.first << ' ' << s.second << ' ' << active_per_step[step] << '\n';
   const std::string force_path = dir + "/contact_force.dat";
-  core::write_file_atomic(force_path, force.str());
   std::ostringstream fc;
   fc << "set title 'Total contact force against load factor'\nset xlabel 'load factor'\n"
      << "set ylabel 'total contact force'\nset y2label 'active slave nodes'\nset ytics nomirror\n"
@@ -72,8 +69,7 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
      << "set y2range [0:*]\nplot " << gp_file(force_path)
      << " using 1:2 with linespoints pt 7 lw 2 title 'contact force', '' using 1:3 axes x1y2 "
      << "with steps dt 2 lw 1.5 title 'active nodes'\n";
-  err = plot_png_and_svg(dir, "contact_force", fc.str());
-  std::filesystem::remove(force_path);
+  err = plot_with_data(dir, "contact_force", fc.str(), {{force_path, force.str()}});
   if (err.empty())
     out.written.emplace_back("contact_force", "total contact force and active nodes per step");
   return err;
@@ -102,7 +98,6 @@ std::string residual_chart(const std::string& dir, const CsvTable& t, TraceChart
   }
   if (titles.empty()) return "";
   const std::string path = dir + "/residuals.dat";
-  core::write_file_atomic(path, data.str());
   std::ostringstream cmd;
   cmd << "set title 'Newton residual history per load step (‖R‖∞, outer iterations joined)'\n"
       << "set xlabel 'residual evaluation within the step'\nset ylabel 'residual'\n"
@@ -112,8 +107,7 @@ std::string residual_chart(const std::string& dir, const CsvTable& t, TraceChart
     cmd << (i ? ", \\\n     " : "") << gp_file(path) << " index " << i
         << " using 1:2 with linespoints pt 7 ps 0.6 title " << gp_text(titles[i]);
   cmd << "\n";
-  const std::string err = plot_png_and_svg(dir, "residuals", cmd.str());
-  std::filesystem::remove(path);
+  const std::string err = plot_with_data(dir, "residuals", cmd.str(), {{path, data.str()}});
   if (err.empty())
     out.written.emplace_back("residuals", std::to_string(titles.size()) +
                                               " load step attempts, residual per Newton iteration");

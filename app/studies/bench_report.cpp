@@ -26,7 +26,6 @@ std::string bench_cell(double v) { return csv_number(v, 6); }
 namespace {
 
 std::string fmt_s(double v) { return std::isfinite(v) ? rounded(v) + " s" : "–"; }
-std::string fmt_pct(double v) { return std::isfinite(v) ? rounded(100 * v) + " %" : "–"; }
 
 const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& family,
                          const std::string& element, const std::string& nominal,
@@ -88,7 +87,7 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
     md << "| Hertz " << (std::string(scene).find("rigid") != std::string::npos ? "rigid flat" : "elastic block")
        << ", time to accuracy (" << scene << ", lagrange) | ≤ " << rounded(100 * goal) << " % in < "
        << limit << " s | "
-       << (ok ? fmt_pct(r->accuracy) + " in " + fmt_s(r->t_total) + " scene to summary (process " +
+       << (ok ? percent_text(r->accuracy) + " in " + fmt_s(r->t_total) + " scene to summary (process " +
                     fmt_s(r->wall) + " with start-up), " + bench_cell(r->dofs) + " DOFs"
               : std::string("–"))
        << " | " << verdict(ok, ok && r->accuracy <= goal && r->t_total < limit) << " |\n";
@@ -99,7 +98,7 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
       worst_detection = std::max(std::isfinite(worst_detection) ? worst_detection : 0.0,
                                  r.t_detection / r.t_solve);
   md << "| contact detection at 1M DOFs | ≤ 5 % of the solve | "
-     << (std::isfinite(worst_detection) ? "worst " + fmt_pct(worst_detection) : std::string("–"))
+     << (std::isfinite(worst_detection) ? "worst " + percent_text(worst_detection) : std::string("–"))
      << " | " << verdict(std::isfinite(worst_detection), worst_detection <= 0.05) << " |\n";
   return md.str();
 }
@@ -118,7 +117,7 @@ std::string ladder_md(const std::vector<BenchRow>& rows) {
        << " | " << fmt_s(r.t_triangular) << " | " << fmt_s(r.t_contact_other) << " | "
        << fmt_s(r.t_recovery) << " | " << fmt_s(r.t_output) << " | " << fmt_s(r.t_total) << " | "
        << fmt_s(r.wall) << " | " << rounded(r.peak_rss_mb) << " MB | "
-       << (r.accuracy_measure.empty() ? "–" : r.accuracy_measure + " " + fmt_pct(r.accuracy))
+       << (r.accuracy_measure.empty() ? "–" : r.accuracy_measure + " " + percent_text(r.accuracy))
        << " | " << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " |\n";
   }
   return md.str();
@@ -133,7 +132,7 @@ std::string methods_md(const std::vector<BenchRow>& rows) {
     md << "| " << r.c.scene << " | " << r.c.nominal << " | " << r.c.method << " | " << bench_cell(r.dofs)
        << " | " << r.status << " | " << bench_cell(r.iterations) << " | " << bench_cell(r.factorizations)
        << " | " << fmt_s(r.t_solve) << " | " << fmt_s(r.t_total) << " | "
-       << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " | " << fmt_pct(r.accuracy)
+       << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " | " << percent_text(r.accuracy)
        << " |\n";
   }
   return md.str();
@@ -175,7 +174,6 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
   for (const auto& [name, pts] : phases) series(right, "elasticity T6: " + name, pts);
   slopes_md = slopes.str();
   if (block == 0) return "";
-  core::write_file_atomic(out + "/time_vs_dofs.dat", data.str());
   std::ostringstream plot;
   plot << "set multiplot layout 1," << ((left.tellp() > 0) + (right.tellp() > 0))
        << "\nset logscale xy\nset grid\nset xlabel 'DOFs'\n"
@@ -183,9 +181,7 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
   if (left.tellp() > 0) plot << "set title 'Whole run without meshing, per family'\n" << left.str() << "\n";
   if (right.tellp() > 0) plot << "set title 'Phases, linear elasticity T6'\n" << right.str() << "\n";
   plot << "unset multiplot\n";
-  const std::string err = plot_png_and_svg(out, "time_vs_dofs", plot.str());
-  fs::remove(out + "/time_vs_dofs.dat");
-  return err;
+  return plot_with_data(out, "time_vs_dofs", plot.str(), {{out + "/time_vs_dofs.dat", data.str()}});
 }
 
 std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& rows) {
@@ -228,10 +224,8 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
        << "set xlabel 'seconds, scene to summary'\n"
        << "set ylabel 'pressure profile error (relative L2)'\nset key top right font ',9'\n"
        << panels.str() << "unset multiplot\n";
-  core::write_file_atomic(out + "/accuracy_vs_time.dat", data.str());
-  const std::string err = plot_png_and_svg(out, "accuracy_vs_time", plot.str());
-  fs::remove(out + "/accuracy_vs_time.dat");
-  return err;
+  return plot_with_data(out, "accuracy_vs_time", plot.str(),
+                        {{out + "/accuracy_vs_time.dat", data.str()}});
 }
 
 }  // namespace c2d::app

@@ -353,8 +353,7 @@ int run_calibrate(const CalibrateOptions& o) {
   std::vector<Parameter> params;
   for (const auto& f : o.fits) params.push_back(parse_parameter(f, scene));
   const std::vector<Datum> data = read_measured(o, scene);
-  const std::string out = o.out.empty() ? "out/calibrate_" + fs::path(o.scene).stem().string() : o.out;
-  fs::create_directories(out);
+  const std::string out = study_out(o, "calibrate");
 
   CalibrationModel model{o, params, data, 0, {}};
   Calibration c;

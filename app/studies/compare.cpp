@@ -171,7 +171,7 @@ std::string compare_md(const CompareOptions& o, const std::vector<CompareRow>& r
 
 std::string chart_commands_accuracy(const std::string& dir, const std::vector<CompareRow>& rows,
                                     const std::vector<std::string>& methods,
-                                    const std::string& metric) {
+                                    const std::string& metric, std::string& data_text) {
   std::ostringstream data, plot;
   int block = 0;
   plot << "set title "
@@ -194,7 +194,7 @@ std::string chart_commands_accuracy(const std::string& dir, const std::vector<Co
     ++block;
   }
   if (!block) return "";
-  core::write_file_atomic(dir + "/accuracy.dat", data.str());
+  data_text = data.str();
   return plot.str() + "\n";
 }
 
@@ -234,8 +234,7 @@ CompareStudy plan_compare(const CompareOptions& o) {
   if (o.levels < 1 || o.levels > 8)
     throw InputError("--levels: expected an integer from 1 to 8, found " + std::to_string(o.levels));
   if (o.jobs < 1) throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
-  s.out = o.out.empty() ? "out/compare_" + fs::path(o.scene).stem().string() : o.out;
-  fs::create_directories(s.out);
+  s.out = study_out(o, "compare");
   s.hertz = hertz_reference(scene);
   s.metric = s.hertz ? "profile" : scene.reference.count("p_max") ? "p_max" : "";
   for (int level = 0; level < o.levels; ++level) {
@@ -282,10 +281,11 @@ bool read_row(CompareRow& r, const CaseOutcome& c, const std::string& dir,
 /// accuracy_time.png/svg; "" or the chart's failure.
 std::string chart_accuracy_time(const CompareStudy& s, std::string& charts) {
   if (s.metric.empty()) return "";
-  const std::string cmd = chart_commands_accuracy(s.out, s.rows, s.methods, s.metric);
+  std::string data;
+  const std::string cmd = chart_commands_accuracy(s.out, s.rows, s.methods, s.metric, data);
   if (cmd.empty()) return "";
-  const std::string error = plot_png_and_svg(s.out, "accuracy_time", cmd);
-  fs::remove(s.out + "/accuracy.dat");
+  const std::string error =
+      plot_with_data(s.out, "accuracy_time", cmd, {{s.out + "/accuracy.dat", data}});
   if (error.empty()) charts += "![accuracy against time](accuracy_time.png)\n\n";
   return error;
 }
@@ -307,13 +307,14 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest, std::stri
   }
   plot << "plot ";
   int n = 0;
+  std::vector<PlotData> files;
   for (const auto& r : s.rows) {
     if (r.level != finest || r.profile.empty()) continue;
     std::ostringstream d;
     d << std::setprecision(12);
     for (const auto& [x, p] : r.profile) d << x << ' ' << p << '\n';
     const std::string path = s.out + "/profile_" + r.method + ".dat";
-    core::write_file_atomic(path, d.str());
+    files.push_back({path, d.str()});
     plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt "
          << 4 + n << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
     ++n;
@@ -324,12 +325,9 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest, std::stri
     plot << " with lines lw 2 lc rgb 'black' dt 2 title 'Hertz'";
   }
   plot << "\n";
-  std::string error;
-  if (n) {
-    error = plot_png_and_svg(s.out, "pressure_profiles", plot.str());
-    if (error.empty()) charts += "![pressure profiles](pressure_profiles.png)\n\n";
-  }
-  for (const auto& r : s.rows) fs::remove(s.out + "/profile_" + r.method + ".dat");
+  if (!n) return "";
+  const std::string error = plot_with_data(s.out, "pressure_profiles", plot.str(), files);
+  if (error.empty()) charts += "![pressure profiles](pressure_profiles.png)\n\n";
   return error;
 }
 
@@ -355,9 +353,8 @@ std::string chart_penetration(const CompareStudy& s, std::string& charts) {
   }
   plot << "\n";
   if (!n) return "";
-  core::write_file_atomic(s.out + "/penetration.dat", d.str());
-  const std::string error = plot_png_and_svg(s.out, "penetration", plot.str());
-  fs::remove(s.out + "/penetration.dat");
+  const std::string error =
+      plot_with_data(s.out, "penetration", plot.str(), {{s.out + "/penetration.dat", d.str()}});
   if (error.empty()) charts += "![penetration](penetration.png)\n";
   return error;
 }

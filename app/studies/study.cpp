@@ -118,6 +118,13 @@ bool RunFigures::read(const CaseOutcome& c) {
   return true;
 }
 
+std::string study_out(const StudyOptions& o, const std::string& verb) {
+  const std::string out =
+      o.out.empty() ? "out/" + verb + "_" + fs::path(o.scene).stem().string() : o.out;
+  fs::create_directories(out);
+  return out;
+}
+
 std::string percent_text(double v, int digits) {
   if (!std::isfinite(v)) return "–";
   std::ostringstream os;

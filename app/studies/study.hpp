@@ -70,6 +70,9 @@ struct StudyOptions {
   bool quiet = false;
 };
 
+/// The study's output folder, created: --out, else out/<verb>_<scene file stem>.
+std::string study_out(const StudyOptions& o, const std::string& verb);
+
 /// "12.3 %" with `digits` significant digits; "–" when not finite.
 std::string percent_text(double v, int digits = 3);
 

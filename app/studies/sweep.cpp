@@ -221,7 +221,6 @@ std::string chart_sweep(const std::string& out, const std::string& key,
            << (std::isfinite(r.pivot) ? std::max(r.pivot, 1e-30) : std::nan("")) << '\n';
   }
   const std::string data_path = out + "/sweep.dat";
-  core::write_file_atomic(data_path, data.str());
   std::ostringstream plot;
   plot << "set multiplot layout 3,2 title "
        << gp_text(key + " sweep (red: not converged" +
@@ -247,10 +246,7 @@ std::string chart_sweep(const std::string& out, const std::string& key,
   panel(6, "pivot ratio (conditioning)", true);
   plot << "unset multiplot\n";
   drawn = !data.str().empty();
-  std::string error;
-  if (drawn) error = plot_png_and_svg(out, "sweep", plot.str());
-  fs::remove(data_path);
-  return error;
+  return drawn ? plot_with_data(out, "sweep", plot.str(), {{data_path, data.str()}}) : "";
 }
 
 }  // namespace
@@ -263,8 +259,7 @@ int run_sweep(const SweepOptions& o) {
   first.push_back(k.key + "=" + cell(values.front()));
   core::load_scene(o.scene, first);
   if (o.jobs < 1) throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
-  const std::string out = o.out.empty() ? "out/sweep_" + fs::path(o.scene).stem().string() : o.out;
-  fs::create_directories(out);
+  const std::string out = study_out(o, "sweep");
   const std::vector<StudyCase> cases = sweep_cases(o, k, values, out);
   std::vector<SweepRow> rows(values.size());
   for (size_t i = 0; i < values.size(); ++i) rows[i].value = values[i];
