@@ -95,18 +95,6 @@ HertzFit fit_hertz_profile(const std::vector<std::pair<double, double>>& x_p) {
   fit.x0 = x0;
   fit.iterations = static_cast<int>(summary.iterations.size());
   fit.message = summary.BriefReport();
-  ceres::Covariance::Options co;
-  ceres::Covariance covariance(co);
-  std::vector<std::pair<const double*, const double*>> blocks{{&p0, &p0}, {&b, &b}};
-  const int m = static_cast<int>(x_p.size()), n = half ? 2 : 3;
-  if (fit.ok && m > n && covariance.Compute(blocks, &problem)) {
-    double cpp = 0.0, cbb = 0.0;
-    covariance.GetCovarianceBlock(&p0, &p0, &cpp);
-    covariance.GetCovarianceBlock(&b, &b, &cbb);
-    const double variance = 2.0 * summary.final_cost / (m - n);
-    fit.sigma_p0 = std::sqrt(std::max(0.0, cpp * variance));
-    fit.sigma_b = std::sqrt(std::max(0.0, cbb * variance));
-  }
   return fit;
 }
 

@@ -30,7 +30,6 @@ double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, do
 struct HertzFit {
   bool ok = false;
   double p0 = 0.0, b = 0.0, x0 = 0.0;
-  double sigma_p0 = 0.0, sigma_b = 0.0;  ///< from the covariance (0 when unavailable)
   int iterations = 0;
   std::string message;
 };

@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <map>
@@ -17,8 +16,6 @@
 #include "app/report/csv_table.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
-
-namespace fs = std::filesystem;
 
 namespace c2d::app {
 
