@@ -54,7 +54,8 @@ int cmd_plot(const Options& o) {
       z[k] = v;
     }
     if (k != 4 || !(z[2] > z[0] && z[3] > z[1]))
-      throw InputError("--zoom: expected x0,y0,x1,y1 with x1 > x0 and y1 > y0, found '" + o.zoom + "'");
+      throw InputError("--zoom: expected x0,y0,x1,y1 with x1 > x0 and y1 > y0, found '" + o.zoom +
+                       "'");
     req.options.zoom = z;
   }
   if (!o.deformed.empty()) {

@@ -19,9 +19,10 @@ int dispatch(const app::Options& o) {
   }
   const char* help = app::verb_help(o.verb);
   if (!help)
-    throw InputError(o.verb +
-                     ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, bench, trace or plot "
-                     "(see --help)");
+    throw InputError(
+        o.verb +
+        ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, bench, trace or plot "
+        "(see --help)");
   if (o.help) {
     std::cout << help;
     return app::kExitOk;
@@ -29,7 +30,8 @@ int dispatch(const app::Options& o) {
   if (o.verb == "bench") return app::cmd_bench(o);
   if (o.scene.empty())
     throw InputError(o.verb + ": expected " +
-                     (o.verb == "trace" || o.verb == "plot" ? "an output folder" : "a scene file") + ", found none");
+                     (o.verb == "trace" || o.verb == "plot" ? "an output folder" : "a scene file") +
+                     ", found none");
   if (o.verb == "run") return app::cmd_run(o);
   if (o.verb == "trace") return app::cmd_trace(o);
   if (o.verb == "plot") return app::cmd_plot(o);

@@ -29,7 +29,8 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   const auto hertz = hertz_reference(scene);
   // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
   if (hertz) write_hertz_window(cmd, *hertz, pts.front().first, pts.back().first);
-  cmd << "plot " << gp_file(data_path) << " using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
+  cmd << "plot " << gp_file(data_path)
+      << " using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
   if (hertz) {
     cmd << ", \\\n     ";
     write_hertz_curve(cmd, *hertz);
@@ -69,8 +70,11 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
       "set size ratio -1\nset title 'Deformed mesh (displacements x " + scale_text.str() +
       "), coloured by von Mises (smoothed)'\n"
       "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
-      "plot " + gp_file(data_path) + " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
-      "     " + gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
+      "plot " +
+      gp_file(data_path) +
+      " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
+      "     " +
+      gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
   return plot_with_data(dir, "deformed", commands,
                         {{data_path, data.str()}, {outline_path, outline.str()}});
 }

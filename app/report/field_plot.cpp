@@ -27,8 +27,10 @@ std::vector<std::array<int, 3>> sub_triangles(const VtuData& v, int c) {
 bool overlaps(const std::array<Vec2, 3>& x, const std::optional<std::array<double, 4>>& zoom) {
   if (!zoom) return true;
   const auto& z = *zoom;
-  const double x0 = std::min({x[0].x(), x[1].x(), x[2].x()}), x1 = std::max({x[0].x(), x[1].x(), x[2].x()});
-  const double y0 = std::min({x[0].y(), x[1].y(), x[2].y()}), y1 = std::max({x[0].y(), x[1].y(), x[2].y()});
+  const double x0 = std::min({x[0].x(), x[1].x(), x[2].x()}),
+               x1 = std::max({x[0].x(), x[1].x(), x[2].x()});
+  const double y0 = std::min({x[0].y(), x[1].y(), x[2].y()}),
+               y1 = std::max({x[0].y(), x[1].y(), x[2].y()});
   return x1 >= z[0] && x0 <= z[2] && y1 >= z[1] && y0 <= z[3];
 }
 
@@ -74,8 +76,9 @@ void write_edges(std::ostream& os, const VtuData& v, const std::vector<Vec2>& x,
   for (size_t c = 0; c < v.cells.size(); ++c) {
     const auto& n = v.cells[c];
     if (!overlaps({x[n[0]], x[n[1]], x[n[2]]}, zoom)) continue;
-    const std::vector<int> loop = v.order == 1 ? std::vector<int>{n[0], n[1], n[2], n[0]}
-                                               : std::vector<int>{n[0], n[3], n[1], n[4], n[2], n[5], n[0]};
+    const std::vector<int> loop = v.order == 1
+                                      ? std::vector<int>{n[0], n[1], n[2], n[0]}
+                                      : std::vector<int>{n[0], n[3], n[1], n[4], n[2], n[5], n[0]};
     for (int i : loop) os << x[i].x() << ' ' << x[i].y() << '\n';
     os << '\n';
   }
@@ -99,8 +102,8 @@ const std::vector<std::string>& plot_fields() {
   return names;
 }
 
-std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v,
-                            double lo, double hi) {
+std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v, double lo,
+                            double hi) {
   // Sutherland-Hodgman in value space: keep v >= lo, then v <= hi (v is linear, so each clip
   // keeps one convex polygon and the new vertices interpolate v exactly).
   std::vector<std::pair<Vec2, double>> poly = {{x[0], v[0]}, {x[1], v[1]}, {x[2], v[2]}};
@@ -153,7 +156,8 @@ FieldValues field_values(const VtuData& vtu, const std::string& field) {
     throw InputError(vtu.path + ": field " + field + " needs the array '" + def->array +
                      "', which the file does not have");
   const int comps = vtu.components.at(def->array);
-  const int count = def->cell ? static_cast<int>(vtu.cells.size()) : static_cast<int>(vtu.points.size());
+  const int count =
+      def->cell ? static_cast<int>(vtu.cells.size()) : static_cast<int>(vtu.points.size());
   if (static_cast<int>(arr->second.size()) != comps * count)
     throw InputError(vtu.path + ": array '" + def->array + "' has " +
                      std::to_string(arr->second.size()) + " values for " + std::to_string(count) +
@@ -194,13 +198,15 @@ void draw_error_map(const VtuData& vtu, const std::vector<Vec2>& x, const FieldV
     sum.above_one += xi > 1.0;
     sum.min = std::min(sum.min, xi), sum.max = std::max(sum.max, xi);
     for (const auto& t : sub_triangles(vtu, static_cast<int>(c))) {
-      for (int k = 0; k <= 3; ++k) data << x[t[k % 3]].x() << ' ' << x[t[k % 3]].y() << ' ' << (xi > 1 ? 1.5 : 0.5) << '\n';
+      for (int k = 0; k <= 3; ++k)
+        data << x[t[k % 3]].x() << ' ' << x[t[k % 3]].y() << ' ' << (xi > 1 ? 1.5 : 0.5) << '\n';
       data << '\n';
     }
   }
   cmd << "set title \"" << title << ": " << sum.above_one << " of " << sum.elements
       << " elements above 1 (max " << sum.max << ")\"\n"
-      << "set cbrange [0:2]\nset palette defined (0 '#9ecae1', 1 '#9ecae1', 1 '#de2d26', 2 '#de2d26')\n"
+      << "set cbrange [0:2]\nset palette defined (0 '#9ecae1', 1 '#9ecae1', 1 '#de2d26', 2 "
+         "'#de2d26')\n"
       << "set cbtics ('xi_e <= 1' 0.5, 'xi_e > 1' 1.5)\n";
 }
 
@@ -214,7 +220,8 @@ void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldVa
       for (int i : t)
         if (inside(x[i], o.zoom)) lo = std::min(lo, value(i)), hi = std::max(hi, value(i));
   if (lo > hi) {  // no node inside the window: the range of everything drawn
-    for (int i = 0; i < static_cast<int>(x.size()); ++i) lo = std::min(lo, value(i)), hi = std::max(hi, value(i));
+    for (int i = 0; i < static_cast<int>(x.size()); ++i)
+      lo = std::min(lo, value(i)), hi = std::max(hi, value(i));
   }
   sum.min = lo, sum.max = hi;
   const int levels = std::max(2, o.levels);
@@ -233,7 +240,8 @@ void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldVa
       const int k0 = std::clamp(static_cast<int>(std::floor((vmin - lo) / step)), 0, levels - 1);
       const int k1 = std::clamp(static_cast<int>(std::floor((vmax - lo) / step)), 0, levels - 1);
       for (int k = k0; k <= k1; ++k) {
-        const double b0 = k == 0 ? -1e300 : lo + k * step, b1 = k == levels - 1 ? 1e300 : lo + (k + 1) * step;
+        const double b0 = k == 0 ? -1e300 : lo + k * step,
+                     b1 = k == levels - 1 ? 1e300 : lo + (k + 1) * step;
         const auto poly = clip_band(p, v, b0, b1);
         if (poly.empty()) continue;
         for (size_t i = 0; i <= poly.size(); ++i)
@@ -245,8 +253,8 @@ void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldVa
   std::ostringstream heading;
   heading << title << ": " << sum.min << " to " << sum.max;
   cmd << "set title " << gp_text(heading.str()) << "\n"
-      << "set cbrange [" << lo << ":" << hi << "]\nset palette rgb 33,13,10 maxcolors "
-      << levels << "\nset cbtics " << lo << ", " << step * std::max(1, levels / 6) << "\n";
+      << "set cbrange [" << lo << ":" << hi << "]\nset palette rgb 33,13,10 maxcolors " << levels
+      << "\nset cbtics " << lo << ", " << step * std::max(1, levels / 6) << "\n";
 }
 
 }  // namespace
@@ -266,9 +274,12 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::stri
     s << std::setprecision(3) << scale;
     title += ", deformed x " + s.str();
   }
-  if (value.def->cell) draw_error_map(vtu, x, value, o, title, data, cmd, sum);
-  else draw_isobands(vtu, x, value, o, title, data, cmd, sum);
-  const std::string data_path = dir + "/" + stem + ".dat", edges_path = dir + "/" + stem + "_edges.dat";
+  if (value.def->cell)
+    draw_error_map(vtu, x, value, o, title, data, cmd, sum);
+  else
+    draw_isobands(vtu, x, value, o, title, data, cmd, sum);
+  const std::string data_path = dir + "/" + stem + ".dat",
+                    edges_path = dir + "/" + stem + "_edges.dat";
   std::vector<PlotData> files{{data_path, data.str()}};
   cmd << window_commands(o.zoom) << "unset key\nset style fill solid 1.0 noborder\n"
       << "plot " << gp_file(data_path) << " using 1:2:3 with filledcurves closed fc palette z";
@@ -291,8 +302,7 @@ std::string plot_mesh_comparison(const std::vector<std::pair<std::string, VtuDat
   std::vector<PlotData> files;
   const int n = static_cast<int>(meshes.size());
   cmd << "set multiplot layout " << (n <= 2 ? 1 : 2) << "," << (n <= 2 ? n : 2)
-      << " title 'Adaptive cycles: element edges"
-      << (zoom ? " (zoom)" : "") << "'\n"
+      << " title 'Adaptive cycles: element edges" << (zoom ? " (zoom)" : "") << "'\n"
       << window_commands(zoom) << "unset key\n";
   for (int i = 0; i < n; ++i) {
     const std::string path = dir + "/" + stem + "_" + std::to_string(i) + ".dat";
@@ -356,7 +366,8 @@ std::pair<std::string, std::string> chosen_vtu(const PlotRequest& req,
 
 /// --field: the names given ("all": every field; none: vm), each checked.
 std::vector<std::string> requested_fields(const PlotRequest& req) {
-  std::vector<std::string> fields = req.fields.empty() ? std::vector<std::string>{"vm"} : req.fields;
+  std::vector<std::string> fields =
+      req.fields.empty() ? std::vector<std::string>{"vm"} : req.fields;
   if (std::find(fields.begin(), fields.end(), "all") != fields.end()) fields = plot_fields();
   for (const auto& f : fields)
     if (std::find(plot_fields().begin(), plot_fields().end(), f) == plot_fields().end())
@@ -373,25 +384,29 @@ void draw_adapt_meshes(const PlotRequest& req, const std::map<int, std::string>&
   std::vector<int> pick;
   const int n = static_cast<int>(ids.size()), panels = std::min(n, 4);
   for (int i = 0; i < panels; ++i) {
-    const int id = ids[static_cast<size_t>(std::lround(static_cast<double>(i) * (n - 1) / (panels - 1)))];
+    const int id =
+        ids[static_cast<size_t>(std::lround(static_cast<double>(i) * (n - 1) / (panels - 1)))];
     if (pick.empty() || pick.back() != id) pick.push_back(id);
   }
   std::map<int, std::string> dofs;
   if (fs::exists(req.dir + "/adapt.csv")) {
     const CsvTable t = read_csv(req.dir + "/adapt.csv");
     const int cc = t.column("cycle"), cd = t.column("dofs");
-    for (size_t r = 0; r < t.rows.size(); ++r) dofs[static_cast<int>(t.number(r, cc))] = t.rows[r][cd];
+    for (size_t r = 0; r < t.rows.size(); ++r)
+      dofs[static_cast<int>(t.number(r, cc))] = t.rows[r][cd];
   }
   std::vector<std::pair<std::string, VtuData>> meshes;
   std::string listed;
   for (int id : pick) {
     VtuData m = read_vtu(cycles.at(id));
-    const std::string size = dofs.count(id) ? dofs[id] + " DOFs" : std::to_string(m.cells.size()) + " elements";
+    const std::string size =
+        dofs.count(id) ? dofs[id] + " DOFs" : std::to_string(m.cells.size()) + " elements";
     meshes.emplace_back("cycle " + std::to_string(id) + ": " + size, std::move(m));
     listed += (listed.empty() ? "" : ", ") + std::to_string(id);
   }
   out.error = plot_mesh_comparison(meshes, req.options.zoom, req.dir, "adapt_meshes");
-  if (out.error.empty()) out.written.emplace_back("adapt_meshes", "element edges of cycles " + listed);
+  if (out.error.empty())
+    out.written.emplace_back("adapt_meshes", "element edges of cycles " + listed);
 }
 
 }  // namespace
@@ -416,7 +431,8 @@ PlotWritten plot_run(const PlotRequest& req) {
     std::ostringstream what;
     what << std::setprecision(5) << fs::path(file).filename().string() << ", ";
     if (f == "error")
-      what << s.above_one << " of " << s.elements << " elements with xi_e > 1 (max " << s.max << ")";
+      what << s.above_one << " of " << s.elements << " elements with xi_e > 1 (max " << s.max
+           << ")";
     else
       what << f << " from " << s.min << " to " << s.max;
     out.written.emplace_back(stem, what.str());

@@ -62,7 +62,7 @@ struct PlotWritten {
 PlotWritten plot_run(const PlotRequest& request);
 
 /// Isobands of a linear triangle: the polygons where lo <= v <= hi (empty when none).
-std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v,
-                            double lo, double hi);
+std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v, double lo,
+                            double hi);
 
 }  // namespace c2d::app

@@ -29,7 +29,8 @@ double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, do
     while (k + 2 < pts.size() && pts[k + 1].first < x) ++k;
     const auto& a = pts[k];
     const auto& c = pts[k + 1];
-    const double t = c.first > a.first ? std::clamp((x - a.first) / (c.first - a.first), 0.0, 1.0) : 0.0;
+    const double t =
+        c.first > a.first ? std::clamp((x - a.first) / (c.first - a.first), 0.0, 1.0) : 0.0;
     const double ph = a.second + t * (c.second - a.second);
     const double pa = std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
     const double w = (i == 0 || i == kSamples) ? 0.5 : 1.0;

@@ -19,9 +19,8 @@ constexpr const char* kContactStepsHeader = "step,load_factor,node,x,y,gap,force
 void write_contact_state(std::ostream& os, int step, double load_factor,
                          const constraints::ContactReport& state) {
   for (const auto& n : state.nodes)
-    os << step << ',' << load_factor << ',' << n.node + 1 << ',' << n.x.x() << ',' << n.x.y()
-       << ',' << n.gap << ',' << n.force << ',' << n.pressure << ',' << (n.active ? 1 : 0)
-       << '\n';
+    os << step << ',' << load_factor << ',' << n.node + 1 << ',' << n.x.x() << ',' << n.x.y() << ','
+       << n.gap << ',' << n.force << ',' << n.pressure << ',' << (n.active ? 1 : 0) << '\n';
 }
 
 /// The rows of one load step without contact: one per Newton iteration.
@@ -51,8 +50,10 @@ void write_contact_rows(std::ostream& os, const nonlinear::StepRecord& s) {
          << base + static_cast<int>(k) << ',' << (norms.empty() ? 0.0 : norms[k]) << ',';
       if (last) os << it.newton.last_step;
       os << ',' << it.active << ',' << it.entering << ',' << it.leaving << ',';
-      if (last) os << it.max_penetration << ',' << it.max_pressure;
-      else os << ',';
+      if (last)
+        os << it.max_penetration << ',' << it.max_pressure;
+      else
+        os << ',';
       os << ',' << it.penalty << ','
          << (!last ? "iterating"
                    : to_string(o + 1 == s.contact.size() ? s.newton.status : it.newton.status))
@@ -91,8 +92,10 @@ std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps) {
   std::ostringstream os;
   os << std::setprecision(10) << kTraceHeader;
   for (const auto& s : steps) {
-    if (s.contact.empty()) write_newton_rows(os, s);
-    else write_contact_rows(os, s);
+    if (s.contact.empty())
+      write_newton_rows(os, s);
+    else
+      write_contact_rows(os, s);
   }
   return os.str();
 }

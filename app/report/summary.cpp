@@ -73,9 +73,9 @@ nlohmann::json solver_section(const core::Results& r) {
 
 /// time_s, solver, error and probes.
 void add_results(nlohmann::json& j, const core::Results& r) {
-  j["time_s"] = {{"mesh", r.time.mesh},         {"assemble", r.time.assemble},
-                 {"solve", r.time.solve},       {"recovery", r.time.recovery},
-                 {"output", r.time.output},     {"total", r.time.total}};
+  j["time_s"] = {{"mesh", r.time.mesh},     {"assemble", r.time.assemble},
+                 {"solve", r.time.solve},   {"recovery", r.time.recovery},
+                 {"output", r.time.output}, {"total", r.time.total}};
   j["solver"] = solver_section(r);
   j["error"] = {{"global_parameter", number(r.error.global_parameter)},
                 {"energy_norm", number(r.error.energy_norm)},
@@ -143,8 +143,10 @@ nlohmann::json make_summary(const SummaryParts& p) {
   j["newton_iterations"] = 0;
   j["contact"] = p.contact ? contact_section(*p.contact) : nlohmann::json();
   if (p.model) j["mesh"] = mesh_section(*p.model);
-  if (p.results) add_results(j, *p.results);
-  else j["probes"] = nlohmann::json::object();
+  if (p.results)
+    add_results(j, *p.results);
+  else
+    j["probes"] = nlohmann::json::object();
   if (!p.scene.reference_kind.empty()) j["reference"] = reference_section(p);
   if (p.steps && p.results) {
     int newton = 0;
@@ -162,13 +164,13 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
   os << std::setprecision(6);
   os << "status     " << s["status"].get<std::string>() << '\n';
   if (s.contains("mesh"))
-    os << "mesh       " << s["mesh"]["element"].get<std::string>() << ", "
-       << s["mesh"]["nodes"] << " nodes, " << s["mesh"]["elements"] << " elements, "
-       << s["mesh"]["dofs"] << " DOFs\n";
+    os << "mesh       " << s["mesh"]["element"].get<std::string>() << ", " << s["mesh"]["nodes"]
+       << " nodes, " << s["mesh"]["elements"] << " elements, " << s["mesh"]["dofs"] << " DOFs\n";
   if (s.contains("time_s"))
     os << "time       mesh " << s["time_s"]["mesh"].get<double>() << " s, assemble "
-       << s["time_s"]["assemble"].get<double>() << " s, solve " << s["time_s"]["solve"].get<double>()
-       << " s, total " << s["time_s"]["total"].get<double>() << " s\n";
+       << s["time_s"]["assemble"].get<double>() << " s, solve "
+       << s["time_s"]["solve"].get<double>() << " s, total " << s["time_s"]["total"].get<double>()
+       << " s\n";
   if (s["status"] == "converged" && s.contains("error") && !s["error"]["relative_error"].is_null())
     os << "ZZ error   " << 100.0 * s["error"]["relative_error"].get<double>()
        << " % (global parameter " << s["error"]["global_parameter"].get<double>() << " for target "
@@ -183,8 +185,8 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
        << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "
        << c["slave_nodes"] << " slave nodes active\n"
        << "           p_max " << c["p_max"].dump() << ", length " << c["length"].dump()
-       << ", total force " << c["total_force"].get<double>()
-       << ", max penetration " << c["max_penetration"].get<double>() << '\n';
+       << ", total force " << c["total_force"].get<double>() << ", max penetration "
+       << c["max_penetration"].get<double>() << '\n';
     if (s.contains("reference") && s["reference"].contains("relative_error"))
       for (const auto& [key, e] : s["reference"]["relative_error"].items())
         if (!e.is_null()) {
@@ -199,9 +201,11 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
        << '\n';
   std::string files;  // what this run wrote ([output] may leave fields or charts out)
   for (const char* f : {"summary.json", "results.pvd", "nodes.csv", "contact.csv", "deformed.png"})
-    if (std::filesystem::exists(out_dir + "/" + f)) files += (files.empty() ? "" : ", ") + std::string(f);
+    if (std::filesystem::exists(out_dir + "/" + f))
+      files += (files.empty() ? "" : ", ") + std::string(f);
   os << "results    " << out_dir << "/ (" << files
-     << (s.contains("load_factor") ? ", trace.csv; charts: contact2d trace " + out_dir : std::string())
+     << (s.contains("load_factor") ? ", trace.csv; charts: contact2d trace " + out_dir
+                                   : std::string())
      << ")\n";
   return os.str();
 }

@@ -43,10 +43,13 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
   }
   const std::string act_path = dir + "/activation.dat";
   std::ostringstream cmd;
-  cmd << "set title 'Contact activation per load step (" << t.rows.size() / std::max<size_t>(1, per_step.size())
+  cmd << "set title 'Contact activation per load step ("
+      << t.rows.size() / std::max<size_t>(1, per_step.size())
       << " slave nodes)'\nset xlabel 'slave node position " << (axis ? "y" : "x")
-      << " (reference)'\nset ylabel 'load factor'\nset grid\nset key outside bottom center horizontal\n"
-      << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', 1 '#440154')\n"
+      << " (reference)'\nset ylabel 'load factor'\nset grid\nset key outside bottom center "
+         "horizontal\n"
+      << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', "
+         "1 '#440154')\n"
       << "set cblabel '" << (any_pressure ? "contact pressure" : "contact force") << "'\n"
       << "plot " << gp_file(act_path) << " using 1:($4 > 0 ? 1/0 : $2) with points pt 6 ps 0.6 "
       << "lc rgb 'gray60' title 'open', \\\n     '' using 1:($4 > 0 ? $2 : 1/0):3 with points "
@@ -121,8 +124,7 @@ TraceCharts draw_trace_charts(const std::string& dir) {
     throw InputError(dir + ": expected the output folder of a run, found no such folder");
   const std::string trace_path = dir + "/trace.csv";
   if (!std::filesystem::exists(trace_path))
-    throw InputError(trace_path + ": not found; `contact2d run SCENE --out " + dir +
-                     "` writes it");
+    throw InputError(trace_path + ": not found; `contact2d run SCENE --out " + dir + "` writes it");
   const CsvTable trace = read_csv(trace_path);
   TraceCharts out;
   const std::string steps_path = dir + "/contact_steps.csv";

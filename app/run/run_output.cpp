@@ -23,9 +23,8 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   std::filesystem::create_directories(dir_);
 }
 
-void RunOutput::write_series(Series& files, const std::string& pvd, const char* pattern,
-                             int number, double time, const core::Model& model,
-                             const core::Results& results) {
+void RunOutput::write_series(Series& files, const std::string& pvd, const char* pattern, int number,
+                             double time, const core::Model& model, const core::Results& results) {
   if (!scene_.output_fields) return;
   char name[32];
   std::snprintf(name, sizeof name, pattern, number);
@@ -52,8 +51,7 @@ void RunOutput::write_tables(const SceneRun& run) {
   if (scene_.output_fields)
     core::write_file_atomic(dir_ + "/nodes.csv", core::nodes_csv(run.model, results));
   const bool stepped = !run.steps.empty();
-  if (run.contact)
-    core::write_file_atomic(dir_ + "/contact.csv", contact_csv(run.contact_report));
+  if (run.contact) core::write_file_atomic(dir_ + "/contact.csv", contact_csv(run.contact_report));
   if (stepped)
     core::write_file_atomic(dir_ + "/trace.csv", newton_trace_csv(run.steps));
   else if (run.contact)
@@ -62,8 +60,7 @@ void RunOutput::write_tables(const SceneRun& run) {
     core::write_file_atomic(
         dir_ + "/contact_steps.csv",
         stepped ? contact_steps_csv(run.steps)
-                : contact_steps_csv(run.contact_report,
-                                    results.status == SolveStatus::kConverged));
+                : contact_steps_csv(run.contact_report, results.status == SolveStatus::kConverged));
 }
 
 std::string RunOutput::write_charts(const SceneRun& run) {
@@ -86,7 +83,8 @@ std::string RunOutput::write_results(SceneRun& run, Clock::time_point start) {
   }
   write_tables(run);
   const std::string chart_error = write_charts(run);
-  results.time.output += seconds_since(t_out);  // per-step VTUs written during the solve, then the rest
+  results.time.output +=
+      seconds_since(t_out);  // per-step VTUs written during the solve, then the rest
   results.time.total = seconds_since(start);
   return chart_error;
 }

@@ -16,8 +16,8 @@
 #include "app/studies/bench_report.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "core/assembler.hpp"
-#include "core/errors.hpp"
 #include "core/elasticity_kernels.hpp"
+#include "core/errors.hpp"
 #include "core/stopwatch.hpp"
 #include "core/structured_grid.hpp"
 #include "core/writers.hpp"
@@ -46,9 +46,12 @@ struct Family {
   double base_dofs;
 };
 constexpr Family kFamilies[] = {
-    {"elasticity", "cantilever.toml", "T3", 780},     {"elasticity", "cantilever.toml", "T6", 3120},
-    {"hertz_rigid", "hertz_rigid.toml", "T3", 5300},  {"hertz_rigid", "hertz_rigid.toml", "T6", 21500},
-    {"hertz_block", "hertz_block.toml", "T3", 10000}, {"hertz_block", "hertz_block.toml", "T6", 39000},
+    {"elasticity", "cantilever.toml", "T3", 780},
+    {"elasticity", "cantilever.toml", "T6", 3120},
+    {"hertz_rigid", "hertz_rigid.toml", "T3", 5300},
+    {"hertz_rigid", "hertz_rigid.toml", "T6", 21500},
+    {"hertz_block", "hertz_block.toml", "T3", 10000},
+    {"hertz_block", "hertz_block.toml", "T6", 39000},
 };
 
 double scale_for(double base_dofs, double dofs) { return std::sqrt(base_dofs / dofs); }
@@ -89,11 +92,17 @@ std::vector<BenchCase> bench_ladder(bool quick) {
   }
   // Every method on the scenes meshed for time to accuracy, as shipped and (full ladder) refined
   // once more; the shipped lagrange runs are the time-to-accuracy figures.
-  const std::vector<double> levels = quick ? std::vector<double>{1.0} : std::vector<double>{1.0, 0.5};
+  const std::vector<double> levels =
+      quick ? std::vector<double>{1.0} : std::vector<double>{1.0, 0.5};
   for (const char* scene : {"hertz_rigid_fast.toml", "hertz_block_fast.toml"}) {
     for (double scale : levels)
       for (const auto& m : constraints::method_names()) {
-        BenchCase c{"methods", scene, "T6", m, scale, scale == 1.0 ? "as shipped" : "refined",
+        BenchCase c{"methods",
+                    scene,
+                    "T6",
+                    m,
+                    scale,
+                    scale == 1.0 ? "as shipped" : "refined",
                     {"output.charts=false", "output.fields=false"}};
         cases.push_back(c);
       }
@@ -144,7 +153,6 @@ void read_row(BenchRow& r, const CaseOutcome& out) {
   }
 }
 
-
 std::string csv_of(const std::vector<BenchRow>& rows) {
   std::ostringstream os;
   os << kBenchCsvHeader;
@@ -152,13 +160,15 @@ std::string csv_of(const std::vector<BenchRow>& rows) {
     if (!r.done) continue;
     os << r.c.family << ',' << r.c.scene << ',' << r.c.element << ',' << r.c.method << ','
        << r.c.nominal << ',' << bench_cell(r.c.mesh_scale) << ',' << bench_cell(r.dofs) << ','
-       << r.csv_status() << ',' << r.exit_code << ',' << bench_cell(r.newton) << ',' << bench_cell(r.iterations) << ','
-       << bench_cell(r.factorizations) << ',' << bench_cell(r.t_mesh) << ',' << bench_cell(r.t_assemble) << ','
-       << bench_cell(r.t_symbolic) << ',' << bench_cell(r.t_numeric) << ',' << bench_cell(r.t_triangular) << ','
-       << bench_cell(r.t_contact_other) << ',' << bench_cell(r.t_detection) << ',' << bench_cell(r.t_solve) << ','
-       << bench_cell(r.t_recovery) << ',' << bench_cell(r.t_output) << ',' << bench_cell(r.t_total) << ','
-       << bench_cell(r.wall) << ',' << bench_cell(r.peak_rss_mb) << ',' << r.accuracy_measure << ','
-       << bench_cell(r.accuracy) << ',' << bench_cell(r.zz) << ',' << bench_cell(r.overhead) << '\n';
+       << r.csv_status() << ',' << r.exit_code << ',' << bench_cell(r.newton) << ','
+       << bench_cell(r.iterations) << ',' << bench_cell(r.factorizations) << ','
+       << bench_cell(r.t_mesh) << ',' << bench_cell(r.t_assemble) << ',' << bench_cell(r.t_symbolic)
+       << ',' << bench_cell(r.t_numeric) << ',' << bench_cell(r.t_triangular) << ','
+       << bench_cell(r.t_contact_other) << ',' << bench_cell(r.t_detection) << ','
+       << bench_cell(r.t_solve) << ',' << bench_cell(r.t_recovery) << ',' << bench_cell(r.t_output)
+       << ',' << bench_cell(r.t_total) << ',' << bench_cell(r.wall) << ','
+       << bench_cell(r.peak_rss_mb) << ',' << r.accuracy_measure << ',' << bench_cell(r.accuracy)
+       << ',' << bench_cell(r.zz) << ',' << bench_cell(r.overhead) << '\n';
   }
   return os.str();
 }
@@ -179,12 +189,12 @@ void fill_overheads(std::vector<BenchRow>& rows) {
   }
 }
 
-
 Throughput measure_assembly(bool quick) {
   Throughput t;
   t.threads = omp_get_max_threads();
   for (int order : {1, 2}) {
-    const core::StructuredGrid g = core::make_structured_grid(quick ? 120 / order : 300 / order, order);
+    const core::StructuredGrid g =
+        core::make_structured_grid(quick ? 120 / order : 300 / order, order);
     core::Assembler a(g.mesh, g.dofs);
     auto ke_of = [&](int e, LocalMatrix& ke) {
       ke = core::element_stiffness(g.mesh.element_coords(e), g.material);
@@ -242,9 +252,14 @@ std::vector<StudyCase> bench_cases(const std::vector<BenchCase>& ladder, const s
                   fs::path(c.scene).stem().c_str(), c.element.c_str(),
                   c.method.empty() ? "linear" : c.method.c_str());
     s.out_dir = dir;
-    s.args = {examples + "/" + c.scene, "--quiet", "--out", s.out_dir,
-              "--set", "analysis.element=" + c.element,
-              "--set", "analysis.mesh_scale=" + bench_cell(c.mesh_scale)};
+    s.args = {examples + "/" + c.scene,
+              "--quiet",
+              "--out",
+              s.out_dir,
+              "--set",
+              "analysis.element=" + c.element,
+              "--set",
+              "analysis.mesh_scale=" + bench_cell(c.mesh_scale)};
     if (!c.method.empty()) s.args.insert(s.args.end(), {"--method", c.method});
     for (const auto& set : c.sets) s.args.insert(s.args.end(), {"--set", set});
     cases.push_back(s);
@@ -253,8 +268,8 @@ std::vector<StudyCase> bench_cases(const std::vector<BenchCase>& ladder, const s
 }
 
 void print_row(size_t finished, const std::vector<BenchRow>& rows, const BenchRow& r) {
-  std::printf("bench %2zu/%zu  %-15s %-22s %s %-16s %9s DOFs  %8.3f s  %7.0f MB  %s\n",
-              finished, rows.size(), r.c.family.c_str(), r.c.scene.c_str(), r.c.element.c_str(),
+  std::printf("bench %2zu/%zu  %-15s %-22s %s %-16s %9s DOFs  %8.3f s  %7.0f MB  %s\n", finished,
+              rows.size(), r.c.family.c_str(), r.c.scene.c_str(), r.c.element.c_str(),
               r.c.method.empty() ? "-" : r.c.method.c_str(), bench_cell(r.dofs).c_str(), r.wall,
               r.peak_rss_mb, r.status.c_str());
   std::fflush(stdout);
@@ -268,8 +283,8 @@ std::string bench_md(const BenchOptions& o, const std::vector<BenchRow>& rows, c
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   std::ostringstream md;
   md << "# contact2d bench" << (o.quick ? " --quick" : "") << "\n\n"
-     << date << "; " << machine_line() << "; " << rows.size() << " runs in "
-     << rounded(seconds) << " s.\n\n"
+     << date << "; " << machine_line() << "; " << rows.size() << " runs in " << rounded(seconds)
+     << " s.\n\n"
      << "Every run is a separate `contact2d run` process with charts off (the time-to-accuracy "
         "runs also without VTU/nodes.csv); phase times come from its summary.json, peak memory "
         "from the process (wait4), \"process\" is the wall time including start-up (loading "
@@ -277,13 +292,16 @@ std::string bench_md(const BenchOptions& o, const std::vector<BenchRow>& rows, c
         "relative L2 error over [0, 1.5 b] for Hertz, the tip deflection against Timoshenko "
         "beam theory for the cantilever (the converged 2D value is 0.13 % below it), the "
         "upper tip against the seed for the two cantilevers.\n\n"
-     << "## Targets\n\n" << targets_md(rows, t, o.quick) << "\n"
-     << "## Ladder\n\n" << ladder_md(rows) << "\n"
+     << "## Targets\n\n"
+     << targets_md(rows, t, o.quick) << "\n"
+     << "## Ladder\n\n"
+     << ladder_md(rows) << "\n"
      << "## Every method on the time-to-accuracy scenes\n\n"
      << "Overhead = contact solve / (symbolic analysis + one numeric factorisation) of the "
         "same mesh.\n\n"
      << methods_md(rows) << "\n"
-     << "## Cost against size\n\n" << slopes << "\n"
+     << "## Cost against size\n\n"
+     << slopes << "\n"
      << (chart_error.empty() ? "![time against DOFs](time_vs_dofs.png)\n\n"
                                "![accuracy against time](accuracy_vs_time.png)\n"
                              : "Charts not written: " + chart_error + "\n");
@@ -297,7 +315,8 @@ int run_bench(const BenchOptions& o) {
   const std::vector<BenchCase> ladder = bench_ladder(o.quick);
   for (const auto& c : ladder)
     if (!fs::exists(o.examples + "/" + c.scene))
-      throw InputError(o.examples + "/" + c.scene + ": bench scene not found (expected the bundled "
+      throw InputError(o.examples + "/" + c.scene +
+                       ": bench scene not found (expected the bundled "
                        "examples folder; pass --examples DIR)");
   fs::create_directories(out);
   const core::Stopwatch clock;
@@ -323,7 +342,8 @@ int run_bench(const BenchOptions& o) {
   bool crashed = false;
   for (const auto& r : rows) crashed = crashed || r.status.rfind("crashed", 0) == 0;
   if (!o.quiet) {
-    std::cout << "\n" << targets_md(rows, t, o.quick) << "\nwrote " << out
+    std::cout << "\n"
+              << targets_md(rows, t, o.quick) << "\nwrote " << out
               << "/bench.csv, bench.md, time_vs_dofs and accuracy_vs_time (.png/.svg)\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }

@@ -38,7 +38,9 @@ const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& f
   return nullptr;
 }
 
-std::string verdict(bool measured, bool met) { return !measured ? "not run" : met ? "met" : "**not met**"; }
+std::string verdict(bool measured, bool met) {
+  return !measured ? "not run" : met ? "met" : "**not met**";
+}
 
 }  // namespace
 
@@ -56,14 +58,15 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
     const bool ok = r && r->converged();
     const double solve = ok ? r->t_assemble + r->t_solve : NAN;
     md << "| 1M-DOF linear elastic solve, " << el << " (assemble + factorise + solve) | < 10 s | "
-       << (ok ? fmt_s(solve) + " at " + bench_cell(r->dofs) + " DOFs; mesh excluded with recovery "
-                                                          "and output: " +
+       << (ok ? fmt_s(solve) + " at " + bench_cell(r->dofs) +
+                    " DOFs; mesh excluded with recovery "
+                    "and output: " +
                     fmt_s(r->excluding_mesh())
               : std::string(quick ? "–" : "failed"))
        << " | " << verdict(ok, solve < 10) << " |\n";
     md << "| 1M-DOF linear elastic run, " << el << ", peak memory | < 4 GB | "
-       << (ok ? rounded(r->peak_rss_mb / 1024) + " GB" : "–") << " | " << verdict(ok, ok && r->peak_rss_mb < 4096)
-       << " |\n";
+       << (ok ? rounded(r->peak_rss_mb / 1024) + " GB" : "–") << " | "
+       << verdict(ok, ok && r->peak_rss_mb < 4096) << " |\n";
   }
   // Contact overhead: every Hertz ladder run and every method of the panel.
   double worst_exact = 0;
@@ -72,23 +75,27 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
   for (const auto& r : rows)
     if (std::isfinite(r.overhead) && r.c.family != "two_cantilevers") {
       any = true;
-      if (r.c.method == "lagrange" || r.c.method == "ssn") worst_exact = std::max(worst_exact, r.overhead);
+      if (r.c.method == "lagrange" || r.c.method == "ssn")
+        worst_exact = std::max(worst_exact, r.overhead);
     }
   for (const auto& r : rows)
     if (std::isfinite(r.overhead) && r.c.family != "methods" && r.c.family != "two_cantilevers")
-      list << r.c.family << " " << r.c.element << " " << r.c.nominal << ": " << rounded(r.overhead) << "; ";
+      list << r.c.family << " " << r.c.element << " " << r.c.nominal << ": " << rounded(r.overhead)
+           << "; ";
   md << "| contact overhead, lagrange and ssn (contact solve / one linear solve) | ≤ 2 | worst "
      << rounded(worst_exact) << " (ladder, lagrange: " << list.str()
      << "every method: table below) | " << verdict(any, worst_exact <= 2) << " |\n";
-  for (const auto& [scene, limit, goal] :
-       {std::tuple{"hertz_rigid_fast.toml", 0.1, 0.005}, std::tuple{"hertz_block_fast.toml", 1.0, 0.01}}) {
+  for (const auto& [scene, limit, goal] : {std::tuple{"hertz_rigid_fast.toml", 0.1, 0.005},
+                                           std::tuple{"hertz_block_fast.toml", 1.0, 0.01}}) {
     const BenchRow* r = find_row(rows, "methods", "T6", "as shipped", scene, "lagrange");
     const bool ok = r && r->converged();
-    md << "| Hertz " << (std::string(scene).find("rigid") != std::string::npos ? "rigid flat" : "elastic block")
+    md << "| Hertz "
+       << (std::string(scene).find("rigid") != std::string::npos ? "rigid flat" : "elastic block")
        << ", time to accuracy (" << scene << ", lagrange) | ≤ " << rounded(100 * goal) << " % in < "
        << limit << " s | "
-       << (ok ? percent_text(r->accuracy) + " in " + fmt_s(r->t_total) + " scene to summary (process " +
-                    fmt_s(r->wall) + " with start-up), " + bench_cell(r->dofs) + " DOFs"
+       << (ok ? percent_text(r->accuracy) + " in " + fmt_s(r->t_total) +
+                    " scene to summary (process " + fmt_s(r->wall) + " with start-up), " +
+                    bench_cell(r->dofs) + " DOFs"
               : std::string("–"))
        << " | " << verdict(ok, ok && r->accuracy <= goal && r->t_total < limit) << " |\n";
   }
@@ -98,7 +105,8 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
       worst_detection = std::max(std::isfinite(worst_detection) ? worst_detection : 0.0,
                                  r.t_detection / r.t_solve);
   md << "| contact detection at 1M DOFs | ≤ 5 % of the solve | "
-     << (std::isfinite(worst_detection) ? "worst " + percent_text(worst_detection) : std::string("–"))
+     << (std::isfinite(worst_detection) ? "worst " + percent_text(worst_detection)
+                                        : std::string("–"))
      << " | " << verdict(std::isfinite(worst_detection), worst_detection <= 0.05) << " |\n";
   return md.str();
 }
@@ -126,14 +134,15 @@ std::string ladder_md(const std::vector<BenchRow>& rows) {
 std::string methods_md(const std::vector<BenchRow>& rows) {
   std::ostringstream md;
   md << "| scene | mesh | method | DOFs | status | iterations | factorisations | solve | "
-        "scene to summary | overhead | profile error |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "scene to summary | overhead | profile error "
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     if (!r.done || r.c.family != "methods") continue;
-    md << "| " << r.c.scene << " | " << r.c.nominal << " | " << r.c.method << " | " << bench_cell(r.dofs)
-       << " | " << r.status << " | " << bench_cell(r.iterations) << " | " << bench_cell(r.factorizations)
-       << " | " << fmt_s(r.t_solve) << " | " << fmt_s(r.t_total) << " | "
-       << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " | " << percent_text(r.accuracy)
-       << " |\n";
+    md << "| " << r.c.scene << " | " << r.c.nominal << " | " << r.c.method << " | "
+       << bench_cell(r.dofs) << " | " << r.status << " | " << bench_cell(r.iterations) << " | "
+       << bench_cell(r.factorizations) << " | " << fmt_s(r.t_solve) << " | " << fmt_s(r.t_total)
+       << " | " << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " | "
+       << percent_text(r.accuracy) << " |\n";
   }
   return md.str();
 }
@@ -178,8 +187,10 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
   plot << "set multiplot layout 1," << ((left.tellp() > 0) + (right.tellp() > 0))
        << "\nset logscale xy\nset grid\nset xlabel 'DOFs'\n"
        << "set ylabel 'seconds'\nset key top left font ',9'\nset format x '10^{%L}'\n";
-  if (left.tellp() > 0) plot << "set title 'Whole run without meshing, per family'\n" << left.str() << "\n";
-  if (right.tellp() > 0) plot << "set title 'Phases, linear elasticity T6'\n" << right.str() << "\n";
+  if (left.tellp() > 0)
+    plot << "set title 'Whole run without meshing, per family'\n" << left.str() << "\n";
+  if (right.tellp() > 0)
+    plot << "set title 'Phases, linear elasticity T6'\n" << right.str() << "\n";
   plot << "unset multiplot\n";
   return plot_with_data(out, "time_vs_dofs", plot.str(), {{out + "/time_vs_dofs.dat", data.str()}});
 }
@@ -194,9 +205,9 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
       if (pts.empty()) return;
       for (const auto& [a, b] : pts) data << a << ' ' << b << '\n';
       data << "\n\n";
-      lines << (lines.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/accuracy_vs_time.dat")
-            << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
-            << gp_text(title) << " noenhanced";
+      lines << (lines.tellp() > 0 ? ", \\\n     " : "plot ")
+            << gp_file(out + "/accuracy_vs_time.dat") << " index " << block++
+            << " using 1:2 with linespoints lw 2 pt 7 title " << gp_text(title) << " noenhanced";
     };
     for (const auto& m : constraints::method_names()) {
       std::vector<std::pair<double, double>> pts;

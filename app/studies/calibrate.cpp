@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "app/run/solve_scene.hpp"
 #include "app/report/csv_table.hpp"
+#include "app/run/solve_scene.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 
@@ -22,9 +22,9 @@ namespace c2d::app {
 namespace {
 
 struct Parameter {
-  std::string key;         ///< as given
-  std::string path;        ///< scene path of the value (without a component index)
-  int component = -1;      ///< index into a vector value (load[0].total_force[1]), else -1
+  std::string key;     ///< as given
+  std::string path;    ///< scene path of the value (without a component index)
+  int component = -1;  ///< index into a vector value (load[0].total_force[1]), else -1
   std::vector<double> vector_value;  ///< the vector the component belongs to
   double initial = 0.0, lower = 0.0, upper = 0.0;
   bool log = true;
@@ -62,7 +62,8 @@ Parameter parse_parameter(const std::string& spec, const core::Scene& scene) {
     const toml::node* whole = lookup(*scene.raw, p.path.substr(0, lb));
     if (whole && whole->is_array()) {
       p.component = std::atoi(p.path.substr(lb + 1).c_str());
-      for (const auto& v : *whole->as_array()) p.vector_value.push_back(v.value<double>().value_or(0.0));
+      for (const auto& v : *whole->as_array())
+        p.vector_value.push_back(v.value<double>().value_or(0.0));
       if (p.component < 0 || p.component >= static_cast<int>(p.vector_value.size()))
         throw InputError(where + ": component index out of range of the vector " +
                          p.path.substr(0, lb));
@@ -80,31 +81,39 @@ Parameter parse_parameter(const std::string& spec, const core::Scene& scene) {
     std::stringstream ss(spec.substr(eq + 1));
     for (std::string part; std::getline(ss, part, ':');) parts.push_back(part);
     if (parts.size() < 2 || parts.size() > 3)
-      throw InputError(where + ": expected key=lower:upper[:log|lin], found '" + spec.substr(eq + 1) + "'");
+      throw InputError(where + ": expected key=lower:upper[:log|lin], found '" +
+                       spec.substr(eq + 1) + "'");
     char* end = nullptr;
     p.lower = std::strtod(parts[0].c_str(), &end);
-    if (*end) throw InputError(where + ": expected a number as the lower bound, found '" + parts[0] + "'");
+    if (*end)
+      throw InputError(where + ": expected a number as the lower bound, found '" + parts[0] + "'");
     p.upper = std::strtod(parts[1].c_str(), &end);
-    if (*end) throw InputError(where + ": expected a number as the upper bound, found '" + parts[1] + "'");
+    if (*end)
+      throw InputError(where + ": expected a number as the upper bound, found '" + parts[1] + "'");
     if (!(p.upper > p.lower)) throw InputError(where + ": expected lower < upper");
     p.log = p.lower > 0;
     if (parts.size() == 3) {
       if (parts[2] != "log" && parts[2] != "lin")
         throw InputError(where + ": expected 'log' or 'lin', found '" + parts[2] + "'");
       p.log = parts[2] == "log";
-      if (p.log && !(p.lower > 0)) throw InputError(where + ": a log scale needs a positive lower bound");
+      if (p.log && !(p.lower > 0))
+        throw InputError(where + ": a log scale needs a positive lower bound");
     }
     p.initial = current && *current >= p.lower && *current <= p.upper
                     ? *current
                     : (p.log ? std::sqrt(p.lower * p.upper) : 0.5 * (p.lower + p.upper));
   } else {
     if (!current)
-      throw InputError(where + ": the scene has no number at '" + p.path +
-                       "'; give bounds as " + p.key + "=lower:upper");
+      throw InputError(where + ": the scene has no number at '" + p.path + "'; give bounds as " +
+                       p.key + "=lower:upper");
     p.initial = *current;
-    if (p.initial > 0) p.lower = p.initial / 100, p.upper = p.initial * 100, p.log = true;
-    else if (p.initial < 0) p.lower = p.initial * 100, p.upper = p.initial / 100, p.log = false;
-    else throw InputError(where + ": the scene's value is 0; give bounds as " + p.key + "=lower:upper");
+    if (p.initial > 0)
+      p.lower = p.initial / 100, p.upper = p.initial * 100, p.log = true;
+    else if (p.initial < 0)
+      p.lower = p.initial * 100, p.upper = p.initial / 100, p.log = false;
+    else
+      throw InputError(where + ": the scene's value is 0; give bounds as " + p.key +
+                       "=lower:upper");
   }
   return p;
 }
@@ -177,8 +186,9 @@ std::vector<Datum> read_measured(const CalibrateOptions& o, const core::Scene& s
     if (!known) {
       std::string names;
       for (const auto& p : scene.probes) names += (names.empty() ? "" : ", ") + p.name;
-      throw InputError(o.data + ":" + std::to_string(r + 2) + ": expected the name of a [[probe]] of " +
-                       o.scene + " (" + names + "), found '" + d.probe + "'");
+      throw InputError(o.data + ":" + std::to_string(r + 2) +
+                       ": expected the name of a [[probe]] of " + o.scene + " (" + names +
+                       "), found '" + d.probe + "'");
     }
     d.value = table.number(r, c_value);
     if (!std::isfinite(d.value))
@@ -232,7 +242,8 @@ void estimate_sigmas(ceres::Problem& problem, const CalibrationModel& model, Cal
       c.sigma[j] = model.params[j].log ? model.value(j, c.theta[j]) * s_theta : s_theta;
     }
   } else {
-    c.covariance_note = "not available (rank-deficient Jacobian: the data do not determine every parameter)";
+    c.covariance_note =
+        "not available (rank-deficient Jacobian: the data do not determine every parameter)";
   }
 }
 
@@ -248,8 +259,10 @@ void fit_parameters(CalibrationModel& model, int max_iterations, Calibration& c)
   double* theta = c.theta.data();
   problem.AddResidualBlock(cost, nullptr, theta);
   for (int j = 0; j < n; ++j) {
-    problem.SetParameterLowerBound(theta, j, params[j].log ? std::log(params[j].lower) : params[j].lower);
-    problem.SetParameterUpperBound(theta, j, params[j].log ? std::log(params[j].upper) : params[j].upper);
+    problem.SetParameterLowerBound(theta, j,
+                                   params[j].log ? std::log(params[j].lower) : params[j].lower);
+    problem.SetParameterUpperBound(theta, j,
+                                   params[j].log ? std::log(params[j].upper) : params[j].upper);
   }
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::DENSE_QR;
@@ -279,22 +292,24 @@ nlohmann::json calibration_json(const CalibrateOptions& o, const CalibrationMode
                 {"seconds", c.seconds}};
   j["covariance"] = c.covariance_note;
   for (size_t k = 0; k < params.size(); ++k)
-    j["parameters"].push_back({{"key", params[k].key},
-                               {"initial", params[k].initial},
-                               {"fitted", model.value(static_cast<int>(k), c.theta[k])},
-                               {"sigma", std::isfinite(c.sigma[k]) ? nlohmann::json(c.sigma[k]) : nlohmann::json()},
-                               {"lower", params[k].lower},
-                               {"upper", params[k].upper},
-                               {"scale", params[k].log ? "log" : "lin"}});
+    j["parameters"].push_back(
+        {{"key", params[k].key},
+         {"initial", params[k].initial},
+         {"fitted", model.value(static_cast<int>(k), c.theta[k])},
+         {"sigma", std::isfinite(c.sigma[k]) ? nlohmann::json(c.sigma[k]) : nlohmann::json()},
+         {"lower", params[k].lower},
+         {"upper", params[k].upper},
+         {"scale", params[k].log ? "log" : "lin"}});
   for (size_t i = 0; i < data.size(); ++i)
-    j["residuals"].push_back({{"probe", data[i].probe},
-                              {"measured", data[i].value},
-                              {"weight", data[i].weight},
-                              {"initial", c.initial_probes[i]},
-                              {"fitted", c.solved ? nlohmann::json(c.fitted_probes[i]) : nlohmann::json()},
-                              {"relative_residual",
-                               c.solved ? nlohmann::json((c.fitted_probes[i] - data[i].value) / data[i].scale)
-                                        : nlohmann::json()}});
+    j["residuals"].push_back(
+        {{"probe", data[i].probe},
+         {"measured", data[i].value},
+         {"weight", data[i].weight},
+         {"initial", c.initial_probes[i]},
+         {"fitted", c.solved ? nlohmann::json(c.fitted_probes[i]) : nlohmann::json()},
+         {"relative_residual",
+          c.solved ? nlohmann::json((c.fitted_probes[i] - data[i].value) / data[i].scale)
+                   : nlohmann::json()}});
   return j;
 }
 
@@ -308,7 +323,8 @@ std::string calibration_md(const CalibrateOptions& o, const CalibrationModel& mo
      << ceres::TerminationTypeToString(c.summary.termination_type) << " after "
      << c.summary.iterations.size() << " iterations and " << model.evaluations << " solves ("
      << c.seconds << " s); cost " << c.summary.initial_cost << " -> " << c.summary.final_cost
-     << ". Standard deviations: " << c.covariance_note << ".\n\n| parameter | initial | fitted | ± σ | bounds |\n|---|---|---|---|---|\n";
+     << ". Standard deviations: " << c.covariance_note
+     << ".\n\n| parameter | initial | fitted | ± σ | bounds |\n|---|---|---|---|---|\n";
   for (size_t k = 0; k < params.size(); ++k)
     md << "| " << params[k].key << " | " << params[k].initial << " | "
        << model.value(static_cast<int>(k), c.theta[k]) << " | "
@@ -322,7 +338,8 @@ std::string calibration_md(const CalibrateOptions& o, const CalibrationModel& mo
   return md.str();
 }
 
-void print_calibration(const std::string& out, const CalibrationModel& model, const Calibration& c) {
+void print_calibration(const std::string& out, const CalibrationModel& model,
+                       const Calibration& c) {
   const auto& params = model.params;
   const auto& data = model.data;
   std::cout << "calibrate  " << c.status() << ": "

@@ -10,8 +10,8 @@
 namespace c2d::app {
 
 struct CalibrateOptions : StudyOptions {
-  std::string data;                ///< CSV: probe,value[,weight]
-  std::vector<std::string> fits;   ///< key[=lo:hi[:log|lin]]; E, nu, thickness = material.*
+  std::string data;               ///< CSV: probe,value[,weight]
+  std::vector<std::string> fits;  ///< key[=lo:hi[:log|lin]]; E, nu, thickness = material.*
   int max_iterations = 30;
 };
 

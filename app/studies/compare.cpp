@@ -51,11 +51,10 @@ std::string compare_csv(const std::vector<CompareRow>& rows) {
     os << r.level << ',' << r.method << ',' << cell(r.mesh_scale) << ',' << cell(r.dofs) << ','
        << r.csv_status() << ',' << r.exit_code << ',' << cell(r.iterations) << ',' << cell(r.newton)
        << ',' << cell(r.t_mesh) << ',' << cell(r.t_assemble) << ',' << cell(r.t_solve) << ','
-       << cell(r.t_total) << ',' << cell(r.wall) << ',' << cell(r.p_max) << ','
-       << cell(r.length) << ',' << cell(r.force) << ',' << cell(r.penetration) << ','
-       << cell(r.err_p0) << ',' << cell(r.err_b) << ',' << cell(r.err_profile) << ','
-       << cell(r.zz) << ',' << cell(r.fit_p0) << ',' << cell(r.fit_b) << ','
-       << cell(r.err_fit_p0) << ',' << cell(r.err_fit_b) << '\n';
+       << cell(r.t_total) << ',' << cell(r.wall) << ',' << cell(r.p_max) << ',' << cell(r.length)
+       << ',' << cell(r.force) << ',' << cell(r.penetration) << ',' << cell(r.err_p0) << ','
+       << cell(r.err_b) << ',' << cell(r.err_profile) << ',' << cell(r.zz) << ',' << cell(r.fit_p0)
+       << ',' << cell(r.fit_b) << ',' << cell(r.err_fit_p0) << ',' << cell(r.err_fit_b) << '\n';
   }
   return os.str();
 }
@@ -97,7 +96,8 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
     for (const auto& m : methods) {
       double e = 1e300;
       for (const auto& r : rows)
-        if (r.method == m && std::isfinite(accuracy(r, metric))) e = std::min(e, accuracy(r, metric));
+        if (r.method == m && std::isfinite(accuracy(r, metric)))
+          e = std::min(e, accuracy(r, metric));
       if (e < 1e300) best[m] = e;
     }
     if (best.empty()) {
@@ -122,8 +122,8 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
          << static_cast<long>(w->dofs) << " DOFs)";
       for (size_t i = 1; i < ranking.size(); ++i) {
         const CompareRow* r = std::get<2>(ranking[i]);
-        os << (i == 1 ? ", then " : ", ") << r->method << " (" << seconds_text(r->t_solve) << ", level "
-           << r->level << ")";
+        os << (i == 1 ? ", then " : ", ") << r->method << " (" << seconds_text(r->t_solve)
+           << ", level " << r->level << ")";
       }
       std::string most = best.begin()->first;
       for (const auto& [m, e] : best)
@@ -177,7 +177,8 @@ std::string chart_commands_accuracy(const std::string& dir, const std::vector<Co
   plot << "set title "
        << gp_text("Accuracy against solve time (" + metric_name(metric) +
                   "; one point per refinement level)")
-       << "\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(metric)) << "\nset logscale xy\nset grid\nset key outside right\nplot ";
+       << "\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(metric))
+       << "\nset logscale xy\nset grid\nset key outside right\nplot ";
   for (const auto& m : methods) {
     std::ostringstream block_data;
     int points = 0;
@@ -218,7 +219,8 @@ std::vector<std::string> chosen_methods(const CompareOptions& o) {
         constraints::method_names().end()) {
       std::string all;
       for (const auto& n : constraints::method_names()) all += (all.empty() ? "" : ", ") + n;
-      throw InputError("--methods: expected a comma-separated list of " + all + ", found '" + m + "'");
+      throw InputError("--methods: expected a comma-separated list of " + all + ", found '" + m +
+                       "'");
     }
   return methods;
 }
@@ -232,8 +234,10 @@ CompareStudy plan_compare(const CompareOptions& o) {
   CompareStudy s;
   s.methods = chosen_methods(o);
   if (o.levels < 1 || o.levels > 8)
-    throw InputError("--levels: expected an integer from 1 to 8, found " + std::to_string(o.levels));
-  if (o.jobs < 1) throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
+    throw InputError("--levels: expected an integer from 1 to 8, found " +
+                     std::to_string(o.levels));
+  if (o.jobs < 1)
+    throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
   s.out = study_out(o, "compare");
   s.hertz = hertz_reference(scene);
   s.metric = s.hertz ? "profile" : scene.reference.count("p_max") ? "p_max" : "";
@@ -244,8 +248,8 @@ CompareStudy plan_compare(const CompareOptions& o) {
       c.out_dir = s.out + "/level" + std::to_string(level) + "/" + m;
       c.args = {o.scene, "--method", m};
       for (const auto& set : o.sets) c.args.insert(c.args.end(), {"--set", set});
-      c.args.insert(c.args.end(), {"--set", "analysis.mesh_scale=" + cell(scale), "--out",
-                                   c.out_dir, "--quiet"});
+      c.args.insert(c.args.end(),
+                    {"--set", "analysis.mesh_scale=" + cell(scale), "--out", c.out_dir, "--quiet"});
       s.cases.push_back(c);
       CompareRow r;
       r.level = level;
@@ -315,8 +319,8 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest, std::stri
     for (const auto& [x, p] : r.profile) d << x << ' ' << p << '\n';
     const std::string path = s.out + "/profile_" + r.method + ".dat";
     files.push_back({path, d.str()});
-    plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt "
-         << 4 + n << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
+    plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt " << 4 + n
+         << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
     ++n;
   }
   if (s.hertz) {
@@ -373,8 +377,9 @@ std::string draw_compare_charts(const CompareStudy& s, int levels, std::string& 
 int run_compare(const CompareOptions& o) {
   CompareStudy s = plan_compare(o);
   if (!o.quiet)
-    std::cout << "compare    " << s.methods.size() << " methods x " << o.levels << " levels = "
-              << s.cases.size() << " runs, " << o.jobs << " at a time -> " << s.out << "\n";
+    std::cout << "compare    " << s.methods.size() << " methods x " << o.levels
+              << " levels = " << s.cases.size() << " runs, " << o.jobs << " at a time -> " << s.out
+              << "\n";
   size_t finished = 0;
   bool crashed = false;
   run_cases(s.cases, o.jobs, [&](size_t i, const CaseOutcome& c) {
@@ -392,11 +397,14 @@ int run_compare(const CompareOptions& o) {
   });
   std::string charts;
   const std::string chart_error = draw_compare_charts(s, o.levels, charts);
-  core::write_file_atomic(s.out + "/compare.md", compare_md(o, s.rows, s.methods, s.metric, charts));
+  core::write_file_atomic(s.out + "/compare.md",
+                          compare_md(o, s.rows, s.methods, s.metric, charts));
   if (!o.quiet) {
-    std::cout << "\n" << verdict(s.rows, s.methods, s.metric) << "\n\nwrote " << s.out
+    std::cout << "\n"
+              << verdict(s.rows, s.methods, s.metric) << "\n\nwrote " << s.out
               << "/compare.csv, compare.md"
-              << (charts.empty() ? "" : ", accuracy_time, pressure_profiles, penetration (.png/.svg)")
+              << (charts.empty() ? ""
+                                 : ", accuracy_time, pressure_profiles, penetration (.png/.svg)")
               << "\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }

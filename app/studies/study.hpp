@@ -22,9 +22,9 @@ struct StudyCase {
 struct CaseOutcome {
   int exit_code = -1;
   bool has_summary = false;
-  nlohmann::json summary;          ///< the case's summary.json (null when none was written)
+  nlohmann::json summary;  ///< the case's summary.json (null when none was written)
   double wall_seconds = 0.0;
-  double peak_rss_mb = 0.0;        ///< the process's peak resident memory (wait4's ru_maxrss)
+  double peak_rss_mb = 0.0;  ///< the process's peak resident memory (wait4's ru_maxrss)
 };
 
 /// Runs the cases with at most `jobs` concurrent processes of this executable; `on_done` is
@@ -63,7 +63,7 @@ double json_number(const nlohmann::json& j, std::initializer_list<const char*> p
 /// What every study verb takes: the scene, overrides, the contact method, output.
 struct StudyOptions {
   std::string scene;
-  std::string method;               ///< empty: the scene's
+  std::string method;  ///< empty: the scene's
   std::vector<std::string> sets;
   int jobs = 1;
   std::string out;

@@ -50,11 +50,13 @@ std::vector<double> parse_range(const std::string& spec, const std::string& wher
     std::stringstream list(spec);
     for (std::string v; std::getline(list, v, ',');) values.push_back(number(v));
     if (values.size() < 2)
-      throw InputError(where + ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" +
+      throw InputError(where +
+                       ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" +
                        spec + "'");
   } else {
-    throw InputError(where + ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" +
-                     spec + "'");
+    throw InputError(where +
+                     ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" + spec +
+                     "'");
   }
   return values;
 }
@@ -93,8 +95,9 @@ SweptKey swept_key(const std::vector<std::string>& sets) {
   for (const auto& s : sets) {
     const auto eq = s.find('=');
     const std::string value = eq == std::string::npos ? "" : s.substr(eq + 1);
-    const bool ranged = value.find(':') != std::string::npos ||
-                        (value.find(',') != std::string::npos && value.find('[') == std::string::npos);
+    const bool ranged =
+        value.find(':') != std::string::npos ||
+        (value.find(',') != std::string::npos && value.find('[') == std::string::npos);
     if (!ranged) {
       k.fixed.push_back(s);
       continue;
@@ -105,7 +108,8 @@ SweptKey swept_key(const std::vector<std::string>& sets) {
     k.spec = value;
   }
   if (k.key.empty())
-    throw InputError("sweep: expected one --set key=a:b:log:n (or a:b:lin:n, or v1,v2,...), found none");
+    throw InputError(
+        "sweep: expected one --set key=a:b:log:n (or a:b:lin:n, or v1,v2,...), found none");
   return k;
 }
 
@@ -181,13 +185,15 @@ std::string sweep_verdict(const SweepOptions& o, const std::string& key,
   if (seed.shown) {
     const SweepRow* nearest = nullptr;
     for (const auto& r : rows)
-      if (!nearest || std::abs(std::log(r.value / seed.k)) < std::abs(std::log(nearest->value / seed.k)))
+      if (!nearest ||
+          std::abs(std::log(r.value / seed.k)) < std::abs(std::log(nearest->value / seed.k)))
         nearest = &r;
     md << "The seed's rule k = 1e4 x max|K_ij| gives k = " << cell(seed.k) << " here";
     if (std::isfinite(lo))
       md << ((seed.k >= lo && seed.k <= hi) ? ", inside" : ", outside") << " that range";
     md << "; the nearest swept value, " << cell(nearest->value) << ", " << nearest->status
-       << (std::isfinite(nearest->err_p0) ? " with p_max error " + percent_text(nearest->err_p0) : std::string())
+       << (std::isfinite(nearest->err_p0) ? " with p_max error " + percent_text(nearest->err_p0)
+                                          : std::string())
        << ".";
   }
   return md.str();
@@ -195,12 +201,13 @@ std::string sweep_verdict(const SweepOptions& o, const std::string& key,
 
 std::string sweep_table(const std::string& key, const std::vector<SweepRow>& rows) {
   std::ostringstream md;
-  md << "| " << key << " | status | iterations | solve | p_max | p_max error | max penetration | "
-                       "pivot ratio |\n|---|---|---|---|---|---|---|---|\n";
+  md << "| " << key
+     << " | status | iterations | solve | p_max | p_max error | max penetration | "
+        "pivot ratio |\n|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows)
     md << "| " << cell(r.value) << " | " << r.status << " | " << cell(r.iterations) << " | "
-       << seconds_text(r.t_solve) << " | " << cell(r.p_max) << " | " << percent_text(r.err_p0) << " | "
-       << cell(r.penetration) << " | " << cell(r.pivot) << " |\n";
+       << seconds_text(r.t_solve) << " | " << cell(r.p_max) << " | " << percent_text(r.err_p0)
+       << " | " << cell(r.penetration) << " | " << cell(r.pivot) << " |\n";
   return md.str();
 }
 
@@ -225,8 +232,8 @@ std::string chart_sweep(const std::string& out, const std::string& key,
   plot << "set multiplot layout 3,2 title "
        << gp_text(key + " sweep (red: not converged" +
                   (seed.shown ? "; green: the seed rule 1e4 max|K_ij|" : "") + ")")
-       << " noenhanced\nset grid\nunset key\n" << (log_x ? "set logscale x\n" : "")
-       << "set format x '10^{%L}'\n";
+       << " noenhanced\nset grid\nunset key\n"
+       << (log_x ? "set logscale x\n" : "") << "set format x '10^{%L}'\n";
   for (const auto& r : rows)
     if (!r.converged())
       plot << "set arrow from " << r.value << ", graph 0 to " << r.value
@@ -235,9 +242,11 @@ std::string chart_sweep(const std::string& out, const std::string& key,
     plot << "set arrow from " << seed.k << ", graph 0 to " << seed.k
          << ", graph 1 nohead lc rgb '#1a9850' dt 3 lw 1.5\n";
   auto panel = [&](int col, const std::string& label, bool log_y) {
-    plot << (log_y ? "set logscale y\nset format y '10^{%L}'\n" : "unset logscale y\nset format y '%g'\n")
+    plot << (log_y ? "set logscale y\nset format y '10^{%L}'\n"
+                   : "unset logscale y\nset format y '%g'\n")
          << "set xlabel " << gp_text(key) << " noenhanced\nset ylabel " << gp_text(label)
-         << " noenhanced\nplot " << gp_file(data_path) << " using 1:" << col << " with linespoints pt 7 lw 2\n";
+         << " noenhanced\nplot " << gp_file(data_path) << " using 1:" << col
+         << " with linespoints pt 7 lw 2\n";
   };
   if (has_error) panel(2, "|p_max error|", true);
   panel(3, "max penetration", true);
@@ -258,7 +267,8 @@ int run_sweep(const SweepOptions& o) {
   std::vector<std::string> first = k.fixed;
   first.push_back(k.key + "=" + cell(values.front()));
   core::load_scene(o.scene, first);
-  if (o.jobs < 1) throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
+  if (o.jobs < 1)
+    throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
   const std::string out = study_out(o, "sweep");
   const std::vector<StudyCase> cases = sweep_cases(o, k, values, out);
   std::vector<SweepRow> rows(values.size());
@@ -277,8 +287,10 @@ int run_sweep(const SweepOptions& o) {
     if (!o.quiet)
       std::cout << "[" << finished << "/" << cases.size() << "] " << k.key << " = " << std::left
                 << std::setw(12) << cell(r.value) << std::right << r.status
-                << (std::isfinite(r.err_p0) ? ", p_max error " + percent_text(r.err_p0) : std::string())
-                << (std::isfinite(r.penetration) ? ", penetration " + cell(r.penetration) : std::string())
+                << (std::isfinite(r.err_p0) ? ", p_max error " + percent_text(r.err_p0)
+                                            : std::string())
+                << (std::isfinite(r.penetration) ? ", penetration " + cell(r.penetration)
+                                                 : std::string())
                 << std::endl;
   });
   const SeedRule seed = seed_rule(k.key, rows);
