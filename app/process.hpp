@@ -8,10 +8,10 @@ namespace c2d::app {
 
 /// How a child process ended.
 struct ProcessOutcome {
-  bool started = false;     ///< false: the program could not be started (see `error`)
-  int exit_code = -1;       ///< the exit status, or 128 + the signal that ended it
-  double peak_rss_mb = 0;   ///< the child's peak resident set (MiB)
-  std::string error;        ///< why it could not be started or waited for; empty otherwise
+  bool started = false;    ///< false: the program could not be started (see `error`)
+  int exit_code = -1;      ///< the exit status, or 128 + the signal that ended it
+  double peak_rss_mb = 0;  ///< the child's peak resident set (MiB)
+  std::string error;       ///< why it could not be started or waited for; empty otherwise
 };
 
 /// Runs `program` (a path, or a name looked up on PATH) with `args` as argv[1..], stdin from

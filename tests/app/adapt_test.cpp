@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "app/adapt.hpp"
+#include "app/run/adapt.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
 #include "core/size_field.hpp"

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "app/bench.hpp"
+#include "app/studies/bench.hpp"
 #include "app/process.hpp"
 
 namespace fs = std::filesystem;

@@ -1,11 +1,11 @@
 // End to end through the executable: exit codes, summary.json, VTU consistency.
 #include <gtest/gtest.h>
 
-#include "app/field_plot.hpp"
+#include "app/report/field_plot.hpp"
 #include "app/process.hpp"
-#include "app/studies.hpp"
+#include "app/report/hertz.hpp"
+#include "app/report/csv_table.hpp"
 #include "constraints/method_registry.hpp"
-#include "app/trace_charts.hpp"
 
 #include <unistd.h>
 

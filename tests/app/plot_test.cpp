@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "app/field_plot.hpp"
+#include "app/report/field_plot.hpp"
 #include "core/errors.hpp"
 #include "core/model.hpp"
 #include "core/probes.hpp"

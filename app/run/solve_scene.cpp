@@ -1,4 +1,4 @@
-#include "app/solve_scene.hpp"
+#include "app/run/solve_scene.hpp"
 
 #include <cstdio>
 

@@ -12,21 +12,21 @@
 namespace c2d::app {
 
 struct BenchOptions {
-  bool quick = false;      ///< the small ladder (under a minute): CI smoke use
-  std::string out;         ///< default out/bench
-  std::string examples;    ///< folder of the bundled scenes (default: the source tree's)
+  bool quick = false;    ///< the small ladder (under a minute): CI smoke use
+  std::string out;       ///< default out/bench
+  std::string examples;  ///< folder of the bundled scenes (default: the source tree's)
   bool quiet = false;
 };
 
 /// One `contact2d run` of the ladder.
 struct BenchCase {
-  std::string family;      ///< elasticity, hertz_rigid, hertz_block, two_cantilevers, methods,
-                           ///< time_to_accuracy
-  std::string scene;       ///< file name in the examples folder
-  std::string element;     ///< T3 or T6
-  std::string method;      ///< contact method ("" = the scene's / none)
+  std::string family;   ///< elasticity, hertz_rigid, hertz_block, two_cantilevers, methods,
+                        ///< time_to_accuracy
+  std::string scene;    ///< file name in the examples folder
+  std::string element;  ///< T3 or T6
+  std::string method;   ///< contact method ("" = the scene's / none)
   double mesh_scale = 1.0;
-  std::string nominal;     ///< the rung's nominal size ("10k", "100k", "1M") or a label
+  std::string nominal;            ///< the rung's nominal size ("10k", "100k", "1M") or a label
   std::vector<std::string> sets;  ///< further --set overrides
 };
 

@@ -1,79 +1,19 @@
-#include "app/trace_charts.hpp"
+#include "app/report/trace_charts.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
-#include <set>
+#include <map>
 #include <sstream>
 
-#include "app/charts.hpp"
+#include "app/report/csv_table.hpp"
+#include "app/report/gnuplot.hpp"
+#include "app/report/pressure_profile.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 
 namespace c2d::app {
-
-namespace {
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
-}  // namespace
-
-int CsvTable::column(const std::string& name) const {
-  const auto it = std::find(columns.begin(), columns.end(), name);
-  if (it == columns.end())
-    throw InputError(path + ":1: expected a column '" + name + "', found none in the header");
-  return static_cast<int>(it - columns.begin());
-}
-
-double CsvTable::number(size_t row, int column) const {
-  const std::string& cell = rows[row][column];
-  if (cell.empty()) return std::nan("");
-  char* end = nullptr;
-  const double v = std::strtod(cell.c_str(), &end);
-  if (end == cell.c_str() || *end != '\0')
-    throw InputError(path + ":" + std::to_string(row + 2) + ": column '" + columns[column] +
-                     "': expected a number, found '" + cell + "'");
-  return v;
-}
-
-std::vector<Vec2> CsvTable::points(const std::string& x, const std::string& y) const {
-  const int cx = column(x), cy = column(y);
-  std::vector<Vec2> out;
-  for (size_t r = 0; r < rows.size(); ++r) out.emplace_back(number(r, cx), number(r, cy));
-  return out;
-}
-
-CsvTable read_csv(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the file");
-  CsvTable t;
-  t.path = path;
-  std::string line;
-  if (!std::getline(in, line) || line.empty())
-    throw InputError(path + ":1: expected a header row, found an empty file");
-  t.columns = split(line);
-  int number = 1;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty()) continue;
-    auto cells = split(line);
-    if (cells.size() != t.columns.size())
-      throw InputError(path + ":" + std::to_string(number) + ": expected " +
-                       std::to_string(t.columns.size()) + " cells, found " +
-                       std::to_string(cells.size()));
-    t.rows.push_back(std::move(cells));
-  }
-  return t;
-}
 
 namespace {
 
@@ -102,19 +42,20 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
     active_per_step[step] += active;
   }
   const std::string act_path = dir + "/activation.dat";
-  core::write_file_atomic(act_path, act.str());
   std::ostringstream cmd;
-  cmd << "set title 'Contact activation per load step (" << t.rows.size() / std::max<size_t>(1, per_step.size())
+  cmd << "set title 'Contact activation per load step ("
+      << t.rows.size() / std::max<size_t>(1, per_step.size())
       << " slave nodes)'\nset xlabel 'slave node position " << (axis ? "y" : "x")
-      << " (reference)'\nset ylabel 'load factor'\nset grid\nset key outside bottom center horizontal\n"
-      << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', 1 '#440154')\n"
+      << " (reference)'\nset ylabel 'load factor'\nset grid\nset key outside bottom center "
+         "horizontal\n"
+      << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', "
+         "1 '#440154')\n"
       << "set cblabel '" << (any_pressure ? "contact pressure" : "contact force") << "'\n"
       << "plot " << gp_file(act_path) << " using 1:($4 > 0 ? 1/0 : $2) with points pt 6 ps 0.6 "
       << "lc rgb 'gray60' title 'open', \\\n     '' using 1:($4 > 0 ? $2 : 1/0):3 with points "
       << "pt 5 ps 1.4 lc palette title 'in contact (colour: "
       << (any_pressure ? "pressure" : "force") << ")'\n";
-  std::string err = plot_png_and_svg(dir, "activation", cmd.str());
-  std::filesystem::remove(act_path);
+  std::string err = plot_with_data(dir, "activation", cmd.str(), {{act_path, act.str()}});
   if (!err.empty()) return err;
   out.written.emplace_back("activation", "slave node position x load factor, coloured by " +
                                              std::string(any_pressure ? "pressure" : "force"));
@@ -124,7 +65,6 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
   for (const auto& [step, s] : per_step)
     force << s.first << ' ' << s.second << ' ' << active_per_step[step] << '\n';
   const std::string force_path = dir + "/contact_force.dat";
-  core::write_file_atomic(force_path, force.str());
   std::ostringstream fc;
   fc << "set title 'Total contact force against load factor'\nset xlabel 'load factor'\n"
      << "set ylabel 'total contact force'\nset y2label 'active slave nodes'\nset ytics nomirror\n"
@@ -132,8 +72,7 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
      << "set y2range [0:*]\nplot " << gp_file(force_path)
      << " using 1:2 with linespoints pt 7 lw 2 title 'contact force', '' using 1:3 axes x1y2 "
      << "with steps dt 2 lw 1.5 title 'active nodes'\n";
-  err = plot_png_and_svg(dir, "contact_force", fc.str());
-  std::filesystem::remove(force_path);
+  err = plot_with_data(dir, "contact_force", fc.str(), {{force_path, force.str()}});
   if (err.empty())
     out.written.emplace_back("contact_force", "total contact force and active nodes per step");
   return err;
@@ -162,7 +101,6 @@ std::string residual_chart(const std::string& dir, const CsvTable& t, TraceChart
   }
   if (titles.empty()) return "";
   const std::string path = dir + "/residuals.dat";
-  core::write_file_atomic(path, data.str());
   std::ostringstream cmd;
   cmd << "set title 'Newton residual history per load step (‖R‖∞, outer iterations joined)'\n"
       << "set xlabel 'residual evaluation within the step'\nset ylabel 'residual'\n"
@@ -172,8 +110,7 @@ std::string residual_chart(const std::string& dir, const CsvTable& t, TraceChart
     cmd << (i ? ", \\\n     " : "") << gp_file(path) << " index " << i
         << " using 1:2 with linespoints pt 7 ps 0.6 title " << gp_text(titles[i]);
   cmd << "\n";
-  const std::string err = plot_png_and_svg(dir, "residuals", cmd.str());
-  std::filesystem::remove(path);
+  const std::string err = plot_with_data(dir, "residuals", cmd.str(), {{path, data.str()}});
   if (err.empty())
     out.written.emplace_back("residuals", std::to_string(titles.size()) +
                                               " load step attempts, residual per Newton iteration");
@@ -187,8 +124,7 @@ TraceCharts draw_trace_charts(const std::string& dir) {
     throw InputError(dir + ": expected the output folder of a run, found no such folder");
   const std::string trace_path = dir + "/trace.csv";
   if (!std::filesystem::exists(trace_path))
-    throw InputError(trace_path + ": not found; `contact2d run SCENE --out " + dir +
-                     "` writes it");
+    throw InputError(trace_path + ": not found; `contact2d run SCENE --out " + dir + "` writes it");
   const CsvTable trace = read_csv(trace_path);
   TraceCharts out;
   const std::string steps_path = dir + "/contact_steps.csv";

@@ -1,20 +1,12 @@
-// Charts through gnuplot (PNG and SVG). A missing gnuplot is reported, not fatal.
+// Charts through gnuplot (PNG and SVG): scripts with quoted text and paths, run without a shell.
+// A missing gnuplot is reported, not fatal.
 #pragma once
 
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "constraints/contact_set.hpp"
-#include "core/model.hpp"
-#include "core/scene.hpp"
-#include "core/results.hpp"
-
 namespace c2d::app {
-
-/// The coordinate (0: x, 1: y) along which the points spread most: the abscissa for values
-/// along a slave surface.
-int spread_axis(const std::vector<Vec2>& points);
 
 /// Label text as a gnuplot single-quoted literal: quotes doubled, control characters blanked.
 /// Single-quoted strings are the only ones gnuplot substitutes nothing into (double-quoted
@@ -33,14 +25,14 @@ std::string run_gnuplot(const std::string& script_path);
 std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
                              const std::string& commands);
 
-/// Recovered contact pressure along the slave surface, with the Hertz profile when the scene's
-/// reference gives p_max and contact_length. Writes DIR/pressure.png and .svg.
-std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
-                                   const core::Scene& scene);
+/// A data file that plot commands read: where, and what it holds.
+struct PlotData {
+  std::string path, text;
+};
 
-/// Deformed mesh (scaled) over the undeformed outline, coloured by smoothed von Mises.
-/// Writes DIR/deformed.png and DIR/deformed.svg; returns "" or the failure reason.
-std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
-                                const core::Results& results);
+/// plot_png_and_svg with the data files its commands read: each written before gnuplot runs
+/// and removed after, whether or not it succeeded. Returns "" or the failure reason.
+std::string plot_with_data(const std::string& dir, const std::string& stem,
+                           const std::string& commands, const std::vector<PlotData>& data);
 
 }  // namespace c2d::app

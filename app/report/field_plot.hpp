@@ -4,28 +4,14 @@
 #pragma once
 
 #include <array>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "app/report/vtu_reader.hpp"
 #include "core/types.hpp"
 
 namespace c2d::app {
-
-/// What `contact2d run` wrote into one VTU file (its ASCII layout, not VTU in general).
-struct VtuData {
-  std::string path;
-  int order = 1;  ///< 1: T3 cells (VTK type 5), 2: T6 (type 22)
-  std::vector<Vec2> points;
-  std::vector<std::array<int, 6>> cells;
-  /// Arrays by name, flattened (point data: components per point; cell data: per cell).
-  std::map<std::string, std::vector<double>> point_data, cell_data;
-  std::map<std::string, int> components;
-};
-
-/// Reads DIR/step_0001.vtu and the like. Throws InputError naming the file and what is missing.
-VtuData read_vtu(const std::string& path);
 
 /// The fields `plot` knows, with their labels: sx sy sxy vm p1 p2 ux uy error.
 const std::vector<std::string>& plot_fields();
@@ -76,7 +62,7 @@ struct PlotWritten {
 PlotWritten plot_run(const PlotRequest& request);
 
 /// Isobands of a linear triangle: the polygons where lo <= v <= hi (empty when none).
-std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v,
-                            double lo, double hi);
+std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v, double lo,
+                            double hi);
 
 }  // namespace c2d::app

@@ -5,10 +5,11 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "app/solve_scene.hpp"
+#include "app/run/solve_scene.hpp"
 #include "core/scene.hpp"
 
 namespace c2d::app {
@@ -40,6 +41,10 @@ struct AdaptRun {
 AdaptRun solve_adaptive(const core::Scene& scene, const std::string& method,
                         const std::function<void(const std::string&)>& progress,
                         const std::function<void(const AdaptCycle&, const SceneRun&)>& on_cycle);
+
+/// summary.json's adapt section: target, max_cycles, reached, stop, and per cycle its DOFs,
+/// elements, ξ_g, max ξ_e, relative error, smallest element, time, status and probes.
+nlohmann::json adapt_summary(const core::AdaptSpec& spec, const AdaptRun& run);
 
 /// adapt.csv: cycle, nodes, elements, dofs, xi_g, xi_max, relative_error, h_min, h_max,
 /// seconds, status, then one column per probe.

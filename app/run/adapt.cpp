@@ -1,4 +1,4 @@
-#include "app/adapt.hpp"
+#include "app/run/adapt.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -32,8 +32,8 @@ AdaptCycle describe(int cycle, const SceneRun& run, double seconds) {
     c.h_max = std::max(c.h_max, h);
   }
   c.seconds = seconds;
-  c.status = run.results.status == SolveStatus::kConverged ? "converged"
-                                                          : to_string(run.results.status);
+  c.status =
+      run.results.status == SolveStatus::kConverged ? "converged" : to_string(run.results.status);
   c.probes = run.results.probes;
   return c;
 }
@@ -47,7 +47,8 @@ AdaptRun solve_adaptive(const core::Scene& scene_in, const std::string& method,
     if (progress) progress(text);
   };
   if (scene_in.explicit_model)
-    throw InputError(scene_in.path + ": adapt: a legacy data file's mesh is given node by node; "
+    throw InputError(scene_in.path +
+                     ": adapt: a legacy data file's mesh is given node by node; "
                      "adaptivity needs bodies meshed from shapes");
   for (const auto& b : scene_in.bodies) {
     if (!b.msh_file.empty())
@@ -82,7 +83,8 @@ AdaptRun solve_adaptive(const core::Scene& scene_in, const std::string& method,
     }
     if (c.global_parameter <= 1.0) {
       out.reached = true;
-      std::snprintf(line, sizeof line, "xi_g = %.3g <= 1 after %d cycle%s: relative error %.3g %% <= target %.3g %%",
+      std::snprintf(line, sizeof line,
+                    "xi_g = %.3g <= 1 after %d cycle%s: relative error %.3g %% <= target %.3g %%",
                     c.global_parameter, cycle, cycle == 1 ? "" : "s", 100 * c.relative_error,
                     100 * spec.target);
       out.stop = line;
@@ -91,17 +93,39 @@ AdaptRun solve_adaptive(const core::Scene& scene_in, const std::string& method,
     if (cycle + 1 == spec.max_cycles) break;
     // The next mesh: one size field per body from this cycle's local parameters.
     const core::Mesh& mesh = out.last->model.mesh;
-    const auto fields = core::optimal_size_fields(mesh, out.last->results.error.local_parameter,
-                                                  static_cast<int>(scene.bodies.size()), spec.limits);
+    const auto fields =
+        core::optimal_size_fields(mesh, out.last->results.error.local_parameter,
+                                  static_cast<int>(scene.bodies.size()), spec.limits);
     for (size_t b = 0; b < scene.bodies.size(); ++b)
       scene.bodies[b].size_field = std::make_shared<core::SizeField>(fields[b]);
   }
   char line[200];
-  std::snprintf(line, sizeof line, "cycle limit %d reached with xi_g = %.3g > 1 (relative error %.3g %%, target %.3g %%)",
-                spec.max_cycles, out.cycles.back().global_parameter,
-                100 * out.cycles.back().relative_error, 100 * spec.target);
+  std::snprintf(
+      line, sizeof line,
+      "cycle limit %d reached with xi_g = %.3g > 1 (relative error %.3g %%, target %.3g %%)",
+      spec.max_cycles, out.cycles.back().global_parameter, 100 * out.cycles.back().relative_error,
+      100 * spec.target);
   out.stop = line;
   return out;
+}
+
+nlohmann::json adapt_summary(const core::AdaptSpec& spec, const AdaptRun& run) {
+  nlohmann::json a = {{"target", spec.target},
+                      {"max_cycles", spec.max_cycles},
+                      {"reached", run.reached},
+                      {"stop", run.stop}};
+  for (const auto& c : run.cycles)
+    a["cycles"].push_back({{"cycle", c.cycle},
+                           {"dofs", c.dofs},
+                           {"elements", c.elements},
+                           {"xi_g", c.global_parameter},
+                           {"xi_max", c.max_local},
+                           {"relative_error", c.relative_error},
+                           {"h_min", c.h_min},
+                           {"seconds", c.seconds},
+                           {"status", c.status},
+                           {"probes", c.probes}});
+  return a;
 }
 
 std::string adapt_csv(const std::vector<AdaptCycle>& cycles) {

@@ -1,5 +1,5 @@
-// Studies over many runs of one scene: `contact2d compare` (methods × refinement levels) and
-// `contact2d sweep` (a scene key over a range). Each case is a separate `contact2d run` process
+// What the studies over many runs of one scene share (compare, sweep, bench; calibrate takes
+// their options). Each case is a separate `contact2d run` process
 // (up to --jobs at a time): cases cannot disturb one another (gmsh keeps global state; a crash
 // in one case is that case's status), every case writes its own folder, and the table is
 // rewritten after each finished case, so an interrupted study keeps its finished rows.
@@ -10,8 +10,6 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include "app/run_report.hpp"
 
 namespace c2d::app {
 
@@ -24,9 +22,9 @@ struct StudyCase {
 struct CaseOutcome {
   int exit_code = -1;
   bool has_summary = false;
-  nlohmann::json summary;          ///< the case's summary.json (null when none was written)
+  nlohmann::json summary;  ///< the case's summary.json (null when none was written)
   double wall_seconds = 0.0;
-  double peak_rss_mb = 0.0;        ///< the process's peak resident memory (wait4's ru_maxrss)
+  double peak_rss_mb = 0.0;  ///< the process's peak resident memory (wait4's ru_maxrss)
 };
 
 /// Runs the cases with at most `jobs` concurrent processes of this executable; `on_done` is
@@ -65,35 +63,20 @@ double json_number(const nlohmann::json& j, std::initializer_list<const char*> p
 /// What every study verb takes: the scene, overrides, the contact method, output.
 struct StudyOptions {
   std::string scene;
-  std::string method;               ///< empty: the scene's
+  std::string method;  ///< empty: the scene's
   std::vector<std::string> sets;
   int jobs = 1;
   std::string out;
   bool quiet = false;
 };
 
-struct CompareOptions : StudyOptions {
-  std::vector<std::string> methods;  ///< empty: all six
-  int levels = 1;
-};
+/// The study's output folder, created: --out, else out/<verb>_<scene file stem>.
+std::string study_out(const StudyOptions& o, const std::string& verb);
 
-/// `contact2d compare`: writes compare.csv, compare.md (verdict first), accuracy_time,
-/// pressure_profiles and penetration charts. Returns the exit code (0 when every case ran,
-/// converged or not; 1 when a case crashed or a chart failed).
-int run_compare(const CompareOptions& o);
+/// "12.3 %" with `digits` significant digits; "–" when not finite.
+std::string percent_text(double v, int digits = 3);
 
-/// sets: exactly one of them a range, key=a:b:log:n, key=a:b:lin:n or key=v1,v2,...
-struct SweepOptions : StudyOptions {
-  double accuracy = 0.01;  ///< relative p_max error a value must meet
-};
-
-/// The values of a range spec (a:b:log:n, a:b:lin:n or a comma list); throws InputError naming
-/// `where` on a malformed spec.
-std::vector<double> parse_range(const std::string& spec, const std::string& where);
-
-/// `contact2d sweep`: writes sweep.csv, sweep.md and sweep.png/svg (p_max error, penetration,
-/// iterations, solve time and the factorisation's pivot ratio against the swept value, failed
-/// values marked). Returns the exit code.
-int run_sweep(const SweepOptions& o);
+/// "1.23 s".
+std::string seconds_text(double v);
 
 }  // namespace c2d::app

@@ -1,0 +1,181 @@
+#include "app/cli/help.hpp"
+
+#include "constraints/method_registry.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+const char* kMainHelp =
+    "contact2d - finite-element contact between 2D elastic bodies\n"
+    "\n"
+    "usage: contact2d <verb> [options]\n"
+    "  run SCENE      solve a scene (TOML, or a legacy .dat data file) and write results\n"
+    "  mesh SCENE     mesh the scene's bodies and write mesh.vtu\n"
+    "  info SCENE     list bodies, materials, node/edge sets, supports, loads and probes\n"
+    "  compare SCENE  every contact method on the same model, over refinement levels: table,\n"
+    "                 verdict, accuracy-against-time, pressure and penetration charts\n"
+    "  sweep SCENE    one scene key over a range (e.g. the penalty stiffness): table, the\n"
+    "                 range meeting an accuracy, charts\n"
+    "  calibrate SCENE  fit scene parameters to measured probe values (Ceres least squares)\n"
+    "  trace OUTDIR   charts of a finished run: contact activation per load step, contact\n"
+    "                 force against load factor, Newton residual history\n"
+    "  bench          the benchmark ladder (10k to 1M DOFs, every method): bench.csv,\n"
+    "                 bench.md with targets against measured figures, charts\n"
+    "  plot OUTDIR    pictures of a finished run: filled contours of a field on the (deformed)\n"
+    "                 mesh, the ZZ error map, meshes of adaptive cycles side by side\n"
+    "\n"
+    "Every verb has --help. Exit codes: 0 ok, 1 solve failed (partial results kept),\n"
+    "2 bad input.\n";
+
+const char* kRunHelp =
+    "usage: contact2d run SCENE [--method M] [--set key=value ...] [--out DIR] [--quiet]\n"
+    "                          [--adapt [target=0.05] [max_cycles=8]]\n"
+    "\n"
+    "Solves SCENE and writes into DIR (default: the scene's output.dir, else out/<scene>):\n"
+    "  summary.json   status, mesh, times, error estimate, probes (stable keys)\n"
+    "  results.pvd    + step_0001.vtu for ParaView\n"
+    "  nodes.csv      displacements, smoothed stresses and reactions per node\n"
+    "  deformed.png   deformed mesh coloured by von Mises (and .svg)\n"
+    "  run.log        what was printed\n"
+    "  contact.csv    gap, force and recovered pressure per slave node (contact scenes)\n"
+    "  trace.csv      one row per Newton / active-set iteration of every load step: residual,\n"
+    "                 active set, entering, leaving, penetration, pressure, status\n"
+    "  contact_steps.csv  per load step and slave node: gap, force, pressure, active\n"
+    "  adapt.csv      adaptive runs: per cycle DOFs, xi_g, max xi_e, error, time, probes;\n"
+    "                 cycle_NN.vtu (listed in adapt.pvd) holds each cycle's mesh and fields\n"
+    "\n"
+    "  --method M       contact enforcement, overriding the scene's [[contact]] method:\n"
+    "@METHODS@"
+    "  --set key=value  override a scene key, e.g. --set analysis.element=T3,\n"
+    "                   --set body.beam.mesh.size=0.05 (array entries by index or name)\n"
+    "  --adapt          error-driven h-adaptivity (also the scene's [adapt] table): solve,\n"
+    "                   ZZ estimate, remesh with h_new = h / xi_e^(1/p), until xi_g <= 1 or\n"
+    "                   max_cycles solves; target is the relative energy-norm error;\n"
+    "                   max_shrink=0.2 and max_growth=2 bound h_new / h per cycle\n"
+    "  --out DIR        output folder\n"
+    "  --quiet          print nothing but errors\n";
+
+const char* kMeshHelp =
+    "usage: contact2d mesh SCENE [--set key=value ...] [--out DIR]\n"
+    "\nMeshes the scene's bodies and writes DIR/mesh.vtu; prints node, element and DOF counts.\n";
+
+const char* kInfoHelp =
+    "usage: contact2d info SCENE [--set key=value ...]\n"
+    "\nMeshes the scene and lists bodies, materials, named edges and node groups with their\n"
+    "sizes, and how many nodes each support, load and probe selects.\n";
+
+const char* kTraceHelp =
+    "usage: contact2d trace OUTDIR\n"
+    "\nDraws from OUTDIR/trace.csv and OUTDIR/contact_steps.csv (written by `run`), as PNG and\n"
+    "SVG in OUTDIR:\n"
+    "  activation     slave node position x load factor, active nodes coloured by pressure\n"
+    "  contact_force  total contact force and active node count against load factor\n"
+    "  residuals      Newton residual history of every load step\n";
+
+const char* kCompareHelp =
+    "usage: contact2d compare SCENE [--methods a,b,...] [--levels N] [--jobs J]\n"
+    "                        [--set key=value ...] [--out DIR] [--quiet]\n"
+    "\nRuns every chosen contact method (default: all six) on the same scene, on N meshes:\n"
+    "level 0 is the scene's, each further level halves every mesh size (analysis.mesh_scale).\n"
+    "Each run is a `contact2d run` in DIR/levelK/METHOD; J of them at a time. Writes:\n"
+    "  compare.csv      one row per method and level: DOFs, status, iterations, times, p_max,\n"
+    "                   contact length, force, penetration, errors against [reference]\n"
+    "  compare.md       a verdict computed from the table, then the table\n"
+    "  accuracy_time    accuracy against solve time, one line per method (PNG, SVG)\n"
+    "  pressure_profiles  every method's pressure on the finest level (with Hertz's)\n"
+    "  penetration      largest penetration per method and level\n"
+    "The table is rewritten after every finished run, so an interrupted study keeps its rows.\n";
+
+const char* kSweepHelp =
+    "usage: contact2d sweep SCENE --set key=a:b:log:n [--method M] [--accuracy 0.01]\n"
+    "                      [--jobs J] [--set key=value ...] [--out DIR] [--quiet]\n"
+    "\nRuns SCENE once per value of one key (a:b:log:n, a:b:lin:n or v1,v2,...), e.g.\n"
+    "  contact2d sweep examples/hertz_rigid.toml --method penalty \\\n"
+    "      --set contact.penalty.k=1e3:1e13:log:11\n"
+    "Each run is a `contact2d run` in DIR/caseK; J at a time. Writes:\n"
+    "  sweep.csv   value, status, iterations, solve time, p_max and its error, penetration,\n"
+    "              force, the factorisation's pivot ratio, penalty, max|K_ij|\n"
+    "  sweep.md    the range of values that converge with |p_max error| <= accuracy, and (for\n"
+    "              penalty.k) where the seed's rule k = 1e4 max|K_ij| falls; then the table\n"
+    "  sweep.png   error, penetration, iterations, time and pivot ratio against the value\n";
+
+const char* kBenchHelp =
+    "usage: contact2d bench [--quick] [--out DIR] [--examples DIR] [--quiet]\n"
+    "\n"
+    "Runs a fixed ladder of the bundled scenes, one `contact2d run` process at a time, and\n"
+    "reports speed and accuracy. Full ladder (run by hand; about 15 minutes on 2 cores): linear\n"
+    "elasticity (cantilever) and Hertz (rigid flat, elastic block), T3 and T6, at about 10k,\n"
+    "100k and 1M DOFs; the two cantilevers (nonlinear contact) at 10k and 100k; every contact\n"
+    "method on hertz_rigid_fast and hertz_block_fast, as shipped and refined. --quick: a small\n"
+    "ladder in well under a minute (CI). Writes into DIR (default out/bench):\n"
+    "  bench.csv          one row per run: DOFs, status, iterations, time per phase (mesh,\n"
+    "                     assemble, symbolic and numeric factorisation, triangular solves,\n"
+    "                     the rest of the contact solve, detection, recovery, output), total,\n"
+    "                     process wall time, peak memory, accuracy, contact overhead\n"
+    "  bench.md           the targets with the measured figure beside each, the tables,\n"
+    "                     fitted slopes of time against DOFs\n"
+    "  time_vs_dofs       log-log, per family and per phase, fitted slopes (PNG, SVG)\n"
+    "  accuracy_vs_time   pressure-profile error against time per method (PNG, SVG)\n"
+    "  NN_<case>/         each run's own outputs (summary.json, ...)\n"
+    "Assembly throughput is measured in process on structured grids. Timings are figures,\n"
+    "not pass/fail: the exit code is 1 only when a run crashed or a chart failed.\n";
+
+const char* kCalibrateHelp =
+    "usage: contact2d calibrate SCENE --data measured.csv --fit key[,key...] [--method M]\n"
+    "                          [--set key=value ...] [--out DIR] [--quiet]\n"
+    "\nFits scene parameters so the scene's [[probe]] values match measured ones (Ceres,\n"
+    "Levenberg-Marquardt; residuals relative to the measured values, times the weights).\n"
+    "  measured.csv   columns probe,value[,weight]; probe names the scene's [[probe]]s\n"
+    "  --fit          scene keys as for --set; E, nu, thickness mean material.E, ...; a vector\n"
+    "                 component as load[0].total_force[1]; bounds as key=lower:upper[:log|lin]\n"
+    "                 (default: the scene value / 100 .. x 100, log scale)\n"
+    "Writes calibrate.json and calibrate.md: fitted values with standard deviations from the\n"
+    "covariance, residuals, and the solver's summary.\n";
+
+const char* kPlotHelp =
+    "usage: contact2d plot OUTDIR [--field F[,F...]|all] [--zoom x0,y0,x1,y1] [--deformed S]\n"
+    "                             [--step K | --cycle K] [--edges] [--levels N]\n"
+    "\nPictures of a finished run from its VTU files (PNG and SVG, written into OUTDIR):\n"
+    "  --field      sx sy sxy vm p1 p2 (smoothed stresses, principal p1 >= p2), ux uy, or\n"
+    "               error: elements coloured by the ZZ local parameter, <= 1 and > 1 as the\n"
+    "               seed did (default vm); writes plot_<field>.png\n"
+    "  --zoom       window in model coordinates; the colour scale spans the nodes inside it\n"
+    "  --deformed   draw on the deformed mesh, displacements times S (auto: 8 % of the model)\n"
+    "  --step K     load step K (step_000K.vtu; default the last); --cycle K: adaptive cycle K\n"
+    "  --edges      draw element edges     --levels N  colour bands (default 12)\n"
+    "An adaptive run's folder also gets adapt_meshes.png: up to four cycles' meshes side by\n"
+    "side (in the zoom window when given).\n";
+
+}  // namespace
+
+const char* main_help() { return kMainHelp; }
+
+/// The run verb's text with the method registry's entries in place of @METHODS@.
+const char* run_help() {
+  static const std::string text = [] {
+    std::string methods;
+    for (const auto& m : constraints::method_registry())
+      methods += "                   " + m.name + std::string(m.name.size() < 17 ? 17 - m.name.size() : 1, ' ') +
+                 (m.exact ? "exact: " : "regularised: ") + m.summary + "\n";
+    std::string t = kRunHelp;
+    t.replace(t.find("@METHODS@"), 9, methods);
+    return t;
+  }();
+  return text.c_str();
+}
+
+const char* verb_help(const std::string& verb) {
+  return verb == "run"         ? run_help()
+         : verb == "mesh"      ? kMeshHelp
+         : verb == "info"      ? kInfoHelp
+         : verb == "trace"     ? kTraceHelp
+         : verb == "plot"      ? kPlotHelp
+         : verb == "compare"   ? kCompareHelp
+         : verb == "sweep"     ? kSweepHelp
+         : verb == "calibrate" ? kCalibrateHelp
+         : verb == "bench"     ? kBenchHelp
+                               : nullptr;
+}
+
+}  // namespace c2d::app

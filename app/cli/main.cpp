@@ -1,0 +1,57 @@
+// contact2d: the command-line program. Dispatch only: parse the arguments, run the verb, turn
+// exceptions into exit codes (DESIGN §5).
+#include <iostream>
+#include <string>
+
+#include "app/cli/help.hpp"
+#include "app/cli/options.hpp"
+#include "app/cli/verbs.hpp"
+#include "core/errors.hpp"
+
+using namespace c2d;
+
+namespace {
+
+int dispatch(const app::Options& o) {
+  if (o.verb.empty() || o.verb == "--help" || o.verb == "-h" || o.verb == "help") {
+    std::cout << app::main_help();
+    return o.verb.empty() ? app::kExitBadInput : app::kExitOk;
+  }
+  const char* help = app::verb_help(o.verb);
+  if (!help)
+    throw InputError(
+        o.verb +
+        ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, bench, trace or plot "
+        "(see --help)");
+  if (o.help) {
+    std::cout << help;
+    return app::kExitOk;
+  }
+  if (o.verb == "bench") return app::cmd_bench(o);
+  if (o.scene.empty())
+    throw InputError(o.verb + ": expected " +
+                     (o.verb == "trace" || o.verb == "plot" ? "an output folder" : "a scene file") +
+                     ", found none");
+  if (o.verb == "run") return app::cmd_run(o);
+  if (o.verb == "trace") return app::cmd_trace(o);
+  if (o.verb == "plot") return app::cmd_plot(o);
+  if (o.verb == "compare") return app::cmd_compare(o);
+  if (o.verb == "sweep") return app::cmd_sweep(o);
+  if (o.verb == "calibrate") return app::cmd_calibrate(o);
+  if (o.verb == "mesh") return app::cmd_mesh(o);
+  return app::cmd_info(o);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return dispatch(app::parse_args(argc, argv));
+  } catch (const InputError& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return app::kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return app::kExitSolveFailed;
+  }
+}

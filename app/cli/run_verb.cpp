@@ -1,0 +1,96 @@
+// `contact2d run`: solve a scene (once, or adaptively) and write its files through RunOutput.
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "app/cli/verbs.hpp"
+#include "app/report/summary.hpp"
+#include "app/run/adapt.hpp"
+#include "app/run/run_output.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+/// Progress and log: lines go to the terminal (unless quiet) and to run.log.
+class Reporter {
+ public:
+  explicit Reporter(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO)) {}
+  void phase(const std::string& what) {
+    log_ << what << '\n';
+    if (!quiet_ && tty_) std::cerr << "  .. " << what << std::endl;
+  }
+  void line(const std::string& text) {
+    log_ << text;
+    if (!quiet_) std::cout << text << std::flush;
+  }
+  std::string log() const { return log_.str(); }
+
+ private:
+  bool quiet_, tty_;
+  std::ostringstream log_;
+};
+
+/// The scene with --set and, for --adapt, the [adapt] overrides applied.
+core::Scene load_run_scene(const Options& o) {
+  core::Scene scene = core::load_scene(o.scene, o.sets);
+  if (o.adapt && scene.explicit_model) {
+    scene.adapt.enabled = true;  // --set does not apply to legacy files; solve_adaptive refuses it
+  } else if (o.adapt) {
+    std::vector<std::string> sets = o.sets;
+    sets.insert(sets.end(), o.adapt_sets.begin(), o.adapt_sets.end());
+    scene = core::load_scene(o.scene, sets);
+  }
+  return scene;
+}
+
+std::string cycle_line(const AdaptCycle& c) {
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "adapt %2d   %8d DOFs   xi_g %8.3g   max xi_e %8.3g   error %6.2f %%   %7.2f s\n",
+                c.cycle, c.dofs, c.global_parameter, c.max_local, 100 * c.relative_error,
+                c.seconds);
+  return line;
+}
+
+}  // namespace
+
+int cmd_run(const Options& o) {
+  const auto t0 = RunOutput::Clock::now();
+  Reporter rep(o.quiet);
+  rep.phase("reading " + o.scene);
+  const core::Scene scene = load_run_scene(o);
+  RunOutput output(scene, default_out(o, scene));
+  const auto phase = [&](const std::string& line) { rep.phase(line); };
+  std::unique_ptr<SceneRun> solved;
+  AdaptRun adapt;
+  if (scene.adapt.enabled) {
+    // Every cycle leaves its mesh and fields and a row of adapt.csv as soon as it is solved.
+    adapt = solve_adaptive(scene, o.method, phase, [&](const AdaptCycle& c, const SceneRun& r) {
+      output.write_cycle(c, r);
+      rep.line(cycle_line(c));
+    });
+    solved = std::move(adapt.last);
+  } else {
+    // A load-stepped run leaves every converged step as soon as it is solved.
+    solved = solve_scene(scene, o.method, phase,
+                         [&](const nonlinear::StepRecord& s, const core::Model& m,
+                             const core::Results& r) { output.write_step(s, m, r); });
+  }
+  rep.phase("writing results to " + output.dir());
+  const std::string chart_error = output.write_results(*solved, t0);
+  const nlohmann::json summary =
+      output.write_summary(*solved, scene.adapt.enabled ? &adapt : nullptr);
+  rep.line(terminal_summary(summary, output.dir()));
+  if (scene.adapt.enabled)
+    rep.line(std::string(adapt.reached ? "adapt      " : "warning    adapt: ") + adapt.stop +
+             " (adapt.csv, cycle_NN.vtu)\n");
+  if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
+  output.write_log(rep.log());
+  return solved->results.status == SolveStatus::kConverged ? kExitOk : kExitSolveFailed;
+}
+
+}  // namespace c2d::app

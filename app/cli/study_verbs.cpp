@@ -1,0 +1,58 @@
+// The study verbs: compare, sweep, calibrate and bench, each handing its options to studies/.
+#include "app/cli/verbs.hpp"
+#include "app/studies/bench.hpp"
+#include "app/studies/calibrate.hpp"
+#include "app/studies/compare.hpp"
+#include "app/studies/sweep.hpp"
+#include "core/errors.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+/// The options every study verb shares.
+void fill_study(const Options& o, StudyOptions& s) {
+  s.scene = o.scene;
+  s.method = o.method;
+  s.sets = o.sets;
+  s.jobs = o.jobs;
+  s.out = o.out;
+  s.quiet = o.quiet;
+}
+
+}  // namespace
+
+int cmd_compare(const Options& o) {
+  CompareOptions c;
+  fill_study(o, c);
+  c.methods = split_list(o.methods);
+  c.levels = o.levels;
+  return run_compare(c);
+}
+
+int cmd_sweep(const Options& o) {
+  SweepOptions w;
+  fill_study(o, w);
+  w.accuracy = o.accuracy;
+  return run_sweep(w);
+}
+
+int cmd_calibrate(const Options& o) {
+  CalibrateOptions c;
+  fill_study(o, c);
+  c.data = o.data;
+  c.fits = o.fits;
+  return run_calibrate(c);
+}
+
+int cmd_bench(const Options& o) {
+  if (!o.scene.empty()) throw InputError(o.scene + ": unexpected argument (bench takes no scene)");
+  BenchOptions b;
+  b.quick = o.quick;
+  b.out = o.out;
+  b.examples = o.examples.empty() ? C2D_EXAMPLES_DIR : o.examples;
+  b.quiet = o.quiet;
+  return run_bench(b);
+}
+
+}  // namespace c2d::app

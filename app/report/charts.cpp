@@ -1,0 +1,82 @@
+#include "app/report/charts.hpp"
+
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "app/report/gnuplot.hpp"
+#include "app/report/hertz.hpp"
+#include "app/report/pressure_profile.hpp"
+#include "core/probes.hpp"
+#include "core/writers.hpp"
+
+namespace c2d::app {
+
+std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
+                                   const core::Scene& scene) {
+  // Abscissa: the reference coordinate along which the slave nodes spread most.
+  int axis = 0;
+  const auto pts = pressure_profile(c, &axis);
+  std::ostringstream data;
+  data << std::setprecision(12);
+  for (const auto& [x, p] : pts) data << x << ' ' << p << '\n';
+  const std::string data_path = dir + "/pressure.dat";
+  std::ostringstream cmd;
+  cmd << std::setprecision(10) << "set title "
+      << gp_text("Contact pressure (" + c.method + ", recovered from nodal forces)")
+      << "\nset xlabel '" << (axis ? "y" : "x")
+      << "'\nset ylabel 'pressure'\nset grid\nset key top left\n";
+  const auto hertz = hertz_reference(scene);
+  // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
+  if (hertz) write_hertz_window(cmd, *hertz, pts.front().first, pts.back().first);
+  cmd << "plot " << gp_file(data_path)
+      << " using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
+  if (hertz) {
+    cmd << ", \\\n     ";
+    write_hertz_curve(cmd, *hertz);
+    cmd << " with lines lw 2 dt 2 title 'Hertz'";
+  }
+  cmd << "\n";
+  return plot_with_data(dir, "pressure", cmd.str(), {{data_path, data.str()}});
+}
+
+std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
+                                const core::Results& r) {
+  const core::Mesh& mesh = model.mesh;
+  const double umax = r.displacement.size() ? r.displacement.cwiseAbs().maxCoeff() : 0.0;
+  const double scale = umax > 0 ? 0.08 * model.model_size / umax : 0.0;
+  // One filled triangle per element (corner nodes) coloured by element-average von Mises.
+  std::ostringstream data;
+  data << std::setprecision(9);
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    double vm = 0;
+    for (int i = 0; i < 3; ++i) vm += core::nodal_quantity(model, r, "vm", mesh.elements[e][i]) / 3;
+    for (int k = 0; k <= 3; ++k) {
+      const int n = mesh.elements[e][k % 3];
+      const c2d::Vec2 p = mesh.nodes[n] + scale * r.displacement.segment<2>(2 * n);
+      data << p.x() << ' ' << p.y() << ' ' << vm << '\n';
+    }
+    data << "\n";
+  }
+  std::ostringstream outline;
+  outline << std::setprecision(9);
+  for (const auto& be : mesh.boundary_edges)
+    outline << mesh.nodes[be.nodes[0]].x() << ' ' << mesh.nodes[be.nodes[0]].y() << '\n'
+            << mesh.nodes[be.nodes[1]].x() << ' ' << mesh.nodes[be.nodes[1]].y() << "\n\n";
+  const std::string data_path = dir + "/deformed.dat", outline_path = dir + "/outline.dat";
+  std::ostringstream scale_text;
+  scale_text << std::setprecision(3) << scale;
+  const std::string commands =
+      "set size ratio -1\nset title 'Deformed mesh (displacements x " + scale_text.str() +
+      "), coloured by von Mises (smoothed)'\n"
+      "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
+      "plot " +
+      gp_file(data_path) +
+      " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
+      "     " +
+      gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
+  return plot_with_data(dir, "deformed", commands,
+                        {{data_path, data.str()}, {outline_path, outline.str()}});
+}
+
+}  // namespace c2d::app

@@ -1,0 +1,23 @@
+// The charts `contact2d run` draws of its own results (PNG and SVG through gnuplot).
+#pragma once
+
+#include <string>
+
+#include "constraints/contact_set.hpp"
+#include "core/model.hpp"
+#include "core/results.hpp"
+#include "core/scene.hpp"
+
+namespace c2d::app {
+
+/// Recovered contact pressure along the slave surface, with the Hertz profile when the scene's
+/// reference gives p_max and contact_length. Writes DIR/pressure.png and .svg.
+std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
+                                   const core::Scene& scene);
+
+/// Deformed mesh (scaled) over the undeformed outline, coloured by smoothed von Mises.
+/// Writes DIR/deformed.png and DIR/deformed.svg; returns "" or the failure reason.
+std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
+                                const core::Results& results);
+
+}  // namespace c2d::app

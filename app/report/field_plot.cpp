@@ -1,0 +1,444 @@
+#include "app/report/field_plot.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "app/report/csv_table.hpp"
+#include "app/report/gnuplot.hpp"
+#include "core/errors.hpp"
+#include "core/writers.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+/// The sub-triangles drawn for a cell: the triangle itself (T3) or its four (T6).
+std::vector<std::array<int, 3>> sub_triangles(const VtuData& v, int c) {
+  const auto& n = v.cells[c];
+  if (v.order == 1) return {{n[0], n[1], n[2]}};
+  return {{n[0], n[3], n[5]}, {n[3], n[1], n[4]}, {n[5], n[4], n[2]}, {n[3], n[4], n[5]}};
+}
+
+bool overlaps(const std::array<Vec2, 3>& x, const std::optional<std::array<double, 4>>& zoom) {
+  if (!zoom) return true;
+  const auto& z = *zoom;
+  const double x0 = std::min({x[0].x(), x[1].x(), x[2].x()}),
+               x1 = std::max({x[0].x(), x[1].x(), x[2].x()});
+  const double y0 = std::min({x[0].y(), x[1].y(), x[2].y()}),
+               y1 = std::max({x[0].y(), x[1].y(), x[2].y()});
+  return x1 >= z[0] && x0 <= z[2] && y1 >= z[1] && y0 <= z[3];
+}
+
+bool inside(const Vec2& p, const std::optional<std::array<double, 4>>& zoom) {
+  if (!zoom) return true;
+  const auto& z = *zoom;
+  return p.x() >= z[0] && p.x() <= z[2] && p.y() >= z[1] && p.y() <= z[3];
+}
+
+struct FieldDef {
+  std::string name, label, array;
+  int component;  ///< -1: a scalar array
+  bool cell;
+};
+
+const std::vector<FieldDef>& field_defs() {
+  static const std::vector<FieldDef> defs = {
+      {"sx", "sigma_x (smoothed)", "stress_smoothed", 0, false},
+      {"sy", "sigma_y (smoothed)", "stress_smoothed", 1, false},
+      {"sxy", "tau_xy (smoothed)", "stress_smoothed", 2, false},
+      {"vm", "von Mises (smoothed)", "von_mises_smoothed", -1, false},
+      {"p1", "major principal stress (smoothed)", "s1_smoothed", -1, false},
+      {"p2", "minor principal stress (smoothed)", "s2_smoothed", -1, false},
+      {"ux", "displacement u_x", "displacement", 0, false},
+      {"uy", "displacement u_y", "displacement", 1, false},
+      {"error", "ZZ local parameter xi_e", "zz_local_parameter", -1, true},
+  };
+  return defs;
+}
+
+std::string window_commands(const std::optional<std::array<double, 4>>& zoom) {
+  std::ostringstream os;
+  os << std::setprecision(10) << "set size ratio -1\n";
+  if (zoom)
+    os << "set xrange [" << (*zoom)[0] << ":" << (*zoom)[2] << "]\nset yrange [" << (*zoom)[1]
+       << ":" << (*zoom)[3] << "]\n";
+  return os.str();
+}
+
+/// Corner-to-corner element edges (through the mid-side node for T6) as gnuplot line blocks.
+void write_edges(std::ostream& os, const VtuData& v, const std::vector<Vec2>& x,
+                 const std::optional<std::array<double, 4>>& zoom) {
+  for (size_t c = 0; c < v.cells.size(); ++c) {
+    const auto& n = v.cells[c];
+    if (!overlaps({x[n[0]], x[n[1]], x[n[2]]}, zoom)) continue;
+    const std::vector<int> loop = v.order == 1
+                                      ? std::vector<int>{n[0], n[1], n[2], n[0]}
+                                      : std::vector<int>{n[0], n[3], n[1], n[4], n[2], n[5], n[0]};
+    for (int i : loop) os << x[i].x() << ' ' << x[i].y() << '\n';
+    os << '\n';
+  }
+}
+
+}  // namespace
+
+/// "sx|sy|...|error", for messages about --field.
+static std::string field_list() {
+  std::string list;
+  for (const auto& n : plot_fields()) list += (list.empty() ? "" : "|") + n;
+  return list;
+}
+
+const std::vector<std::string>& plot_fields() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& d : field_defs()) n.push_back(d.name);
+    return n;
+  }();
+  return names;
+}
+
+std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<double, 3>& v, double lo,
+                            double hi) {
+  // Sutherland-Hodgman in value space: keep v >= lo, then v <= hi (v is linear, so each clip
+  // keeps one convex polygon and the new vertices interpolate v exactly).
+  std::vector<std::pair<Vec2, double>> poly = {{x[0], v[0]}, {x[1], v[1]}, {x[2], v[2]}};
+  auto clip = [&poly](double level, bool keep_above) {
+    std::vector<std::pair<Vec2, double>> out;
+    const size_t n = poly.size();
+    for (size_t i = 0; i < n; ++i) {
+      const auto& a = poly[i];
+      const auto& b = poly[(i + 1) % n];
+      const bool in_a = keep_above ? a.second >= level : a.second <= level;
+      const bool in_b = keep_above ? b.second >= level : b.second <= level;
+      if (in_a) out.push_back(a);
+      if (in_a != in_b) {
+        const double t = (level - a.second) / (b.second - a.second);
+        out.push_back({a.first + t * (b.first - a.first), level});
+      }
+    }
+    poly = std::move(out);
+  };
+  clip(lo, true);
+  if (poly.size() >= 3) clip(hi, false);
+  std::vector<Vec2> result;
+  if (poly.size() >= 3)
+    for (const auto& p : poly) result.push_back(p.first);
+  return result;
+}
+
+namespace {
+
+/// One field of a VTU: its definition and values, per point (per cell for the error map).
+struct FieldValues {
+  const FieldDef* def = nullptr;
+  const std::vector<double>* values = nullptr;
+  int components = 1;
+  double operator()(int i) const {
+    return (*values)[static_cast<size_t>(components) * i + std::max(def->component, 0)];
+  }
+};
+
+/// The field named by `field`; throws InputError for an unknown field or a missing or
+/// mis-sized array.
+FieldValues field_values(const VtuData& vtu, const std::string& field) {
+  const auto def = std::find_if(field_defs().begin(), field_defs().end(),
+                                [&](const FieldDef& d) { return d.name == field; });
+  if (def == field_defs().end())
+    throw InputError("--field: expected " + field_list() + ", found '" + field + "'");
+  const auto& source = def->cell ? vtu.cell_data : vtu.point_data;
+  const auto arr = source.find(def->array);
+  if (arr == source.end())
+    throw InputError(vtu.path + ": field " + field + " needs the array '" + def->array +
+                     "', which the file does not have");
+  const int comps = vtu.components.at(def->array);
+  const int count =
+      def->cell ? static_cast<int>(vtu.cells.size()) : static_cast<int>(vtu.points.size());
+  if (static_cast<int>(arr->second.size()) != comps * count)
+    throw InputError(vtu.path + ": array '" + def->array + "' has " +
+                     std::to_string(arr->second.size()) + " values for " + std::to_string(count) +
+                     (def->cell ? " cells" : " points"));
+  return {&*def, &arr->second, comps};
+}
+
+/// Positions drawn: the reference ones, or deformed by the displacement times `scale` (< 0:
+/// 8 % of the model's diagonal over the largest displacement; set to the scale used).
+std::vector<Vec2> drawn_positions(const VtuData& vtu, double& scale) {
+  std::vector<Vec2> x = vtu.points;
+  const auto disp = vtu.point_data.find("displacement");
+  if (scale == 0.0 || disp == vtu.point_data.end()) return x;
+  if (scale < 0) {
+    double umax = 0.0, lo_x = 1e300, hi_x = -1e300, lo_y = 1e300, hi_y = -1e300;
+    for (size_t i = 0; i < vtu.points.size(); ++i) {
+      umax = std::max({umax, std::abs(disp->second[3 * i]), std::abs(disp->second[3 * i + 1])});
+      lo_x = std::min(lo_x, x[i].x()), hi_x = std::max(hi_x, x[i].x());
+      lo_y = std::min(lo_y, x[i].y()), hi_y = std::max(hi_y, x[i].y());
+    }
+    scale = umax > 0 ? 0.08 * std::hypot(hi_x - lo_x, hi_y - lo_y) / umax : 0.0;
+  }
+  for (size_t i = 0; i < x.size(); ++i)
+    x[i] += scale * Vec2(disp->second[3 * i], disp->second[3 * i + 1]);
+  return x;
+}
+
+/// The seed's map: elements with ξ_e <= 1 (the error there meets the target) and > 1.
+void draw_error_map(const VtuData& vtu, const std::vector<Vec2>& x, const FieldValues& value,
+                    const PlotOptions& o, const std::string& title, std::ostream& data,
+                    std::ostream& cmd, PlotSummary& sum) {
+  sum.min = 1e300, sum.max = -1e300;
+  for (size_t c = 0; c < vtu.cells.size(); ++c) {
+    const auto& n = vtu.cells[c];
+    if (!overlaps({x[n[0]], x[n[1]], x[n[2]]}, o.zoom)) continue;
+    const double xi = value(static_cast<int>(c));
+    ++sum.elements;
+    sum.above_one += xi > 1.0;
+    sum.min = std::min(sum.min, xi), sum.max = std::max(sum.max, xi);
+    for (const auto& t : sub_triangles(vtu, static_cast<int>(c))) {
+      for (int k = 0; k <= 3; ++k)
+        data << x[t[k % 3]].x() << ' ' << x[t[k % 3]].y() << ' ' << (xi > 1 ? 1.5 : 0.5) << '\n';
+      data << '\n';
+    }
+  }
+  cmd << "set title \"" << title << ": " << sum.above_one << " of " << sum.elements
+      << " elements above 1 (max " << sum.max << ")\"\n"
+      << "set cbrange [0:2]\nset palette defined (0 '#9ecae1', 1 '#9ecae1', 1 '#de2d26', 2 "
+         "'#de2d26')\n"
+      << "set cbtics ('xi_e <= 1' 0.5, 'xi_e > 1' 1.5)\n";
+}
+
+/// Filled contours: colour range over the nodes in view, isobands between uniform levels.
+void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldValues& value,
+                   const PlotOptions& o, const std::string& title, std::ostream& data,
+                   std::ostream& cmd, PlotSummary& sum) {
+  double lo = 1e300, hi = -1e300;
+  for (size_t c = 0; c < vtu.cells.size(); ++c)
+    for (const auto& t : sub_triangles(vtu, static_cast<int>(c)))
+      for (int i : t)
+        if (inside(x[i], o.zoom)) lo = std::min(lo, value(i)), hi = std::max(hi, value(i));
+  if (lo > hi) {  // no node inside the window: the range of everything drawn
+    for (int i = 0; i < static_cast<int>(x.size()); ++i)
+      lo = std::min(lo, value(i)), hi = std::max(hi, value(i));
+  }
+  sum.min = lo, sum.max = hi;
+  const int levels = std::max(2, o.levels);
+  if (hi - lo <= 1e-12 * std::max(std::abs(hi), std::abs(lo))) {
+    lo -= 0.5 * std::max(std::abs(lo), 1e-30);
+    hi += 0.5 * std::max(std::abs(hi), 1e-30);
+  }
+  const double step = (hi - lo) / levels;
+  for (size_t c = 0; c < vtu.cells.size(); ++c)
+    for (const auto& t : sub_triangles(vtu, static_cast<int>(c))) {
+      const std::array<Vec2, 3> p = {x[t[0]], x[t[1]], x[t[2]]};
+      if (!overlaps(p, o.zoom)) continue;
+      const std::array<double, 3> v = {value(t[0]), value(t[1]), value(t[2])};
+      const double vmin = std::min({v[0], v[1], v[2]}), vmax = std::max({v[0], v[1], v[2]});
+      // Values outside the range (nodes beyond the window) fall into the end bands.
+      const int k0 = std::clamp(static_cast<int>(std::floor((vmin - lo) / step)), 0, levels - 1);
+      const int k1 = std::clamp(static_cast<int>(std::floor((vmax - lo) / step)), 0, levels - 1);
+      for (int k = k0; k <= k1; ++k) {
+        const double b0 = k == 0 ? -1e300 : lo + k * step,
+                     b1 = k == levels - 1 ? 1e300 : lo + (k + 1) * step;
+        const auto poly = clip_band(p, v, b0, b1);
+        if (poly.empty()) continue;
+        for (size_t i = 0; i <= poly.size(); ++i)
+          data << poly[i % poly.size()].x() << ' ' << poly[i % poly.size()].y() << ' '
+               << lo + (k + 0.5) * step << '\n';
+        data << '\n';
+      }
+    }
+  std::ostringstream heading;
+  heading << title << ": " << sum.min << " to " << sum.max;
+  cmd << "set title " << gp_text(heading.str()) << "\n"
+      << "set cbrange [" << lo << ":" << hi << "]\nset palette rgb 33,13,10 maxcolors " << levels
+      << "\nset cbtics " << lo << ", " << step * std::max(1, levels / 6) << "\n";
+}
+
+}  // namespace
+
+PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::string& dir,
+                       const std::string& stem) {
+  const FieldValues value = field_values(vtu, o.field);
+  double scale = o.deformed;
+  const std::vector<Vec2> x = drawn_positions(vtu, scale);
+  PlotSummary sum;
+  std::ostringstream data, cmd;
+  data << std::setprecision(9);
+  cmd << std::setprecision(6);
+  std::string title = value.def->label;
+  if (scale != 0.0) {
+    std::ostringstream s;
+    s << std::setprecision(3) << scale;
+    title += ", deformed x " + s.str();
+  }
+  if (value.def->cell)
+    draw_error_map(vtu, x, value, o, title, data, cmd, sum);
+  else
+    draw_isobands(vtu, x, value, o, title, data, cmd, sum);
+  const std::string data_path = dir + "/" + stem + ".dat",
+                    edges_path = dir + "/" + stem + "_edges.dat";
+  std::vector<PlotData> files{{data_path, data.str()}};
+  cmd << window_commands(o.zoom) << "unset key\nset style fill solid 1.0 noborder\n"
+      << "plot " << gp_file(data_path) << " using 1:2:3 with filledcurves closed fc palette z";
+  if (o.edges) {
+    std::ostringstream edges;
+    edges << std::setprecision(9);
+    write_edges(edges, vtu, x, o.zoom);
+    files.push_back({edges_path, edges.str()});
+    cmd << ", \\\n     " << gp_file(edges_path) << " using 1:2 with lines lc rgb '#303030' lw 0.4";
+  }
+  cmd << "\n";
+  sum.error = plot_with_data(dir, stem, cmd.str(), files);
+  return sum;
+}
+
+std::string plot_mesh_comparison(const std::vector<std::pair<std::string, VtuData>>& meshes,
+                                 const std::optional<std::array<double, 4>>& zoom,
+                                 const std::string& dir, const std::string& stem) {
+  std::ostringstream cmd;
+  std::vector<PlotData> files;
+  const int n = static_cast<int>(meshes.size());
+  cmd << "set multiplot layout " << (n <= 2 ? 1 : 2) << "," << (n <= 2 ? n : 2)
+      << " title 'Adaptive cycles: element edges" << (zoom ? " (zoom)" : "") << "'\n"
+      << window_commands(zoom) << "unset key\n";
+  for (int i = 0; i < n; ++i) {
+    const std::string path = dir + "/" + stem + "_" + std::to_string(i) + ".dat";
+    std::ostringstream edges;
+    edges << std::setprecision(9);
+    write_edges(edges, meshes[i].second, meshes[i].second.points, zoom);
+    files.push_back({path, edges.str()});
+    cmd << "set title " << gp_text(meshes[i].first) << "\nplot " << gp_file(path)
+        << " using 1:2 with lines lc rgb '#1f4e79' lw 0.5\n";
+  }
+  cmd << "unset multiplot\n";
+  return plot_with_data(dir, stem, cmd.str(), files);
+}
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// Files DIR/<prefix>NNNN.vtu by number.
+std::map<int, std::string> numbered_vtus(const std::string& dir, const std::string& prefix) {
+  std::map<int, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || e.path().extension() != ".vtu") continue;
+    const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - 4);
+    if (!digits.empty() && std::all_of(digits.begin(), digits.end(), ::isdigit))
+      files[std::stoi(digits)] = e.path().string();
+  }
+  return files;
+}
+
+/// The VTU a request names (--cycle, --step, else the last step) and the suffix of its
+/// pictures' stems.
+std::pair<std::string, std::string> chosen_vtu(const PlotRequest& req,
+                                               const std::map<int, std::string>& steps,
+                                               const std::map<int, std::string>& cycles) {
+  char suffix[32];
+  if (req.cycle >= 0) {
+    const auto it = cycles.find(req.cycle);
+    if (it == cycles.end())
+      throw InputError("--cycle " + std::to_string(req.cycle) + ": " + req.dir + " has " +
+                       (cycles.empty() ? std::string("no adaptive cycles (cycle_NN.vtu)")
+                                       : "cycles 0.." + std::to_string(cycles.rbegin()->first)));
+    std::snprintf(suffix, sizeof suffix, "_cycle%02d", req.cycle);
+    return {it->second, suffix};
+  }
+  if (req.step > 0) {
+    const auto it = steps.find(req.step);
+    if (it == steps.end())
+      throw InputError("--step " + std::to_string(req.step) + ": " + req.dir + " has " +
+                       (steps.empty() ? std::string("no step_NNNN.vtu")
+                                      : "steps " + std::to_string(steps.begin()->first) + ".." +
+                                            std::to_string(steps.rbegin()->first)));
+    std::snprintf(suffix, sizeof suffix, "_step%04d", req.step);
+    return {it->second, suffix};
+  }
+  if (steps.empty())
+    throw InputError(req.dir + ": no step_NNNN.vtu (expected the output folder of contact2d run)");
+  return {steps.rbegin()->second, ""};
+}
+
+/// --field: the names given ("all": every field; none: vm), each checked.
+std::vector<std::string> requested_fields(const PlotRequest& req) {
+  std::vector<std::string> fields =
+      req.fields.empty() ? std::vector<std::string>{"vm"} : req.fields;
+  if (std::find(fields.begin(), fields.end(), "all") != fields.end()) fields = plot_fields();
+  for (const auto& f : fields)
+    if (std::find(plot_fields().begin(), plot_fields().end(), f) == plot_fields().end())
+      throw InputError("--field: expected " + field_list() + " or all, found '" + f + "'");
+  return fields;
+}
+
+/// adapt_meshes.png/svg: up to four cycles, the first, the last and evenly spaced ones between,
+/// titled with their DOFs from adapt.csv when it is there.
+void draw_adapt_meshes(const PlotRequest& req, const std::map<int, std::string>& cycles,
+                       PlotWritten& out) {
+  std::vector<int> ids;
+  for (const auto& [k, path] : cycles) ids.push_back(k);
+  std::vector<int> pick;
+  const int n = static_cast<int>(ids.size()), panels = std::min(n, 4);
+  for (int i = 0; i < panels; ++i) {
+    const int id =
+        ids[static_cast<size_t>(std::lround(static_cast<double>(i) * (n - 1) / (panels - 1)))];
+    if (pick.empty() || pick.back() != id) pick.push_back(id);
+  }
+  std::map<int, std::string> dofs;
+  if (fs::exists(req.dir + "/adapt.csv")) {
+    const CsvTable t = read_csv(req.dir + "/adapt.csv");
+    const int cc = t.column("cycle"), cd = t.column("dofs");
+    for (size_t r = 0; r < t.rows.size(); ++r)
+      dofs[static_cast<int>(t.number(r, cc))] = t.rows[r][cd];
+  }
+  std::vector<std::pair<std::string, VtuData>> meshes;
+  std::string listed;
+  for (int id : pick) {
+    VtuData m = read_vtu(cycles.at(id));
+    const std::string size =
+        dofs.count(id) ? dofs[id] + " DOFs" : std::to_string(m.cells.size()) + " elements";
+    meshes.emplace_back("cycle " + std::to_string(id) + ": " + size, std::move(m));
+    listed += (listed.empty() ? "" : ", ") + std::to_string(id);
+  }
+  out.error = plot_mesh_comparison(meshes, req.options.zoom, req.dir, "adapt_meshes");
+  if (out.error.empty())
+    out.written.emplace_back("adapt_meshes", "element edges of cycles " + listed);
+}
+
+}  // namespace
+
+PlotWritten plot_run(const PlotRequest& req) {
+  if (!fs::is_directory(req.dir))
+    throw InputError(req.dir + ": not a folder (expected the output folder of contact2d run)");
+  const auto steps = numbered_vtus(req.dir, "step_"), cycles = numbered_vtus(req.dir, "cycle_");
+  const auto [file, suffix] = chosen_vtu(req, steps, cycles);
+  const std::vector<std::string> fields = requested_fields(req);
+  const VtuData vtu = read_vtu(file);
+  PlotWritten out;
+  for (const auto& f : fields) {
+    PlotOptions o = req.options;
+    o.field = f;
+    const std::string stem = "plot_" + f + suffix;
+    const PlotSummary s = plot_field(vtu, o, req.dir, stem);
+    if (!s.error.empty()) {
+      out.error = s.error;
+      return out;
+    }
+    std::ostringstream what;
+    what << std::setprecision(5) << fs::path(file).filename().string() << ", ";
+    if (f == "error")
+      what << s.above_one << " of " << s.elements << " elements with xi_e > 1 (max " << s.max
+           << ")";
+    else
+      what << f << " from " << s.min << " to " << s.max;
+    out.written.emplace_back(stem, what.str());
+  }
+  if (cycles.size() >= 2) draw_adapt_meshes(req, cycles, out);
+  return out;
+}
+
+}  // namespace c2d::app

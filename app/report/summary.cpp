@@ -1,0 +1,213 @@
+#include "app/report/summary.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+
+#include "app/report/hertz.hpp"
+#include "app/report/pressure_profile.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+// JSON has no NaN/inf: a non-finite number becomes null rather than an invalid file.
+nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
+
+nlohmann::json contact_section(const constraints::ContactReport& contact) {
+  // Without slave edges (node-to-node gaps) there is no pressure field, only forces.
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  nlohmann::json c = {{"active_nodes", contact.active_nodes},
+                      {"p_max", number(contact.has_surface ? contact.p_max : nan)},
+                      {"length", number(contact.has_surface ? contact.length : nan)},
+                      {"max_penetration", number(contact.max_penetration)},
+                      {"total_force", number(contact.total_force)},
+                      {"status", to_string(contact.status)},
+                      {"message", contact.message},
+                      {"iterations", contact.iterations},
+                      {"detection_passes", contact.detection_passes},
+                      {"rows", contact.rows},
+                      {"slave_nodes", contact.nodes.size()},
+                      {"seconds", contact.seconds},
+                      {"detection_seconds", contact.detection_seconds},
+                      {"pivot_ratio", number(contact.pivot_ratio)},
+                      {"stiffness_max", number(contact.stiffness_max)},
+                      {"pressure_recovered", contact.has_surface}};
+  double k_max = 0;
+  for (const auto& n : contact.nodes) k_max = std::max(k_max, n.penalty);
+  c["penalty_max"] = k_max > 0 ? nlohmann::json(k_max) : nlohmann::json();
+  c["penalty_history"] = contact.penalty_history;
+  return c;
+}
+
+nlohmann::json mesh_section(const core::Model& model) {
+  nlohmann::json m = {{"nodes", model.mesh.num_nodes()},
+                      {"elements", model.mesh.num_elements()},
+                      {"dofs", model.mesh.num_dofs()},
+                      {"free_dofs", model.dofs.num_free()},
+                      {"element", model.mesh.order == 1 ? "T3" : "T6"}};
+  const auto [min_angle, skinny] = model.mesh.angle_quality();
+  m["min_angle_deg"] = min_angle;
+  m["skinny_triangles"] = skinny;
+  return m;
+}
+
+nlohmann::json solver_section(const core::Results& r) {
+  return {{"backend", r.solver.backend},
+          {"status", to_string(r.solver.status)},
+          {"relative_residual", number(r.solver.relative_residual)},
+          {"pivot_ratio", number(r.solver.pivot_ratio)},
+          {"symbolic_analyses", r.solver.symbolic_analyses},
+          {"numeric_factorizations", r.solver.numeric_factorizations},
+          {"symbolic_s", r.solver.symbolic_seconds},
+          {"numeric_s", r.solver.numeric_seconds},
+          {"triangular_solve_s", r.solver.solve_seconds},
+          {"ordering", r.solver.ordering},
+          {"supernodal", r.solver.supernodal},
+          {"factor_nonzeros", r.solver.factor_nonzeros},
+          {"message", r.solver.message}};
+}
+
+/// time_s, solver, error and probes.
+void add_results(nlohmann::json& j, const core::Results& r) {
+  j["time_s"] = {{"mesh", r.time.mesh},     {"assemble", r.time.assemble},
+                 {"solve", r.time.solve},   {"recovery", r.time.recovery},
+                 {"output", r.time.output}, {"total", r.time.total}};
+  j["solver"] = solver_section(r);
+  j["error"] = {{"global_parameter", number(r.error.global_parameter)},
+                {"energy_norm", number(r.error.energy_norm)},
+                {"error_norm", number(r.error.error_norm)},
+                {"relative_error", number(r.error.relative_error)},
+                {"target", r.error.target}};
+  nlohmann::json probes = nlohmann::json::object();
+  for (const auto& [name, value] : r.probes) probes[name] = number(value);
+  j["probes"] = probes;
+}
+
+/// Relative errors against the reference values: contact results and probes by name, and for
+/// Hertz references the pressure profile as a whole (DESIGN's accuracy measure for the
+/// time-to-accuracy benchmark), not only its peak and width.
+nlohmann::json reference_errors(const core::Scene& scene, const core::Results& r,
+                                const constraints::ContactReport* contact) {
+  std::vector<std::pair<std::string, double>> measured(r.probes.begin(), r.probes.end());
+  if (contact) {
+    measured.emplace_back("p_max", contact->p_max);
+    measured.emplace_back("contact_length", contact->length);
+    measured.emplace_back("total_force", contact->total_force);
+  }
+  nlohmann::json err = nlohmann::json::object();
+  for (const auto& [key, value] : measured) {
+    const auto it = scene.reference.find(key);
+    if (it != scene.reference.end() && it->second != 0)
+      err[key] = number((value - it->second) / it->second);
+  }
+  const auto hertz = hertz_reference(scene);
+  if (contact && contact->has_surface && hertz)
+    err["pressure_profile_l2"] =
+        number(hertz_profile_error(pressure_profile(*contact), hertz->p0, hertz->b));
+  return err;
+}
+
+nlohmann::json reference_section(const SummaryParts& p) {
+  nlohmann::json ref = {{"kind", p.scene.reference_kind}};
+  for (const auto& [k, v] : p.scene.reference) ref[k] = v;
+  if (p.results) ref["relative_error"] = reference_errors(p.scene, *p.results, p.contact);
+  return ref;
+}
+
+double global(const core::Results& r, const char* key) {
+  const auto it = r.globals.find(key);
+  return it == r.globals.end() ? 0.0 : it->second;
+}
+
+}  // namespace
+
+std::string run_status(const core::Results& results) {
+  if (results.status == SolveStatus::kConverged) return "converged";
+  return std::string("failed: ") +
+         (results.status == SolveStatus::kFailed ? std::string()
+                                                 : std::string(to_string(results.status)) + ": ") +
+         results.message;
+}
+
+nlohmann::json make_summary(const SummaryParts& p) {
+  nlohmann::json j;
+  j["status"] = p.status;
+  j["scene"] = p.scene.path;
+  j["title"] = p.scene.title;
+  j["method"] = p.contact ? nlohmann::json(p.contact->method) : nlohmann::json();
+  j["steps"] = 1;
+  j["newton_iterations"] = 0;
+  j["contact"] = p.contact ? contact_section(*p.contact) : nlohmann::json();
+  if (p.model) j["mesh"] = mesh_section(*p.model);
+  if (p.results)
+    add_results(j, *p.results);
+  else
+    j["probes"] = nlohmann::json::object();
+  if (!p.scene.reference_kind.empty()) j["reference"] = reference_section(p);
+  if (p.steps && p.results) {
+    int newton = 0;
+    for (const auto& s : *p.steps) newton += s.newton.iterations;
+    j["steps"] = static_cast<int>(global(*p.results, "steps"));
+    j["newton_iterations"] = newton;
+    j["load_factor"] = global(*p.results, "load_factor");
+  }
+  if (!p.adapt.is_null()) j["adapt"] = p.adapt;
+  return j;
+}
+
+std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir) {
+  std::ostringstream os;
+  os << std::setprecision(6);
+  os << "status     " << s["status"].get<std::string>() << '\n';
+  if (s.contains("mesh"))
+    os << "mesh       " << s["mesh"]["element"].get<std::string>() << ", " << s["mesh"]["nodes"]
+       << " nodes, " << s["mesh"]["elements"] << " elements, " << s["mesh"]["dofs"] << " DOFs\n";
+  if (s.contains("time_s"))
+    os << "time       mesh " << s["time_s"]["mesh"].get<double>() << " s, assemble "
+       << s["time_s"]["assemble"].get<double>() << " s, solve "
+       << s["time_s"]["solve"].get<double>() << " s, total " << s["time_s"]["total"].get<double>()
+       << " s\n";
+  if (s["status"] == "converged" && s.contains("error") && !s["error"]["relative_error"].is_null())
+    os << "ZZ error   " << 100.0 * s["error"]["relative_error"].get<double>()
+       << " % (global parameter " << s["error"]["global_parameter"].get<double>() << " for target "
+       << 100.0 * s["error"]["target"].get<double>() << " %)\n";
+  if (s.contains("load_factor"))
+    os << "steps      " << s["steps"] << " load steps converged (load factor "
+       << s["load_factor"].get<double>() << "), " << s["newton_iterations"]
+       << " Newton iterations\n";
+  if (s.contains("contact") && !s["contact"].is_null()) {
+    const auto& c = s["contact"];
+    os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
+       << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "
+       << c["slave_nodes"] << " slave nodes active\n"
+       << "           p_max " << c["p_max"].dump() << ", length " << c["length"].dump()
+       << ", total force " << c["total_force"].get<double>() << ", max penetration "
+       << c["max_penetration"].get<double>() << '\n';
+    if (s.contains("reference") && s["reference"].contains("relative_error"))
+      for (const auto& [key, e] : s["reference"]["relative_error"].items())
+        if (!e.is_null()) {
+          os << "reference  " << key;  // a derived measure (the profile's L2 error) has no value
+          if (s["reference"].contains(key) && s["reference"][key].is_number())
+            os << " " << s["reference"][key].get<double>();
+          os << ": error " << std::showpos << 100.0 * e.get<double>() << std::noshowpos << " %\n";
+        }
+  }
+  for (const auto& [name, value] : s["probes"].items())
+    os << "probe      " << name << " = " << (value.is_null() ? std::string("null") : value.dump())
+       << '\n';
+  std::string files;  // what this run wrote ([output] may leave fields or charts out)
+  for (const char* f : {"summary.json", "results.pvd", "nodes.csv", "contact.csv", "deformed.png"})
+    if (std::filesystem::exists(out_dir + "/" + f))
+      files += (files.empty() ? "" : ", ") + std::string(f);
+  os << "results    " << out_dir << "/ (" << files
+     << (s.contains("load_factor") ? ", trace.csv; charts: contact2d trace " + out_dir
+                                   : std::string())
+     << ")\n";
+  return os.str();
+}
+
+}  // namespace c2d::app

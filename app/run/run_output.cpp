@@ -1,0 +1,109 @@
+#include "app/run/run_output.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "app/report/charts.hpp"
+#include "app/report/run_tables.hpp"
+#include "app/report/summary.hpp"
+#include "core/writers.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+double seconds_since(RunOutput::Clock::time_point t) {
+  return std::chrono::duration<double>(RunOutput::Clock::now() - t).count();
+}
+
+}  // namespace
+
+RunOutput::RunOutput(const core::Scene& scene, std::string dir)
+    : scene_(scene), dir_(std::move(dir)) {
+  std::filesystem::create_directories(dir_);
+}
+
+void RunOutput::write_series(Series& files, const std::string& pvd, const char* pattern, int number,
+                             double time, const core::Model& model, const core::Results& results) {
+  if (!scene_.output_fields) return;
+  char name[32];
+  std::snprintf(name, sizeof name, pattern, number);
+  core::write_file_atomic(dir_ + "/" + name, core::vtu_document(model, results));
+  files.emplace_back(time, name);
+  core::write_file_atomic(dir_ + "/" + pvd, core::pvd_document(files));
+}
+
+void RunOutput::write_step(const nonlinear::StepRecord& step, const core::Model& model,
+                           const core::Results& results) {
+  write_series(step_files_, "results.pvd", "step_%04d.vtu", step.step, step.load_factor, model,
+               results);
+}
+
+void RunOutput::write_cycle(const AdaptCycle& cycle, const SceneRun& run) {
+  write_series(cycle_files_, "adapt.pvd", "cycle_%02d.vtu", cycle.cycle, cycle.cycle, run.model,
+               run.results);
+  cycles_.push_back(cycle);
+  core::write_file_atomic(dir_ + "/adapt.csv", adapt_csv(cycles_));
+}
+
+void RunOutput::write_tables(const SceneRun& run) {
+  const core::Results& results = run.results;
+  if (scene_.output_fields)
+    core::write_file_atomic(dir_ + "/nodes.csv", core::nodes_csv(run.model, results));
+  const bool stepped = !run.steps.empty();
+  if (run.contact) core::write_file_atomic(dir_ + "/contact.csv", contact_csv(run.contact_report));
+  if (stepped)
+    core::write_file_atomic(dir_ + "/trace.csv", newton_trace_csv(run.steps));
+  else if (run.contact)
+    core::write_file_atomic(dir_ + "/trace.csv", trace_csv(run.contact_report));
+  if (run.contact)
+    core::write_file_atomic(
+        dir_ + "/contact_steps.csv",
+        stepped ? contact_steps_csv(run.steps)
+                : contact_steps_csv(run.contact_report, results.status == SolveStatus::kConverged));
+}
+
+std::string RunOutput::write_charts(const SceneRun& run) {
+  if (run.results.status != SolveStatus::kConverged || !scene_.output_charts) return "";
+  std::string error = chart_deformed_mesh(dir_, run.model, run.results);
+  if (run.contact && run.contact_report.has_surface && error.empty())
+    error = chart_contact_pressure(dir_, run.contact_report, scene_);
+  return error;
+}
+
+std::string RunOutput::write_results(SceneRun& run, Clock::time_point start) {
+  const auto t_out = Clock::now();
+  core::Results& results = run.results;
+  const bool ok = results.status == SolveStatus::kConverged;
+  if ((step_files_.empty() || !ok) && scene_.output_fields) {
+    // A linear run is one step; a failed load-stepped run adds its last converged state.
+    const double load_factor = step_files_.empty() ? 1.0 : results.globals["load_factor"];
+    write_series(step_files_, "results.pvd", "step_%04d.vtu",
+                 static_cast<int>(step_files_.size()) + 1, load_factor, run.model, results);
+  }
+  write_tables(run);
+  const std::string chart_error = write_charts(run);
+  results.time.output +=
+      seconds_since(t_out);  // per-step VTUs written during the solve, then the rest
+  results.time.total = seconds_since(start);
+  return chart_error;
+}
+
+nlohmann::json RunOutput::write_summary(const SceneRun& run, const AdaptRun* adapt) {
+  const SummaryParts parts{scene_,
+                           &run.model,
+                           &run.results,
+                           run_status(run.results),
+                           run.contact ? &run.contact_report : nullptr,
+                           run.steps.empty() ? nullptr : &run.steps,
+                           adapt ? adapt_summary(scene_.adapt, *adapt) : nlohmann::json()};
+  const nlohmann::json summary = make_summary(parts);
+  core::write_file_atomic(dir_ + "/summary.json", summary.dump(2) + "\n");
+  return summary;
+}
+
+void RunOutput::write_log(const std::string& text) {
+  core::write_file_atomic(dir_ + "/run.log", text);
+}
+
+}  // namespace c2d::app

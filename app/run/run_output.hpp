@@ -1,0 +1,64 @@
+// The files of one `contact2d run`, each written once into its output folder: the VTU series
+// while the solve goes on (load steps, adaptive cycles), then the tables, the charts and
+// summary.json from what the solve returned.
+#pragma once
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/run/adapt.hpp"
+#include "app/run/solve_scene.hpp"
+#include "core/scene.hpp"
+
+namespace c2d::app {
+
+class RunOutput {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  /// Writes into `dir` (created here); [output] of `scene` decides whether fields and charts
+  /// are written. `scene` must outlive this object.
+  RunOutput(const core::Scene& scene, std::string dir);
+
+  const std::string& dir() const { return dir_; }
+
+  /// A converged load step: step_NNNN.vtu, and results.pvd rewritten to list it.
+  void write_step(const nonlinear::StepRecord& step, const core::Model& model,
+                  const core::Results& results);
+
+  /// A solved adaptive cycle: cycle_NN.vtu (adapt.pvd rewritten) and adapt.csv with every
+  /// cycle so far.
+  void write_cycle(const AdaptCycle& cycle, const SceneRun& run);
+
+  /// After the solve: the final state's VTU where no load step left it, nodes.csv, and for
+  /// contact or load-stepped runs contact.csv, trace.csv and contact_steps.csv; charts of a
+  /// converged run. Sets the output and total times of `run.results` (total from `start`).
+  /// Returns "" or why a chart was not written.
+  std::string write_results(SceneRun& run, Clock::time_point start);
+
+  /// summary.json of the run (after write_results, whose times it reports); `adapt` for
+  /// adaptive runs. Returns what it wrote.
+  nlohmann::json write_summary(const SceneRun& run, const AdaptRun* adapt);
+
+  /// run.log: what the run printed.
+  void write_log(const std::string& text);
+
+ private:
+  using Series = std::vector<std::pair<double, std::string>>;  ///< (time, file) per VTU
+  /// A VTU of a series: the file, then its collection rewritten, so the .pvd always lists what
+  /// exists.
+  void write_series(Series& files, const std::string& pvd, const char* pattern, int number,
+                    double time, const core::Model& model, const core::Results& results);
+  void write_tables(const SceneRun& run);
+  std::string write_charts(const SceneRun& run);
+
+  const core::Scene& scene_;
+  std::string dir_;
+  Series step_files_, cycle_files_;
+  std::vector<AdaptCycle> cycles_;
+};
+
+}  // namespace c2d::app

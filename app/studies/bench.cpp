@@ -1,0 +1,353 @@
+#include "app/studies/bench.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "app/studies/bench_report.hpp"
+#include "constraints/method_registry.hpp"
+#include "core/assembler.hpp"
+#include "core/elasticity_kernels.hpp"
+#include "core/errors.hpp"
+#include "core/stopwatch.hpp"
+#include "core/structured_grid.hpp"
+#include "core/writers.hpp"
+
+namespace fs = std::filesystem;
+
+namespace c2d::app {
+
+const char* const kBenchCsvHeader =
+    "family,scene,element,method,nominal,mesh_scale,dofs,status,exit_code,newton_iterations,"
+    "contact_iterations,factorizations,time_mesh,time_assemble,time_symbolic,time_numeric,"
+    "time_triangular,time_contact_other,time_detection,time_solve,time_recovery,time_output,"
+    "time_total,wall,peak_rss_mb,accuracy_measure,accuracy,zz_error,contact_overhead\n";
+
+namespace {
+
+// Mesh scales that bring each scene to about 10k, 100k and 1M DOFs: DOFs go as base / scale²,
+// with the base fitted to measured ladders (the refinement zones scale less than the rest, so
+// the base is below the DOFs at scale 1: cantilever T3 1,004 and T6 3,760 DOFs at scale 1,
+// 773,776 and 829,482 at 1 / sqrt(1e6 / base) with the scale-1 base). The DOFs each run
+// measures are what the tables report.
+struct Family {
+  const char* family;
+  const char* scene;
+  const char* element;
+  double base_dofs;
+};
+constexpr Family kFamilies[] = {
+    {"elasticity", "cantilever.toml", "T3", 780},
+    {"elasticity", "cantilever.toml", "T6", 3120},
+    {"hertz_rigid", "hertz_rigid.toml", "T3", 5300},
+    {"hertz_rigid", "hertz_rigid.toml", "T6", 21500},
+    {"hertz_block", "hertz_block.toml", "T3", 10000},
+    {"hertz_block", "hertz_block.toml", "T6", 39000},
+};
+
+double scale_for(double base_dofs, double dofs) { return std::sqrt(base_dofs / dofs); }
+
+/// Every case: charts off (pictures for people, not a solver phase). The Hertz ladder narrows
+/// the slave arc to the 4.4 mm (2.6 b) that can touch: the same physics with fewer rows.
+std::vector<std::string> case_sets(const std::string& family) {
+  std::vector<std::string> s{"output.charts=false"};
+  if (family == "hertz_rigid" || family == "hertz_block")
+    s.push_back("contact.slave.arc.from_deg=-90.5");
+  return s;
+}
+
+}  // namespace
+
+std::vector<BenchCase> bench_ladder(bool quick) {
+  std::vector<BenchCase> cases;
+  auto add = [&](const std::string& family, const std::string& scene, const std::string& element,
+                 const std::string& method, double scale, const std::string& nominal) {
+    BenchCase c{family, scene, element, method, scale, nominal, case_sets(family)};
+    cases.push_back(c);
+  };
+  if (quick) {
+    add("elasticity", "cantilever.toml", "T6", "", 1.0, "4k");
+    add("elasticity", "cantilever.toml", "T6", "", 0.5, "15k");
+    add("hertz_rigid", "hertz_rigid.toml", "T6", "lagrange", 4.0, "4k");
+    add("hertz_rigid", "hertz_rigid.toml", "T6", "lagrange", 2.0, "9k");
+    add("two_cantilevers", "two_cantilevers.toml", "T6", "lagrange", 2.0, "3k");
+  } else {
+    for (const auto& f : kFamilies)
+      for (const auto& [dofs, nominal] :
+           {std::pair{1e4, "10k"}, std::pair{1e5, "100k"}, std::pair{1e6, "1M"}}) {
+        const std::string method = std::string(f.family) == "elasticity" ? "" : "lagrange";
+        add(f.family, f.scene, f.element, method, scale_for(f.base_dofs, dofs), nominal);
+      }
+    add("two_cantilevers", "two_cantilevers.toml", "T6", "lagrange", scale_for(11380, 1e4), "10k");
+    add("two_cantilevers", "two_cantilevers.toml", "T6", "lagrange", scale_for(11380, 1e5), "100k");
+  }
+  // Every method on the scenes meshed for time to accuracy, as shipped and (full ladder) refined
+  // once more; the shipped lagrange runs are the time-to-accuracy figures.
+  const std::vector<double> levels =
+      quick ? std::vector<double>{1.0} : std::vector<double>{1.0, 0.5};
+  for (const char* scene : {"hertz_rigid_fast.toml", "hertz_block_fast.toml"}) {
+    for (double scale : levels)
+      for (const auto& m : constraints::method_names()) {
+        BenchCase c{"methods",
+                    scene,
+                    "T6",
+                    m,
+                    scale,
+                    scale == 1.0 ? "as shipped" : "refined",
+                    {"output.charts=false", "output.fields=false"}};
+        cases.push_back(c);
+      }
+  }
+  return cases;
+}
+
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  std::vector<std::pair<double, double>> p;
+  for (size_t i = 0; i < x.size() && i < y.size(); ++i)
+    if (x[i] > 0 && y[i] > 0 && std::isfinite(x[i]) && std::isfinite(y[i]))
+      p.emplace_back(std::log(x[i]), std::log(y[i]));
+  if (p.size() < 2) return std::nan("");
+  double mx = 0, my = 0;
+  for (const auto& [a, b] : p) mx += a, my += b;
+  mx /= p.size(), my /= p.size();
+  double sxy = 0, sxx = 0;
+  for (const auto& [a, b] : p) sxy += (a - mx) * (b - my), sxx += (a - mx) * (a - mx);
+  return sxx > 0 ? sxy / sxx : std::nan("");
+}
+
+namespace {
+
+void read_row(BenchRow& r, const CaseOutcome& out) {
+  if (!r.read(out)) return;
+  const auto& s = out.summary;
+  r.factorizations = json_number(s, {"solver", "numeric_factorizations"});
+  r.t_recovery = json_number(s, {"time_s", "recovery"});
+  r.t_output = json_number(s, {"time_s", "output"});
+  r.t_symbolic = json_number(s, {"solver", "symbolic_s"});
+  r.t_numeric = json_number(s, {"solver", "numeric_s"});
+  r.t_triangular = json_number(s, {"solver", "triangular_solve_s"});
+  r.t_detection = json_number(s, {"contact", "detection_seconds"});
+  if (s.contains("contact") && s["contact"].is_object())
+    r.t_contact_other = r.t_solve - r.t_symbolic - r.t_numeric - r.t_triangular;
+  const double analyses = std::max(1.0, json_number(s, {"solver", "symbolic_analyses"}));
+  const double numerics = std::max(1.0, r.factorizations);
+  if (r.t_numeric > 0) r.one_linear_solve = r.t_symbolic / analyses + r.t_numeric / numerics;
+  if (!r.converged()) return;
+  // The accuracy each family's reference allows.
+  for (const char* key : {"pressure_profile_l2", "tip_uy", "a_uy"}) {
+    const double e = json_number(s, {"reference", "relative_error", key});
+    if (std::isfinite(e)) {
+      r.accuracy_measure = key;
+      r.accuracy = std::abs(e);
+      break;
+    }
+  }
+}
+
+std::string csv_of(const std::vector<BenchRow>& rows) {
+  std::ostringstream os;
+  os << kBenchCsvHeader;
+  for (const auto& r : rows) {
+    if (!r.done) continue;
+    os << r.c.family << ',' << r.c.scene << ',' << r.c.element << ',' << r.c.method << ','
+       << r.c.nominal << ',' << bench_cell(r.c.mesh_scale) << ',' << bench_cell(r.dofs) << ','
+       << r.csv_status() << ',' << r.exit_code << ',' << bench_cell(r.newton) << ','
+       << bench_cell(r.iterations) << ',' << bench_cell(r.factorizations) << ','
+       << bench_cell(r.t_mesh) << ',' << bench_cell(r.t_assemble) << ',' << bench_cell(r.t_symbolic)
+       << ',' << bench_cell(r.t_numeric) << ',' << bench_cell(r.t_triangular) << ','
+       << bench_cell(r.t_contact_other) << ',' << bench_cell(r.t_detection) << ','
+       << bench_cell(r.t_solve) << ',' << bench_cell(r.t_recovery) << ',' << bench_cell(r.t_output)
+       << ',' << bench_cell(r.t_total) << ',' << bench_cell(r.wall) << ','
+       << bench_cell(r.peak_rss_mb) << ',' << r.accuracy_measure << ',' << bench_cell(r.accuracy)
+       << ',' << bench_cell(r.zz) << ',' << bench_cell(r.overhead) << '\n';
+  }
+  return os.str();
+}
+
+/// Contact overhead: the whole contact solve over one linear solve (symbolic analysis plus one
+/// numeric factorisation) of the same mesh, taken from the lagrange run of the same scene,
+/// element and scale (its one factorisation is of K_ρ, K's pattern plus a few rows), else from
+/// the run itself.
+void fill_overheads(std::vector<BenchRow>& rows) {
+  for (auto& r : rows) {
+    if (!r.converged() || !std::isfinite(r.t_contact_other)) continue;
+    double one = r.one_linear_solve;
+    for (const auto& l : rows)
+      if (l.c.method == "lagrange" && l.c.scene == r.c.scene && l.c.element == r.c.element &&
+          l.c.mesh_scale == r.c.mesh_scale && std::isfinite(l.one_linear_solve))
+        one = l.one_linear_solve;
+    if (one > 0) r.overhead = r.t_solve / one;
+  }
+}
+
+Throughput measure_assembly(bool quick) {
+  Throughput t;
+  t.threads = omp_get_max_threads();
+  for (int order : {1, 2}) {
+    const core::StructuredGrid g =
+        core::make_structured_grid(quick ? 120 / order : 300 / order, order);
+    core::Assembler a(g.mesh, g.dofs);
+    auto ke_of = [&](int e, LocalMatrix& ke) {
+      ke = core::element_stiffness(g.mesh.element_coords(e), g.material);
+    };
+    for (int threads : {1, t.threads}) {
+      a.set_threads(threads);
+      double best = 1e300;
+      for (int rep = 0; rep < 5; ++rep) {
+        core::Stopwatch clock;
+        a.assemble(ke_of, nullptr, nullptr);
+        best = std::min(best, clock.elapsed());
+      }
+      const double rate = g.mesh.num_elements() / best;
+      (order == 1 ? (threads == 1 ? t.t3_serial : t.t3_parallel)
+                  : (threads == 1 ? t.t6_serial : t.t6_parallel)) = rate;
+    }
+  }
+  return t;
+}
+
+std::string machine_line() {
+  std::string cpu = "unknown CPU";
+  std::ifstream info("/proc/cpuinfo");
+  for (std::string line; std::getline(info, line);)
+    if (line.rfind("model name", 0) == 0) {
+      cpu = line.substr(line.find(':') + 2);
+      break;
+    }
+  double mem_gb = NAN;
+  std::ifstream mem("/proc/meminfo");
+  for (std::string key; mem >> key;) {
+    double kb = 0;
+    mem >> kb;
+    if (key == "MemTotal:") {
+      mem_gb = kb / 1048576.0;
+      break;
+    }
+    mem.ignore(256, '\n');
+  }
+  std::ostringstream os;
+  os << cpu << ", " << omp_get_num_procs() << " cores, " << std::setprecision(3) << mem_gb
+     << " GiB; OpenMP threads " << omp_get_max_threads();
+  return os.str();
+}
+
+/// One `contact2d run` per rung, in its own folder NN_family_scene_element_method.
+std::vector<StudyCase> bench_cases(const std::vector<BenchCase>& ladder, const std::string& out,
+                                   const std::string& examples) {
+  std::vector<StudyCase> cases;
+  for (size_t i = 0; i < ladder.size(); ++i) {
+    const BenchCase& c = ladder[i];
+    StudyCase s;
+    char dir[160];
+    std::snprintf(dir, sizeof dir, "%s/%02zu_%s_%s_%s_%s", out.c_str(), i, c.family.c_str(),
+                  fs::path(c.scene).stem().c_str(), c.element.c_str(),
+                  c.method.empty() ? "linear" : c.method.c_str());
+    s.out_dir = dir;
+    s.args = {examples + "/" + c.scene,
+              "--quiet",
+              "--out",
+              s.out_dir,
+              "--set",
+              "analysis.element=" + c.element,
+              "--set",
+              "analysis.mesh_scale=" + bench_cell(c.mesh_scale)};
+    if (!c.method.empty()) s.args.insert(s.args.end(), {"--method", c.method});
+    for (const auto& set : c.sets) s.args.insert(s.args.end(), {"--set", set});
+    cases.push_back(s);
+  }
+  return cases;
+}
+
+void print_row(size_t finished, const std::vector<BenchRow>& rows, const BenchRow& r) {
+  std::printf("bench %2zu/%zu  %-15s %-22s %s %-16s %9s DOFs  %8.3f s  %7.0f MB  %s\n", finished,
+              rows.size(), r.c.family.c_str(), r.c.scene.c_str(), r.c.element.c_str(),
+              r.c.method.empty() ? "-" : r.c.method.c_str(), bench_cell(r.dofs).c_str(), r.wall,
+              r.peak_rss_mb, r.status.c_str());
+  std::fflush(stdout);
+}
+
+/// bench.md: when and where, how the figures were taken, the targets, the tables, the slopes.
+std::string bench_md(const BenchOptions& o, const std::vector<BenchRow>& rows, const Throughput& t,
+                     double seconds, const std::string& slopes, const std::string& chart_error) {
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+  std::ostringstream md;
+  md << "# contact2d bench" << (o.quick ? " --quick" : "") << "\n\n"
+     << date << "; " << machine_line() << "; " << rows.size() << " runs in " << rounded(seconds)
+     << " s.\n\n"
+     << "Every run is a separate `contact2d run` process with charts off (the time-to-accuracy "
+        "runs also without VTU/nodes.csv); phase times come from its summary.json, peak memory "
+        "from the process (wait4), \"process\" is the wall time including start-up (loading "
+        "gmsh's 90 shared libraries costs about 0.15 s). Accuracy: the pressure profile's "
+        "relative L2 error over [0, 1.5 b] for Hertz, the tip deflection against Timoshenko "
+        "beam theory for the cantilever (the converged 2D value is 0.13 % below it), the "
+        "upper tip against the seed for the two cantilevers.\n\n"
+     << "## Targets\n\n"
+     << targets_md(rows, t, o.quick) << "\n"
+     << "## Ladder\n\n"
+     << ladder_md(rows) << "\n"
+     << "## Every method on the time-to-accuracy scenes\n\n"
+     << "Overhead = contact solve / (symbolic analysis + one numeric factorisation) of the "
+        "same mesh.\n\n"
+     << methods_md(rows) << "\n"
+     << "## Cost against size\n\n"
+     << slopes << "\n"
+     << (chart_error.empty() ? "![time against DOFs](time_vs_dofs.png)\n\n"
+                               "![accuracy against time](accuracy_vs_time.png)\n"
+                             : "Charts not written: " + chart_error + "\n");
+  return md.str();
+}
+
+}  // namespace
+
+int run_bench(const BenchOptions& o) {
+  const std::string out = o.out.empty() ? "out/bench" : o.out;
+  const std::vector<BenchCase> ladder = bench_ladder(o.quick);
+  for (const auto& c : ladder)
+    if (!fs::exists(o.examples + "/" + c.scene))
+      throw InputError(o.examples + "/" + c.scene +
+                       ": bench scene not found (expected the bundled "
+                       "examples folder; pass --examples DIR)");
+  fs::create_directories(out);
+  const core::Stopwatch clock;
+  std::vector<BenchRow> rows(ladder.size());
+  for (size_t i = 0; i < ladder.size(); ++i) rows[i].c = ladder[i];
+  // One case at a time: timings of concurrent runs would measure each other.
+  size_t finished = 0;
+  run_cases(bench_cases(ladder, out, o.examples), 1, [&](size_t i, const CaseOutcome& outcome) {
+    read_row(rows[i], outcome);
+    ++finished;
+    if (!o.quiet) print_row(finished, rows, rows[i]);
+    fill_overheads(rows);
+    core::write_file_atomic(out + "/bench.csv", csv_of(rows));  // complete after the last case
+  });
+  if (!o.quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
+  const Throughput t = measure_assembly(o.quick);
+
+  std::string slopes;
+  std::string chart_error = chart_time(out, rows, slopes);
+  if (chart_error.empty()) chart_error = chart_accuracy(out, rows);
+  core::write_file_atomic(out + "/bench.md",
+                          bench_md(o, rows, t, clock.elapsed(), slopes, chart_error));
+  bool crashed = false;
+  for (const auto& r : rows) crashed = crashed || r.status.rfind("crashed", 0) == 0;
+  if (!o.quiet) {
+    std::cout << "\n"
+              << targets_md(rows, t, o.quick) << "\nwrote " << out
+              << "/bench.csv, bench.md, time_vs_dofs and accuracy_vs_time (.png/.svg)\n";
+    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
+  }
+  return crashed || !chart_error.empty() ? 1 : 0;
+}
+
+}  // namespace c2d::app

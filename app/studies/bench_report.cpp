@@ -1,0 +1,242 @@
+#include "app/studies/bench_report.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "app/report/gnuplot.hpp"
+#include "constraints/method_registry.hpp"
+#include "core/writers.hpp"
+
+namespace fs = std::filesystem;
+
+namespace c2d::app {
+
+std::string rounded(double v) {
+  std::ostringstream os;
+  os << std::setprecision(3) << v;
+  return os.str();
+}
+
+std::string bench_cell(double v) { return csv_number(v, 6); }
+
+namespace {
+
+std::string fmt_s(double v) { return std::isfinite(v) ? rounded(v) + " s" : "–"; }
+
+const BenchRow* find_row(const std::vector<BenchRow>& rows, const std::string& family,
+                         const std::string& element, const std::string& nominal,
+                         const std::string& scene = "", const std::string& method = "") {
+  for (const auto& r : rows)
+    if (r.done && r.c.family == family && (element.empty() || r.c.element == element) &&
+        r.c.nominal == nominal && (scene.empty() || r.c.scene == scene) &&
+        (method.empty() || r.c.method == method))
+      return &r;
+  return nullptr;
+}
+
+std::string verdict(bool measured, bool met) {
+  return !measured ? "not run" : met ? "met" : "**not met**";
+}
+
+}  // namespace
+
+std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick) {
+  std::ostringstream md;
+  md << "| target | required | measured | verdict |\n|---|---|---|---|\n";
+  md << "| refill assembly, T3, per core | ≥ 2 M elements/s | " << rounded(t.t3_serial / 1e6)
+     << " M/s (" << t.threads << " threads: " << rounded(t.t3_parallel / 1e6) << " M/s) | "
+     << verdict(true, t.t3_serial >= 2e6) << " |\n";
+  md << "| refill assembly, T6, per core | ≥ 0.5 M elements/s | " << rounded(t.t6_serial / 1e6)
+     << " M/s (" << t.threads << " threads: " << rounded(t.t6_parallel / 1e6) << " M/s) | "
+     << verdict(true, t.t6_serial >= 0.5e6) << " |\n";
+  for (const char* el : {"T3", "T6"}) {
+    const BenchRow* r = find_row(rows, "elasticity", el, "1M");
+    const bool ok = r && r->converged();
+    const double solve = ok ? r->t_assemble + r->t_solve : NAN;
+    md << "| 1M-DOF linear elastic solve, " << el << " (assemble + factorise + solve) | < 10 s | "
+       << (ok ? fmt_s(solve) + " at " + bench_cell(r->dofs) +
+                    " DOFs; mesh excluded with recovery "
+                    "and output: " +
+                    fmt_s(r->excluding_mesh())
+              : std::string(quick ? "–" : "failed"))
+       << " | " << verdict(ok, solve < 10) << " |\n";
+    md << "| 1M-DOF linear elastic run, " << el << ", peak memory | < 4 GB | "
+       << (ok ? rounded(r->peak_rss_mb / 1024) + " GB" : "–") << " | "
+       << verdict(ok, ok && r->peak_rss_mb < 4096) << " |\n";
+  }
+  // Contact overhead: every Hertz ladder run and every method of the panel.
+  double worst_exact = 0;
+  std::ostringstream list;
+  bool any = false;
+  for (const auto& r : rows)
+    if (std::isfinite(r.overhead) && r.c.family != "two_cantilevers") {
+      any = true;
+      if (r.c.method == "lagrange" || r.c.method == "ssn")
+        worst_exact = std::max(worst_exact, r.overhead);
+    }
+  for (const auto& r : rows)
+    if (std::isfinite(r.overhead) && r.c.family != "methods" && r.c.family != "two_cantilevers")
+      list << r.c.family << " " << r.c.element << " " << r.c.nominal << ": " << rounded(r.overhead)
+           << "; ";
+  md << "| contact overhead, lagrange and ssn (contact solve / one linear solve) | ≤ 2 | worst "
+     << rounded(worst_exact) << " (ladder, lagrange: " << list.str()
+     << "every method: table below) | " << verdict(any, worst_exact <= 2) << " |\n";
+  for (const auto& [scene, limit, goal] : {std::tuple{"hertz_rigid_fast.toml", 0.1, 0.005},
+                                           std::tuple{"hertz_block_fast.toml", 1.0, 0.01}}) {
+    const BenchRow* r = find_row(rows, "methods", "T6", "as shipped", scene, "lagrange");
+    const bool ok = r && r->converged();
+    md << "| Hertz "
+       << (std::string(scene).find("rigid") != std::string::npos ? "rigid flat" : "elastic block")
+       << ", time to accuracy (" << scene << ", lagrange) | ≤ " << rounded(100 * goal) << " % in < "
+       << limit << " s | "
+       << (ok ? percent_text(r->accuracy) + " in " + fmt_s(r->t_total) +
+                    " scene to summary (process " + fmt_s(r->wall) + " with start-up), " +
+                    bench_cell(r->dofs) + " DOFs"
+              : std::string("–"))
+       << " | " << verdict(ok, ok && r->accuracy <= goal && r->t_total < limit) << " |\n";
+  }
+  double worst_detection = NAN;
+  for (const auto& r : rows)
+    if (r.c.nominal == "1M" && r.converged() && std::isfinite(r.t_detection) && r.t_solve > 0)
+      worst_detection = std::max(std::isfinite(worst_detection) ? worst_detection : 0.0,
+                                 r.t_detection / r.t_solve);
+  md << "| contact detection at 1M DOFs | ≤ 5 % of the solve | "
+     << (std::isfinite(worst_detection) ? "worst " + percent_text(worst_detection)
+                                        : std::string("–"))
+     << " | " << verdict(std::isfinite(worst_detection), worst_detection <= 0.05) << " |\n";
+  return md.str();
+}
+
+std::string ladder_md(const std::vector<BenchRow>& rows) {
+  std::ostringstream md;
+  md << "| family | element | rung | DOFs | status | mesh | assemble | symbolic | numeric | "
+        "triangular | contact other | recovery | output | total | process | peak RSS | "
+        "accuracy | overhead |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    if (!r.done || r.c.family == "methods") continue;
+    md << "| " << r.c.family << " | " << r.c.element << " | " << r.c.nominal << " | "
+       << bench_cell(r.dofs) << " | " << r.status << " | " << fmt_s(r.t_mesh) << " | "
+       << fmt_s(r.t_assemble) << " | " << fmt_s(r.t_symbolic) << " | " << fmt_s(r.t_numeric)
+       << " | " << fmt_s(r.t_triangular) << " | " << fmt_s(r.t_contact_other) << " | "
+       << fmt_s(r.t_recovery) << " | " << fmt_s(r.t_output) << " | " << fmt_s(r.t_total) << " | "
+       << fmt_s(r.wall) << " | " << rounded(r.peak_rss_mb) << " MB | "
+       << (r.accuracy_measure.empty() ? "–" : r.accuracy_measure + " " + percent_text(r.accuracy))
+       << " | " << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " |\n";
+  }
+  return md.str();
+}
+
+std::string methods_md(const std::vector<BenchRow>& rows) {
+  std::ostringstream md;
+  md << "| scene | mesh | method | DOFs | status | iterations | factorisations | solve | "
+        "scene to summary | overhead | profile error "
+        "|\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    if (!r.done || r.c.family != "methods") continue;
+    md << "| " << r.c.scene << " | " << r.c.nominal << " | " << r.c.method << " | "
+       << bench_cell(r.dofs) << " | " << r.status << " | " << bench_cell(r.iterations) << " | "
+       << bench_cell(r.factorizations) << " | " << fmt_s(r.t_solve) << " | " << fmt_s(r.t_total)
+       << " | " << (std::isfinite(r.overhead) ? rounded(r.overhead) : "–") << " | "
+       << percent_text(r.accuracy) << " |\n";
+  }
+  return md.str();
+}
+
+std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows,
+                       std::string& slopes_md) {
+  std::ostringstream data, left, right;
+  int block = 0;
+  std::ostringstream slopes;
+  slopes << "| series | fitted slope (log time / log DOFs) |\n|---|---|\n";
+  auto series = [&](std::ostringstream& plot, const std::string& title,
+                    const std::vector<std::pair<double, double>>& pts) {
+    if (pts.size() < 2) return;
+    std::vector<double> x, y;
+    for (const auto& [a, b] : pts) x.push_back(a), y.push_back(b), data << a << ' ' << b << '\n';
+    data << "\n\n";
+    const double slope = loglog_slope(x, y);
+    slopes << "| " << title << " | " << rounded(slope) << " |\n";
+    plot << (plot.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/time_vs_dofs.dat")
+         << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
+         << gp_text(title + " (slope " + rounded(slope) + ")") << " noenhanced";
+  };
+  std::map<std::string, std::vector<std::pair<double, double>>> families;
+  for (const auto& r : rows)
+    if (r.converged() && r.c.family != "methods" && std::isfinite(r.dofs))
+      families[r.c.family + " " + r.c.element].emplace_back(r.dofs, r.excluding_mesh());
+  for (const auto& [name, pts] : families) series(left, name + ", run without mesh", pts);
+  std::map<std::string, std::vector<std::pair<double, double>>> phases;
+  for (const auto& r : rows)
+    if (r.converged() && r.c.family == "elasticity" && r.c.element == "T6") {
+      phases["mesh"].emplace_back(r.dofs, r.t_mesh);
+      phases["assemble"].emplace_back(r.dofs, r.t_assemble);
+      phases["factorise (symbolic + numeric)"].emplace_back(r.dofs, r.t_symbolic + r.t_numeric);
+      phases["triangular solve"].emplace_back(r.dofs, r.t_triangular);
+      phases["recovery (L2 smoothing, ZZ)"].emplace_back(r.dofs, r.t_recovery);
+      phases["output"].emplace_back(r.dofs, r.t_output);
+    }
+  for (const auto& [name, pts] : phases) series(right, "elasticity T6: " + name, pts);
+  slopes_md = slopes.str();
+  if (block == 0) return "";
+  std::ostringstream plot;
+  plot << "set multiplot layout 1," << ((left.tellp() > 0) + (right.tellp() > 0))
+       << "\nset logscale xy\nset grid\nset xlabel 'DOFs'\n"
+       << "set ylabel 'seconds'\nset key top left font ',9'\nset format x '10^{%L}'\n";
+  if (left.tellp() > 0)
+    plot << "set title 'Whole run without meshing, per family'\n" << left.str() << "\n";
+  if (right.tellp() > 0)
+    plot << "set title 'Phases, linear elasticity T6'\n" << right.str() << "\n";
+  plot << "unset multiplot\n";
+  return plot_with_data(out, "time_vs_dofs", plot.str(), {{out + "/time_vs_dofs.dat", data.str()}});
+}
+
+std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& rows) {
+  std::ostringstream data, panels;
+  int block = 0, count = 0;
+  for (const auto& [scene, ladder] : {std::pair{"hertz_rigid_fast.toml", "hertz_rigid"},
+                                      std::pair{"hertz_block_fast.toml", "hertz_block"}}) {
+    std::ostringstream lines;
+    auto line = [&](const std::string& title, const std::vector<std::pair<double, double>>& pts) {
+      if (pts.empty()) return;
+      for (const auto& [a, b] : pts) data << a << ' ' << b << '\n';
+      data << "\n\n";
+      lines << (lines.tellp() > 0 ? ", \\\n     " : "plot ")
+            << gp_file(out + "/accuracy_vs_time.dat") << " index " << block++
+            << " using 1:2 with linespoints lw 2 pt 7 title " << gp_text(title) << " noenhanced";
+    };
+    for (const auto& m : constraints::method_names()) {
+      std::vector<std::pair<double, double>> pts;
+      for (const auto& r : rows)
+        if (r.c.family == "methods" && r.c.scene == scene && r.c.method == m && r.converged() &&
+            r.accuracy > 0)
+          pts.emplace_back(r.t_total, r.accuracy);
+      std::sort(pts.begin(), pts.end());
+      line(m, pts);
+    }
+    for (const char* el : {"T3", "T6"}) {
+      std::vector<std::pair<double, double>> pts;
+      for (const auto& r : rows)
+        if (r.c.family == ladder && r.c.element == el && r.converged() && r.accuracy > 0)
+          pts.emplace_back(r.t_total, r.accuracy);
+      std::sort(pts.begin(), pts.end());
+      line(std::string(ladder) + " ladder " + el + " (lagrange, point-graded mesh)", pts);
+    }
+    if (lines.tellp() > 0)
+      panels << "set title " << gp_text(scene) << " noenhanced\n" << lines.str() << "\n", ++count;
+  }
+  if (count == 0) return "";
+  std::ostringstream plot;
+  plot << "set multiplot layout 1," << count << "\nset logscale xy\nset grid\n"
+       << "set xlabel 'seconds, scene to summary'\n"
+       << "set ylabel 'pressure profile error (relative L2)'\nset key top right font ',9'\n"
+       << panels.str() << "unset multiplot\n";
+  return plot_with_data(out, "accuracy_vs_time", plot.str(),
+                        {{out + "/accuracy_vs_time.dat", data.str()}});
+}
+
+}  // namespace c2d::app

@@ -1,0 +1,311 @@
+#include "app/studies/sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "app/report/gnuplot.hpp"
+#include "core/errors.hpp"
+#include "core/scene.hpp"
+#include "core/writers.hpp"
+
+namespace fs = std::filesystem;
+
+namespace c2d::app {
+
+std::vector<double> parse_range(const std::string& spec, const std::string& where) {
+  auto number = [&](const std::string& t) {
+    char* end = nullptr;
+    const double v = std::strtod(t.c_str(), &end);
+    if (t.empty() || *end != '\0' || !std::isfinite(v))
+      throw InputError(where + ": expected a number, found '" + t + "'");
+    return v;
+  };
+  std::vector<std::string> parts;
+  std::stringstream ss(spec);
+  for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+  std::vector<double> values;
+  if (parts.size() == 4) {
+    const double a = number(parts[0]), b = number(parts[1]);
+    const double n = number(parts[3]);
+    if (n < 2 || n > 1000 || n != std::floor(n))
+      throw InputError(where + ": expected a count from 2 to 1000 after the last ':', found '" +
+                       parts[3] + "'");
+    if (parts[2] == "log") {
+      if (!(a > 0 && b > 0))
+        throw InputError(where + ": a log range needs positive ends, found " + parts[0] + " and " +
+                         parts[1]);
+      for (int i = 0; i < n; ++i) values.push_back(a * std::pow(b / a, i / (n - 1)));
+    } else if (parts[2] == "lin") {
+      for (int i = 0; i < n; ++i) values.push_back(a + (b - a) * i / (n - 1));
+    } else {
+      throw InputError(where + ": expected 'log' or 'lin' as the range's third field, found '" +
+                       parts[2] + "'");
+    }
+  } else if (parts.size() == 1) {
+    std::stringstream list(spec);
+    for (std::string v; std::getline(list, v, ',');) values.push_back(number(v));
+    if (values.size() < 2)
+      throw InputError(where +
+                       ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" +
+                       spec + "'");
+  } else {
+    throw InputError(where +
+                     ": expected a range a:b:log:n, a:b:lin:n or a list v1,v2,..., found '" + spec +
+                     "'");
+  }
+  return values;
+}
+
+namespace {
+
+std::string cell(double v) { return csv_number(v); }
+
+struct SweepRow : RunFigures {
+  double value = 0.0;
+};
+
+std::string sweep_csv(const std::string& key, const std::vector<SweepRow>& rows) {
+  std::ostringstream os;
+  os << "value,key,status,exit_code,dofs,iterations,time_solve,p_max,error_p_max,"
+        "max_penetration,total_force,pivot_ratio,penalty_max,stiffness_max\n";
+  for (const auto& r : rows) {
+    if (!r.done) continue;
+    os << cell(r.value) << ',' << key << ',' << r.csv_status() << ',' << r.exit_code << ','
+       << cell(r.dofs) << ',' << cell(r.iterations) << ',' << cell(r.t_solve) << ','
+       << cell(r.p_max) << ',' << cell(r.err_p0) << ',' << cell(r.penetration) << ','
+       << cell(r.force) << ',' << cell(r.pivot) << ',' << cell(r.penalty) << ','
+       << cell(r.stiffness_max) << '\n';
+  }
+  return os.str();
+}
+
+/// The one ranged --set of a sweep and the fixed overrides beside it.
+struct SweptKey {
+  std::string key, spec;
+  std::vector<std::string> fixed;
+};
+
+SweptKey swept_key(const std::vector<std::string>& sets) {
+  SweptKey k;
+  for (const auto& s : sets) {
+    const auto eq = s.find('=');
+    const std::string value = eq == std::string::npos ? "" : s.substr(eq + 1);
+    const bool ranged =
+        value.find(':') != std::string::npos ||
+        (value.find(',') != std::string::npos && value.find('[') == std::string::npos);
+    if (!ranged) {
+      k.fixed.push_back(s);
+      continue;
+    }
+    if (!k.key.empty())
+      throw InputError("--set " + s + ": a sweep varies one key; '" + k.key + "' is already swept");
+    k.key = s.substr(0, eq);
+    k.spec = value;
+  }
+  if (k.key.empty())
+    throw InputError(
+        "sweep: expected one --set key=a:b:log:n (or a:b:lin:n, or v1,v2,...), found none");
+  return k;
+}
+
+std::vector<StudyCase> sweep_cases(const SweepOptions& o, const SweptKey& k,
+                                   const std::vector<double>& values, const std::string& out) {
+  std::vector<StudyCase> cases;
+  for (size_t i = 0; i < values.size(); ++i) {
+    StudyCase c;
+    c.out_dir = out + "/case" + std::to_string(i);
+    c.args = {o.scene};
+    if (!o.method.empty()) c.args.insert(c.args.end(), {"--method", o.method});
+    for (const auto& s : k.fixed) c.args.insert(c.args.end(), {"--set", s});
+    c.args.insert(c.args.end(),
+                  {"--set", k.key + "=" + cell(values[i]), "--out", c.out_dir, "--quiet"});
+    cases.push_back(c);
+  }
+  return cases;
+}
+
+/// The seed's rule k = 1e4 max|K_ij|, shown when the swept key is a penalty stiffness and a run
+/// reported max|K_ij|.
+struct SeedRule {
+  bool shown = false;
+  double k = std::nan("");
+};
+
+SeedRule seed_rule(const std::string& key, const std::vector<SweepRow>& rows) {
+  SeedRule rule;
+  const bool penalty_k = key.size() >= 9 && key.compare(key.size() - 9, 9, "penalty.k") == 0;
+  for (const auto& r : rows)
+    if (std::isfinite(r.stiffness_max)) rule.k = 1e4 * r.stiffness_max;
+  rule.shown = penalty_k && std::isfinite(rule.k);
+  return rule;
+}
+
+/// The verdict paragraph: the range that converges and meets the accuracy, the failed values
+/// grouped by their status word (the full messages are in the table), where the seed's rule
+/// falls.
+std::string sweep_verdict(const SweepOptions& o, const std::string& key,
+                          const std::vector<SweepRow>& rows, const SeedRule& seed) {
+  std::ostringstream md;
+  double lo = std::nan(""), hi = std::nan("");
+  bool has_error = false;
+  for (const auto& r : rows) {
+    has_error = has_error || std::isfinite(r.err_p0);
+    if (r.converged() && std::isfinite(r.err_p0) && std::abs(r.err_p0) <= o.accuracy) {
+      lo = std::isfinite(lo) ? std::min(lo, r.value) : r.value;
+      hi = std::isfinite(hi) ? std::max(hi, r.value) : r.value;
+    }
+  }
+  std::map<std::string, std::string> by_status;
+  for (const auto& r : rows) {
+    if (r.converged()) continue;
+    std::string word = r.status;
+    if (word.rfind("failed: ", 0) == 0) word = word.substr(8);
+    word = word.substr(0, word.find(':'));
+    auto& list = by_status[word];
+    list += (list.empty() ? "" : ", ") + cell(r.value);
+  }
+  if (!has_error)
+    md << "The scene has no p_max reference, so no accuracy range is reported. ";
+  else if (std::isfinite(lo))
+    md << "Converged with |p_max error| <= " << percent_text(o.accuracy, 2) << " for " << key
+       << " from " << cell(lo) << " to " << cell(hi) << " (of the values swept). ";
+  else
+    md << "No swept value met |p_max error| <= " << percent_text(o.accuracy, 2) << ". ";
+  if (!by_status.empty()) {
+    std::string failed;
+    for (const auto& [word, list] : by_status)
+      failed += (failed.empty() ? "" : "; ") + list + " (" + word + ")";
+    md << "Not converged: " << failed << ". ";
+  }
+  if (seed.shown) {
+    const SweepRow* nearest = nullptr;
+    for (const auto& r : rows)
+      if (!nearest ||
+          std::abs(std::log(r.value / seed.k)) < std::abs(std::log(nearest->value / seed.k)))
+        nearest = &r;
+    md << "The seed's rule k = 1e4 x max|K_ij| gives k = " << cell(seed.k) << " here";
+    if (std::isfinite(lo))
+      md << ((seed.k >= lo && seed.k <= hi) ? ", inside" : ", outside") << " that range";
+    md << "; the nearest swept value, " << cell(nearest->value) << ", " << nearest->status
+       << (std::isfinite(nearest->err_p0) ? " with p_max error " + percent_text(nearest->err_p0)
+                                          : std::string())
+       << ".";
+  }
+  return md.str();
+}
+
+std::string sweep_table(const std::string& key, const std::vector<SweepRow>& rows) {
+  std::ostringstream md;
+  md << "| " << key
+     << " | status | iterations | solve | p_max | p_max error | max penetration | "
+        "pivot ratio |\n|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows)
+    md << "| " << cell(r.value) << " | " << r.status << " | " << cell(r.iterations) << " | "
+       << seconds_text(r.t_solve) << " | " << cell(r.p_max) << " | " << percent_text(r.err_p0)
+       << " | " << cell(r.penetration) << " | " << cell(r.pivot) << " |\n";
+  return md.str();
+}
+
+/// sweep.png/svg: five panels against the swept value, failed values as red dashed lines;
+/// nothing when no value converged. Returns "" or the chart's failure; `drawn` says whether
+/// there was anything to draw.
+std::string chart_sweep(const std::string& out, const std::string& key,
+                        const std::vector<SweepRow>& rows, const SeedRule& seed, bool& drawn) {
+  std::ostringstream data;
+  data << std::setprecision(12);
+  bool has_error = false, log_x = true;
+  for (const auto& r : rows) {
+    has_error = has_error || std::isfinite(r.err_p0);
+    log_x = log_x && r.value > 0;
+    if (r.converged())
+      data << r.value << ' ' << std::max(std::abs(r.err_p0), 1e-12) << ' '
+           << std::max(r.penetration, 1e-20) << ' ' << r.iterations << ' ' << r.t_solve << ' '
+           << (std::isfinite(r.pivot) ? std::max(r.pivot, 1e-30) : std::nan("")) << '\n';
+  }
+  const std::string data_path = out + "/sweep.dat";
+  std::ostringstream plot;
+  plot << "set multiplot layout 3,2 title "
+       << gp_text(key + " sweep (red: not converged" +
+                  (seed.shown ? "; green: the seed rule 1e4 max|K_ij|" : "") + ")")
+       << " noenhanced\nset grid\nunset key\n"
+       << (log_x ? "set logscale x\n" : "") << "set format x '10^{%L}'\n";
+  for (const auto& r : rows)
+    if (!r.converged())
+      plot << "set arrow from " << r.value << ", graph 0 to " << r.value
+           << ", graph 1 nohead lc rgb 'red' dt 2 lw 1.5\n";
+  if (seed.shown)
+    plot << "set arrow from " << seed.k << ", graph 0 to " << seed.k
+         << ", graph 1 nohead lc rgb '#1a9850' dt 3 lw 1.5\n";
+  auto panel = [&](int col, const std::string& label, bool log_y) {
+    plot << (log_y ? "set logscale y\nset format y '10^{%L}'\n"
+                   : "unset logscale y\nset format y '%g'\n")
+         << "set xlabel " << gp_text(key) << " noenhanced\nset ylabel " << gp_text(label)
+         << " noenhanced\nplot " << gp_file(data_path) << " using 1:" << col
+         << " with linespoints pt 7 lw 2\n";
+  };
+  if (has_error) panel(2, "|p_max error|", true);
+  panel(3, "max penetration", true);
+  panel(4, "iterations", false);
+  panel(5, "solve time (s)", false);
+  panel(6, "pivot ratio (conditioning)", true);
+  plot << "unset multiplot\n";
+  drawn = !data.str().empty();
+  return drawn ? plot_with_data(out, "sweep", plot.str(), {{data_path, data.str()}}) : "";
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& o) {
+  const SweptKey k = swept_key(o.sets);
+  const std::vector<double> values = parse_range(k.spec, "--set " + k.key);
+  // Validate the scene and the key once, with the first value.
+  std::vector<std::string> first = k.fixed;
+  first.push_back(k.key + "=" + cell(values.front()));
+  core::load_scene(o.scene, first);
+  if (o.jobs < 1)
+    throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
+  const std::string out = study_out(o, "sweep");
+  const std::vector<StudyCase> cases = sweep_cases(o, k, values, out);
+  std::vector<SweepRow> rows(values.size());
+  for (size_t i = 0; i < values.size(); ++i) rows[i].value = values[i];
+  if (!o.quiet)
+    std::cout << "sweep      " << k.key << " over " << values.size() << " values ("
+              << cell(values.front()) << " .. " << cell(values.back()) << "), " << o.jobs
+              << " at a time -> " << out << "\n";
+  size_t finished = 0;
+  bool crashed = false;
+  run_cases(cases, o.jobs, [&](size_t i, const CaseOutcome& c) {
+    SweepRow& r = rows[i];
+    if (!r.read(c)) crashed = true;
+    ++finished;
+    core::write_file_atomic(out + "/sweep.csv", sweep_csv(k.key, rows));
+    if (!o.quiet)
+      std::cout << "[" << finished << "/" << cases.size() << "] " << k.key << " = " << std::left
+                << std::setw(12) << cell(r.value) << std::right << r.status
+                << (std::isfinite(r.err_p0) ? ", p_max error " + percent_text(r.err_p0)
+                                            : std::string())
+                << (std::isfinite(r.penetration) ? ", penetration " + cell(r.penetration)
+                                                 : std::string())
+                << std::endl;
+  });
+  const SeedRule seed = seed_rule(k.key, rows);
+  const std::string verdict = sweep_verdict(o, k.key, rows, seed);
+  bool drawn = false;
+  const std::string chart_error = chart_sweep(out, k.key, rows, seed, drawn);
+  core::write_file_atomic(out + "/sweep.md",
+                          "# contact2d sweep: " + k.key + " on " + o.scene + "\n\n" + verdict +
+                              "\n\n" + sweep_table(k.key, rows) +
+                              (chart_error.empty() && drawn ? "\n![sweep](sweep.png)\n" : ""));
+  if (!o.quiet) {
+    std::cout << "\n" << verdict << "\n\nwrote " << out << "/sweep.csv, sweep.md, sweep.png/svg\n";
+    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
+  }
+  return crashed || !chart_error.empty() ? 1 : 0;
+}
+
+}  // namespace c2d::app
