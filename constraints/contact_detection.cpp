@@ -5,6 +5,13 @@
 
 namespace c2d::constraints {
 
+MasterEdge to_master_edge(const core::BoundaryEdge& be, int order) {
+  MasterEdge e;
+  e.nodes = be.nodes;
+  e.count = order == 1 ? 2 : 3;
+  return e;
+}
+
 void Obstacle::gap(const Vec2& x, double& g, Vec2& n) const {
   if (type == Type::kLine) {
     n = normal;

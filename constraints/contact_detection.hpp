@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/mesh.hpp"
 #include "core/types.hpp"
 
 namespace c2d::constraints {
@@ -33,6 +34,9 @@ struct MasterEdge {
   std::array<int, 3> nodes{-1, -1, -1};
   int count = 2;
 };
+
+/// A mesh boundary edge as a master edge (2 nodes for order 1, 3 for order 2).
+MasterEdge to_master_edge(const core::BoundaryEdge& be, int order);
 
 /// The closest point of a master surface to a slave point.
 struct SegmentProjection {

@@ -1,5 +1,6 @@
 #include "constraints/contact_scene.hpp"
 
+#include "constraints/discretization.hpp"
 #include "constraints/method_registry.hpp"
 #include "core/errors.hpp"
 #include "core/toml_view.hpp"
@@ -107,9 +108,9 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
       } else {
         c.master = core::parse_selection(m);
       }
-      c.detection = v["detection"].choice_or({"node_to_segment", "node_to_node"}, c.detection);
-      if (c.detection == "node_to_node" && c.obstacle >= 0)
-        v["detection"].fail("node_to_segment for an obstacle master");
+      c.detection = v["detection"].choice_or(discretization_names(), c.detection);
+      if (c.obstacle >= 0 && !find_discretization(c.detection)->obstacles)
+        v["detection"].fail("a detection that takes an obstacle master");
       if (v.has("direction")) {
         c.direction = v["direction"].vec2();
         if (c.direction->norm() == 0) v["direction"].fail("a non-zero direction");

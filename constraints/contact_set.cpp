@@ -5,18 +5,12 @@
 #include <cmath>
 #include <map>
 
+#include "constraints/discretizations/node_to_node.hpp"
 #include "core/errors.hpp"
 
 namespace c2d::constraints {
 
 namespace {
-
-MasterEdge to_master_edge(const core::BoundaryEdge& be, int order) {
-  MasterEdge e;
-  e.nodes = be.nodes;
-  e.count = order == 1 ? 2 : 3;
-  return e;
-}
 
 double chord(const std::vector<Vec2>& x, const MasterEdge& e) {
   return (x[e.nodes[1]] - x[e.nodes[0]]).norm();
@@ -28,21 +22,20 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
                        const core::Scene& scene)
     : model_(model), spec_(spec) {
   const core::Mesh& mesh = model.mesh;
-  std::vector<int> slaves;
   for (size_t c = 0; c < spec.pairs.size(); ++c) {
     const ContactPairSpec& cs = spec.pairs[c];
-    const std::vector<int> slave_nodes = core::select_nodes(model, cs.slave);
     add_slave_edges(cs);
-    slaves.insert(slaves.end(), slave_nodes.begin(), slave_nodes.end());
-    if (cs.detection == "node_to_node") add_nearest_node_pairs(cs, static_cast<int>(c), slave_nodes);
-    else add_surface_pair(cs, static_cast<int>(c), slave_nodes);
+    const DiscretizationInfo* info = find_discretization(cs.detection);
+    if (!info) throw InputError(cs.where + ": unknown detection '" + cs.detection + "'");
+    pairs_.push_back(info->create({model, cs, spec_.obstacles, static_cast<int>(c)}));
   }
-  if (scene.explicit_model) add_gap_elements(*scene.explicit_model, slaves);
-  for (Pair& p : pairs_) {
-    p.first_slot = num_slots_;
-    num_slots_ += static_cast<int>(p.slaves.size());
+  if (scene.explicit_model) add_gap_elements(*scene.explicit_model);
+  std::vector<int> slaves;
+  for (const auto& p : pairs_) {
+    first_slot_.push_back(num_slots_);
+    num_slots_ += p->num_slots();
+    slaves.insert(slaves.end(), p->slave_nodes().begin(), p->slave_nodes().end());
   }
-  for (NodePair& np : node_pairs_) np.slot = num_slots_++;
   std::sort(slaves.begin(), slaves.end());
   slaves.erase(std::unique(slaves.begin(), slaves.end()), slaves.end());
   slave_nodes_ = slaves;
@@ -67,91 +60,22 @@ void ContactSet::add_slave_edges(const ContactPairSpec& cs) {
   }
 }
 
-void ContactSet::add_nearest_node_pairs(const ContactPairSpec& cs, int index,
-                                        const std::vector<int>& slave_nodes) {
-  // Each slave node paired with its nearest master node (bucket grid, O(n)).
-  const core::Mesh& mesh = model_.mesh;
-  const std::vector<int> masters = core::select_nodes(model_, *cs.master);
-  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
-  for (int n : masters) lo = lo.cwiseMin(mesh.nodes[n]), hi = hi.cwiseMax(mesh.nodes[n]);
-  const double cell =
-      std::max((hi - lo).norm() / std::sqrt(static_cast<double>(masters.size())), 1e-12);
-  std::map<std::pair<long, long>, std::vector<int>> grid;
-  auto key = [&](const Vec2& p) {
-    return std::make_pair(static_cast<long>(std::floor((p.x() - lo.x()) / cell)),
-                          static_cast<long>(std::floor((p.y() - lo.y()) / cell)));
-  };
-  for (int n : masters) grid[key(mesh.nodes[n])].push_back(n);
-  for (int s : slave_nodes) {
-    const auto [ci, cj] = key(mesh.nodes[s]);
-    int best = -1;
-    double best_d = 1e300;
-    // Square rings of cells around the slave's cell; every node in ring r + 1 lies at least
-    // r cells away, so the search stops once the best distance is within that.
-    for (int ring = 0; ring <= 4096; ++ring) {
-      for (long i = ci - ring; i <= ci + ring; ++i)
-        for (long j = cj - ring; j <= cj + ring; ++j) {
-          if (std::max(std::abs(i - ci), std::abs(j - cj)) != ring) continue;
-          const auto it = grid.find({i, j});
-          if (it == grid.end()) continue;
-          for (int n : it->second) {
-            const double d = (mesh.nodes[n] - mesh.nodes[s]).norm();
-            if (n != s && d < best_d) best_d = d, best = n;
-          }
-        }
-      if (best >= 0 && best_d <= ring * cell) break;
-    }
-    if (best < 0) throw InputError(cs.where + ": no master node for slave node " + std::to_string(s + 1));
-    NodePair np;
-    np.master = best;
-    np.slave = s;
-    np.index = index;
-    if (cs.direction) {
-      np.direction = *cs.direction;
-    } else if (best_d > 0) {
-      np.direction = (mesh.nodes[s] - mesh.nodes[best]) / best_d;
-    } else {
-      throw InputError(cs.where + ": slave node " + std::to_string(s + 1) +
-                       " coincides with its master node; give 'direction = [nx, ny]'");
-    }
-    node_pairs_.push_back(np);
-  }
-}
-
-void ContactSet::add_surface_pair(const ContactPairSpec& cs, int index,
-                                  const std::vector<int>& slave_nodes) {
-  const core::Mesh& mesh = model_.mesh;
-  Pair p;
-  p.slaves = slave_nodes;
-  p.index = index;
-  p.obstacle = cs.obstacle;
-  if (cs.obstacle < 0) {
-    for (int id : core::select_edges(model_, *cs.master))
-      p.master_edges.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
-    double longest = 0.0;
-    for (const auto& e : p.master_edges) longest = std::max(longest, chord(mesh.nodes, e));
-    p.search = cs.search_distance > 0 ? cs.search_distance : 2.0 * longest;
-  } else if (cs.search_distance > 0) {
-    p.search = cs.search_distance;
-  }
-  pairs_.push_back(p);
-}
-
-void ContactSet::add_gap_elements(const core::ExplicitModel& legacy, std::vector<int>& slaves) {
+void ContactSet::add_gap_elements(const core::ExplicitModel& legacy) {
   // The seed's gap elements: direction from node a to node b (the file's (nx, ny) when they
   // coincide), gap = d · (x_b − x_a), the file's stiffness for penalty methods.
   const core::Mesh& mesh = model_.mesh;
+  std::vector<NodeToNode::NodePair> gaps;
   for (const auto& g : legacy.gaps) {
-    NodePair np;
+    NodeToNode::NodePair np;
     np.master = g.node_a;
     np.slave = g.node_b;
     const Vec2 d = mesh.nodes[g.node_b] - mesh.nodes[g.node_a];
     np.direction = d.norm() > 0 ? Vec2(d.normalized()) : Vec2(g.direction.normalized());
     np.penalty = g.stiffness;
-    np.index = static_cast<int>(spec_.pairs.size());
-    node_pairs_.push_back(np);
-    slaves.push_back(g.node_b);
+    gaps.push_back(np);
   }
+  if (!gaps.empty())
+    pairs_.push_back(std::make_unique<NodeToNode>(std::move(gaps), static_cast<int>(spec_.pairs.size())));
 }
 
 std::vector<GapRow> ContactSet::detect(const VecX& u) const {
@@ -159,52 +83,7 @@ std::vector<GapRow> ContactSet::detect(const VecX& u) const {
   std::vector<Vec2> x(mesh.num_nodes());
   for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
   std::vector<GapRow> rows;
-  for (const Pair& p : pairs_) {
-    if (p.obstacle >= 0) {
-      const Obstacle& o = spec_.obstacles[p.obstacle];
-      for (size_t k = 0; k < p.slaves.size(); ++k) {
-        const int s = p.slaves[k];
-        GapRow r;
-        r.slave = s;
-        o.gap(x[s], r.gap, r.normal);
-        if (r.gap > p.search) continue;
-        r.master_id = p.obstacle;
-        r.pair = p.index;
-        r.slot = p.first_slot + static_cast<int>(k);
-        rows.push_back(r);
-      }
-      continue;
-    }
-    const MasterSurfaceSearch search(p.master_edges, x, p.search);
-    for (size_t k = 0; k < p.slaves.size(); ++k) {
-      const int s = p.slaves[k];
-      const SegmentProjection q = search.project(x[s], s);
-      if (!q.found) continue;
-      GapRow r;
-      r.slave = s;
-      r.gap = q.gap;
-      r.normal = q.normal;
-      r.pair = p.index;
-      r.slot = p.first_slot + static_cast<int>(k);
-      r.master_id = q.vertex >= 0 ? -2 - q.vertex : q.edge;
-      const MasterEdge& e = p.master_edges[q.edge];
-      for (int a = 0; a < e.count; ++a)
-        if (q.weights[a] != 0.0) r.master.emplace_back(e.nodes[a], q.weights[a]);
-      rows.push_back(r);
-    }
-  }
-  for (const NodePair& np : node_pairs_) {
-    GapRow r;
-    r.slave = np.slave;
-    r.master = {{np.master, 1.0}};
-    r.normal = np.direction;
-    r.gap = np.direction.dot(x[np.slave] - x[np.master]);
-    r.penalty = np.penalty;
-    r.pair = np.index;
-    r.master_id = np.master;
-    r.slot = np.slot;
-    rows.push_back(r);
-  }
+  for (size_t p = 0; p < pairs_.size(); ++p) pairs_[p]->detect(x, first_slot_[p], rows);
   return rows;
 }
 

@@ -3,12 +3,14 @@
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "constraints/constrained_problem.hpp"
 #include "constraints/contact_detection.hpp"
 #include "constraints/contact_scene.hpp"
+#include "constraints/discretization.hpp"
 #include "core/dof_map.hpp"
 #include "core/model.hpp"
 
@@ -53,7 +55,7 @@ class ContactSet {
   /// and adds the seed's gap elements of a legacy scene.
   ContactSet(const core::Model& model, const ContactSceneSpec& spec, const core::Scene& scene);
 
-  bool empty() const { return pairs_.empty() && node_pairs_.empty(); }
+  bool empty() const { return pairs_.empty(); }
   const StrategyOptions& options() const { return spec_.options; }
   int num_slave_nodes() const { return static_cast<int>(slave_nodes_.size()); }
 
@@ -78,36 +80,16 @@ class ContactSet {
   double model_size() const { return model_.model_size; }
 
  private:
-  struct Pair {
-    std::vector<int> slaves;
-    std::vector<MasterEdge> master_edges;
-    int obstacle = -1;
-    double search = 1e300;
-    int index = 0;
-    int first_slot = 0;  ///< slot of slaves[0]; slaves[k] has first_slot + k
-  };
-  /// A fixed node-to-node pair: gap = d · (x_slave − x_master).
-  struct NodePair {
-    int master = -1, slave = -1;
-    Vec2 direction = Vec2::UnitY();
-    double penalty = 0.0;
-    int index = 0;
-    int slot = 0;
-  };
   /// The slave surface of one [[contact]] (for pressure recovery; none for a node_to_node pair
   /// given by nodes only).
   void add_slave_edges(const ContactPairSpec& cs);
-  /// node_to_node: each slave node with its nearest master node.
-  void add_nearest_node_pairs(const ContactPairSpec& cs, int index, const std::vector<int>& slave_nodes);
-  /// node_to_segment: the slave nodes against master edges or an obstacle.
-  void add_surface_pair(const ContactPairSpec& cs, int index, const std::vector<int>& slave_nodes);
-  /// The seed's gap elements of a legacy model; their slave nodes are added to `slaves`.
-  void add_gap_elements(const core::ExplicitModel& legacy, std::vector<int>& slaves);
+  /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
+  void add_gap_elements(const core::ExplicitModel& legacy);
 
   const core::Model& model_;
   ContactSceneSpec spec_;
-  std::vector<Pair> pairs_;
-  std::vector<NodePair> node_pairs_;
+  std::vector<std::unique_ptr<ContactDiscretization>> pairs_;  ///< one per [[contact]] (+ gaps)
+  std::vector<int> first_slot_;              ///< per pair: the slot of its first row
   std::vector<int> slave_nodes_;             ///< unique, sorted
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;

@@ -1,0 +1,55 @@
+// How a [[contact]] pair becomes gap rows: a discretization owns the pair's slave points and,
+// at any configuration, produces the row of each slot it finds (slots are the pair's stable row
+// identities across detections). One class per discretization in constraints/discretizations/,
+// one line in the registry of discretization.cpp; ContactSet holds one per pair.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "constraints/contact_detection.hpp"
+#include "constraints/contact_scene.hpp"
+#include "core/model.hpp"
+
+namespace c2d::constraints {
+
+class ContactDiscretization {
+ public:
+  virtual ~ContactDiscretization() = default;
+  /// Row slots of the pair: the slot of row k is first_slot + (its index among the slots).
+  virtual int num_slots() const = 0;
+  /// The nodes whose rows this pair produces (each may appear in several pairs).
+  virtual const std::vector<int>& slave_nodes() const = 0;
+  /// Appends the rows found at the current coordinates x (reference + displacement), numbered
+  /// from `first_slot`.
+  virtual void detect(const std::vector<Vec2>& x, int first_slot, std::vector<GapRow>& rows) const = 0;
+};
+
+/// What a discretization is built from: the model, its pair's table, the scene's obstacles,
+/// and the pair's index (GapRow::pair).
+struct DiscretizationInput {
+  const core::Model& model;
+  const ContactPairSpec& pair;
+  const std::vector<Obstacle>& obstacles;
+  int index = 0;
+};
+
+struct DiscretizationInfo {
+  std::string name;     ///< the value of a [[contact]]'s `detection`
+  std::string summary;  ///< one line for the docs
+  bool obstacles = false;  ///< accepts a rigid obstacle as master
+  std::unique_ptr<ContactDiscretization> (*create)(const DiscretizationInput&) = nullptr;
+};
+
+/// Every registered discretization, in the order the docs list them.
+const std::vector<DiscretizationInfo>& discretization_registry();
+/// The registered discretization of that name, or nullptr.
+const DiscretizationInfo* find_discretization(std::string_view name);
+/// The registered names.
+const std::vector<std::string>& discretization_names();
+/// The detection table of docs/scene.md (Markdown).
+std::string discretization_table_markdown();
+
+}  // namespace c2d::constraints
