@@ -167,16 +167,22 @@ class ConstrainedStep {
     return true;
   }
 
-  /// The rows detected now are those of the kept state (same slave nodes) with the gaps its
-  /// linearisation predicted (a node sliding along a flat master changes edge, not gap).
+  /// The rows detected now are those of the kept state (same slave nodes); the closed ones have
+  /// the gaps its linearisation predicted (a node sliding along a flat master changes edge, not
+  /// gap) and the open ones do not penetrate. An open row's gap need not match its
+  /// linearisation (a node passing a free master end turns its normal): it carries no force.
   bool reproduces_state() const {
-    if (rows_.size() != state_rows_.size() || state_.gap.size() != static_cast<int>(rows_.size()))
+    const int m = static_cast<int>(rows_.size());
+    if (rows_.size() != state_rows_.size() || state_.gap.size() != m ||
+        static_cast<int>(state_.active.size()) != m)
       return false;
     const double tol = 1e-9 * contact_.model_size();
-    for (size_t i = 0; i < rows_.size(); ++i)
-      if (rows_[i].slave != state_rows_[i].slave ||
-          std::abs(rows_[i].gap - state_.gap[static_cast<int>(i)]) > tol)
-        return false;
+    for (int i = 0; i < m; ++i) {
+      if (rows_[i].slave != state_rows_[i].slave) return false;
+      const bool consistent = state_.active[i] ? std::abs(rows_[i].gap - state_.gap[i]) <= tol
+                                               : rows_[i].gap >= -tol;
+      if (!consistent) return false;
+    }
     return true;
   }
 

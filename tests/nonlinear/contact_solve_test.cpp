@@ -242,3 +242,70 @@ direction = [0.0, 1.0]
   ASSERT_EQ(run.results.status, SolveStatus::kConverged) << run.report.message;
   EXPECT_NEAR(run.report.total_force, 20.0, 1e-9);
 }
+
+// A soft block (E = 200, ν = 0.45) pressed on a stiff base of the same width: its bottom
+// corners spread past the base's free ends. Whatever a method reaches, the status must not
+// claim more than the state shows: `converged` only with the rows detected at the final
+// displacement free of penetration (1e-9 of the model size) and the load carried (20 N to
+// 1e-6), otherwise a named cap (max_iterations or cycling) with the iteration that stopped.
+class HonestStatus : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(HonestStatus, ConvergedOnlyWhenTheFinalStateIsFreeOfPenetration) {
+  const std::string text = R"(
+[analysis]
+kind = "plane_strain"
+element = "T3"
+[[material]]
+name = "stiff"
+E = 1000.0
+nu = 0.3
+[[material]]
+name = "soft"
+E = 200.0
+nu = 0.45
+[[body]]
+name = "top"
+material = "soft"
+shape = { type = "rectangle", min = [0.0, 1.0], max = [2.0, 2.0] }
+mesh = { size = 0.3 }
+[[body]]
+name = "base"
+material = "stiff"
+shape = { type = "rectangle", min = [0.0, 0.0], max = [2.0, 1.0] }
+mesh = { size = 0.23 }
+[[support]]
+on = { body = "base", edge = "bottom" }
+fix = ["uy"]
+[[support]]
+on = { nearest = [0.0, 0.0] }
+fix = ["ux"]
+[[support]]
+on = { nearest = [0.0, 2.0] }
+fix = ["ux"]
+[[load]]
+on = { body = "top", edge = "top" }
+pressure = 10.0
+[[contact]]
+slave = { body = "top", edge = "bottom" }
+master = { body = "base", edge = "top" }
+)";
+  const core::Scene scene = core::parse_scene(text, "soft_on_stiff.toml");
+  const core::Model model = core::build_model(scene);
+  const ContactSceneSpec spec = parse_contact_scene(scene, GetParam());
+  const ContactSet contact(model, spec, scene);
+  ContactReport report;
+  const core::Results r = nonlinear::solve_linear_static(model, scene.analysis, &contact, &report);
+  if (r.status == SolveStatus::kConverged) {
+    double penetration = 0.0;
+    for (const GapRow& row : contact.detect(r.displacement)) penetration = std::max(penetration, -row.gap);
+    const double tol = is_exact_method(GetParam()) ? 1e-9 * model.model_size : 1e-3;
+    EXPECT_LE(penetration, tol);
+    EXPECT_NEAR(report.total_force, 20.0, 2e-5);
+  } else {
+    EXPECT_TRUE(r.status == SolveStatus::kMaxIterations || r.status == SolveStatus::kCycling)
+        << r.message;
+    EXPECT_NE(r.message.find("outer iteration"), std::string::npos) << r.message;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Methods, HonestStatus, ::testing::ValuesIn(method_names()));
