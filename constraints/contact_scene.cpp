@@ -89,6 +89,8 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
       ContactPairSpec c;
       c.where = v.where();
       c.name = v["name"].string_or("contact" + std::to_string(spec.pairs.size() + 1));
+      for (const auto& other : spec.pairs)
+        if (other.name == c.name) v["name"].fail("a unique [[contact]] name");
       c.slave = core::parse_selection(v["slave"]);
       const TomlView m = v["master"];
       m.require_table();

@@ -9,6 +9,7 @@
 #include "core/elasticity_kernels.hpp"
 #include "core/errors.hpp"
 #include "core/mesher.hpp"
+#include "core/toml_view.hpp"
 
 namespace c2d::core {
 
@@ -24,6 +25,19 @@ int body_index(const Model& model, const std::string& name) {
   for (size_t i = 0; i < model.body_names.size(); ++i)
     if (model.body_names[i] == name) return static_cast<int>(i);
   return -1;
+}
+
+/// The body a selection names (-1 when it names none); throws, with the nearest name, when the
+/// named body does not exist.
+int selected_body(const Model& model, const SelectionSpec& s) {
+  if (s.body.empty()) return -1;
+  const int body = body_index(model, s.body);
+  if (body < 0) {
+    const std::string near = nearest_name(s.body, model.body_names);
+    throw InputError(s.at.where + ": expected the name of a [[body]], found '" + s.body + "'" +
+                     (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
+  }
+  return body;
 }
 
 std::vector<bool> body_nodes(const Model& model, int body) {
@@ -103,8 +117,7 @@ bool on_predicate(const SelectionSpec& s, const Vec2& p, double tol) {
 std::vector<int> select_nodes(const Model& model, const SelectionSpec& s) {
   using K = SelectionSpec::Kind;
   const Mesh& mesh = model.mesh;
-  const int body = s.body.empty() ? -1 : body_index(model, s.body);
-  if (!s.body.empty() && body < 0) throw InputError(s.at.where + ": no body named '" + s.body + "'");
+  const int body = selected_body(model, s);
   const std::vector<bool> in_body = body_nodes(model, body);
   const double tol = s.tol > 0 ? s.tol : 1e-6 * model.model_size;
   std::vector<int> out;
@@ -156,7 +169,7 @@ std::vector<int> select_nodes(const Model& model, const SelectionSpec& s) {
 std::vector<int> select_edges(const Model& model, const SelectionSpec& s) {
   const Mesh& mesh = model.mesh;
   if (s.kind == SelectionSpec::Kind::kEdge) {
-    const int body = s.body.empty() ? -1 : body_index(model, s.body);
+    const int body = selected_body(model, s);
     auto out = named_edges(model, s, body);
     if (out.empty())
       throw InputError(s.at.where + ": no boundary edge named '" + s.name + "'");

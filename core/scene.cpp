@@ -31,9 +31,14 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
 
   auto check_body = [&](const SelectionSpec& s, const TomlView& v) {
     if (s.body.empty()) return;
-    for (const auto& b : scene.bodies)
+    std::vector<std::string> names;
+    for (const auto& b : scene.bodies) {
       if (b.name == s.body) return;
-    v["on"]["body"].fail("the name of a [[body]]");
+      names.push_back(b.name);
+    }
+    const std::string near = nearest_name(s.body, names);
+    v["on"]["body"].fail("the name of a [[body]]" +
+                         (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
   };
   for (const auto& s : root["support"].tables()) {
     scene.supports.push_back(parse_support(s));
@@ -65,11 +70,17 @@ std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<st
     std::string key = keys[i];
     int index = -1;
     if (const auto lb = key.find('['); lb != std::string::npos && key.back() == ']') {
+      const std::string digits = key.substr(lb + 1, key.size() - lb - 2);
+      size_t used = 0;
       try {
-        index = std::stoi(key.substr(lb + 1, key.size() - lb - 2));
+        index = std::stoi(digits, &used);
       } catch (const std::exception&) {
-        throw InputError(where + ": bad index in '" + key + "'");
+        used = 0;
       }
+      if (digits.empty() || used != digits.size() || index < 0 ||
+          digits.find_first_not_of("0123456789") != std::string::npos)
+        throw InputError(where + ": expected an index 0, 1, ... in '" + key + "', found '" +
+                         digits + "'");
       key = key.substr(0, lb);
     }
     std::vector<toml::table*> next;

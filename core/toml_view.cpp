@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace c2d::core {
@@ -77,7 +78,10 @@ void TomlView::check_keys(std::initializer_list<const char*> allowed) const {
 
 double TomlView::number() const {
   if (!node_) fail("a number");
-  if (auto v = node_->value_exact<double>()) return *v;
+  if (auto v = node_->value_exact<double>()) {
+    if (!std::isfinite(*v)) fail("a finite number");  // TOML allows nan and inf
+    return *v;
+  }
   if (auto v = node_->value_exact<int64_t>()) return static_cast<double>(*v);
   fail("a number");
 }
@@ -92,7 +96,11 @@ double TomlView::positive() const {
 
 int TomlView::integer() const {
   if (!node_) fail("an integer");
-  if (auto v = node_->value_exact<int64_t>()) return static_cast<int>(*v);
+  if (auto v = node_->value_exact<int64_t>()) {
+    if (*v < std::numeric_limits<int>::min() || *v > std::numeric_limits<int>::max())
+      fail("an integer within ±" + std::to_string(std::numeric_limits<int>::max()));
+    return static_cast<int>(*v);
+  }
   fail("an integer");
 }
 

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "constraints/contact_scene.hpp"
+#include "constraints/contact_set.hpp"
+#include "core/model.hpp"
 #include "core/errors.hpp"
 
 using namespace c2d;
@@ -61,4 +63,31 @@ TEST(ContactScene, MistakesAreOneLineWithPlaceAndExpectation) {
   EXPECT_NE(m.find("found 'bogus'"), std::string::npos) << m;
   m = contact_error("[[obstacle]]\nname = \"c\"\ntype = \"circle\"\ncenter = [0.0, 0.0]\nradius = -1.0\n");
   EXPECT_NE(m.find("obstacle[1].radius"), std::string::npos) << m;
+}
+
+// Issue 16, finding 5: a contact master naming a missing body used to take the edge from every
+// body; a repeated contact name was accepted.
+TEST(ContactScene, MasterBodyTypoAndDuplicateNamesAreRefused) {
+  const std::string two_bodies = std::string(kBase) +
+      "[[body]]\nname = \"punch\"\nmaterial = \"steel\"\n"
+      "shape = { type = \"rectangle\", min = [0.0, 1.0], max = [1.0, 2.0] }\nmesh = { size = 0.5 }\n";
+  const core::Scene s = core::parse_scene(
+      two_bodies + "[[contact]]\nslave = { body = \"b\", edge = \"top\" }\n"
+                   "master = { body = \"punsh\", edge = \"bottom\" }\n",
+      "typo.toml");
+  const core::Model model = core::build_model(s);
+  try {
+    const ContactSet contact(model, parse_contact_scene(s), s);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("typo.toml:"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("found 'punsh'"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("did you mean 'punch'"), std::string::npos) << msg;
+  }
+  const std::string pair = "[[contact]]\nname = \"c\"\nslave = { body = \"b\", edge = \"bottom\" }\n"
+                           "master = { obstacle = \"floor\" }\n";
+  const std::string m = contact_error(pair + pair);
+  EXPECT_NE(m.find("contact[1].name"), std::string::npos) << m;
+  EXPECT_NE(m.find("a unique [[contact]] name"), std::string::npos) << m;
 }

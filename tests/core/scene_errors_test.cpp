@@ -133,3 +133,32 @@ TEST(SceneOverrides, ArrayEntriesByNameIndexAndFanOut) {
   EXPECT_DOUBLE_EQ(s.materials[0].poisson, 0.2);
   EXPECT_EQ(s.analysis.order, 2);
 }
+
+// Issue 16, finding 5 and 6: silent acceptances and non-finite input, each refused at its key.
+TEST(SceneErrors, NonFiniteNumbersAreRefusedWhereTheyStand) {
+  std::string t = scene("[[load]]\non = { edge = \"top\" }\npressure = nan\n");
+  expect_error({"nan pressure", t.c_str(), {}, {"bad.toml:12:", "load[0].pressure", "a finite number", "found number nan"}});
+  t = "[[material]]\nname = \"steel\"\nE = inf\nnu = 0.3\n" + std::string(kBody);
+  expect_error({"inf E", t.c_str(), {}, {"bad.toml:3:", "material[0].E", "found number inf"}});
+  t = scene("[[support]]\non = { edge = \"left\" }\nux = nan\n");
+  expect_error({"nan ux", t.c_str(), {}, {"bad.toml:12:", "support[0].ux", "a finite number"}});
+}
+
+TEST(SceneErrors, IntegersBeyondIntAreRefusedNotWrapped) {
+  std::string t = scene("[analysis]\ngeometric_nonlinearity = true\nsteps = 4294967297\n");
+  expect_error({"steps", t.c_str(), {}, {"bad.toml:12:", "analysis.steps", "an integer within", "found integer 4294967297"}});
+  t = scene("[[support]]\non = { nodes = [4294967297] }\nfix = [\"ux\"]\n");
+  expect_error({"node id", t.c_str(), {}, {"bad.toml:11:", "support[0].on.nodes", "found integer 4294967297"}});
+}
+
+TEST(SceneErrors, NegativeOrMalformedSetIndexIsRefused) {
+  const std::string t = scene("");
+  expect_error({"--set -1", t.c_str(), {"material[-1].E=5.0"}, {"expected an index", "found '-1'"}});
+  expect_error({"--set x", t.c_str(), {"material[1x].E=5.0"}, {"expected an index", "found '1x'"}});
+}
+
+TEST(SceneErrors, SelectionNamingAMissingBodySuggestsOne) {
+  const std::string t = scene("[[load]]\non = { body = \"bb\", edge = \"top\" }\ntraction = [0.0, 1.0]\n");
+  expect_error({"edge body", t.c_str(), {}, {"bad.toml:11:", "load[0].on.body", "the name of a [[body]]",
+                                             "found string \"bb\"", "did you mean 'b'"}});
+}
