@@ -113,6 +113,8 @@ struct AnalysisSpec {
   double mesh_scale = 1.0;
   /// Newton iterations per KINSOL solve before a load step is cut back.
   int max_newton_iterations = 25;
+  /// Largest mesh, in triangles, a body's sizes may ask for (estimated before meshing).
+  double max_elements = 20e6;
 };
 
 /// The error-driven adaptive loop (`[adapt]`, or `contact2d run --adapt`): solve, estimate

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/mesh_budget.hpp"
+
 namespace c2d::core {
 
 SelectionSpec parse_selection(const TomlView& v) {
@@ -120,6 +122,8 @@ ShapeSpec parse_shape(const TomlView& v) {
     v.check_keys({"type", "points"});
     s.points = v["points"].points();
     if (s.points.size() < 3) v["points"].fail("at least 3 points");
+    if (const std::string why = polygon_problem(s.points); !why.empty())
+      v["points"].fail("a simple polygon of positive area (" + why + ")");
   } else if (s.type == "points") {
     // A point cloud triangulated as it is (Delaunay): the seed's pre-processor. The checks of
     // the cloud itself (duplicates, collinear, outside the boundary) are the mesher's.
@@ -129,6 +133,8 @@ ShapeSpec parse_shape(const TomlView& v) {
     if (v.has("boundary")) {
       s.boundary = v["boundary"].points();
       if (s.boundary.size() < 3) v["boundary"].fail("a polygon of at least 3 points");
+      if (const std::string why = polygon_problem(s.boundary); !why.empty())
+        v["boundary"].fail("a simple polygon of positive area (" + why + ")");
     }
   } else {
     if (s.type == "disk")
@@ -151,7 +157,7 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
   if (!v.exists()) return;
   v.require_table();
   v.check_keys({"kind", "element", "geometric_nonlinearity", "steps", "smoothing", "target_error",
-                "solver", "mesh_scale", "max_newton_iterations"});
+                "solver", "mesh_scale", "max_newton_iterations", "max_elements"});
   a.state = v["kind"].choice_or({"plane_stress", "plane_strain"}, "plane_stress") == "plane_strain"
                 ? PlaneState::kPlaneStrain
                 : PlaneState::kPlaneStress;
@@ -170,6 +176,10 @@ void parse_analysis(const TomlView& v, AnalysisSpec& a) {
     v["target_error"].fail("a relative error in (0, 1), e.g. 0.05");
   a.solver = v["solver"].choice_or({"cholmod", "ldlt"}, "cholmod");
   if (v.has("mesh_scale")) a.mesh_scale = v["mesh_scale"].positive();
+  if (v.has("max_elements")) {
+    a.max_elements = v["max_elements"].number();
+    if (!(a.max_elements >= 1)) v["max_elements"].fail("a count >= 1");
+  }
   if (v.has("max_newton_iterations")) {
     a.max_newton_iterations = v["max_newton_iterations"].integer();
     if (a.max_newton_iterations < 1) v["max_newton_iterations"].fail("an integer >= 1");
@@ -235,6 +245,27 @@ MaterialSpec parse_material(const TomlView& m, const std::vector<MaterialSpec>& 
 
 namespace {
 
+/// Sizes gmsh can resolve (at least 1e-7 of the body's diagonal, after mesh_scale) and an
+/// element count within analysis.max_elements, both refused at the body's mesh table.
+void check_mesh_budget(const TomlView& mesh, const AnalysisSpec& analysis, const BodySpec& bs) {
+  const double diagonal = shape_diagonal(bs.shape);
+  auto resolvable = [&](double size, const TomlView& at) {
+    if (bs.mesh_size > 0 && !(size >= 1e-7 * diagonal))
+      at.fail("a size of at least 1e-7 of the body's extent " + std::to_string(diagonal) +
+              " (after analysis.mesh_scale = " + std::to_string(analysis.mesh_scale) + ": " +
+              std::to_string(size) + ")");
+  };
+  resolvable(bs.mesh_size, mesh["size"]);
+  const auto refine = mesh["refine"].items();
+  for (size_t i = 0; i < bs.refine.size(); ++i) resolvable(bs.refine[i].size, refine[i]["size"]);
+  const double estimate = estimate_elements(bs);
+  if (estimate > analysis.max_elements)
+    mesh.fail("a mesh of at most analysis.max_elements = " + std::to_string(analysis.max_elements) +
+              " triangles; these sizes (after analysis.mesh_scale = " +
+              std::to_string(analysis.mesh_scale) + ") give about " +
+              std::to_string(static_cast<long long>(std::min(estimate, 9e18))));
+}
+
 /// The body's mesh: a .msh file (resolved against the scene's folder) or a shape with sizes.
 void parse_body_mesh(const TomlView& b, const Scene& scene, BodySpec& bs) {
   const TomlView mesh = b["mesh"];
@@ -260,6 +291,7 @@ void parse_body_mesh(const TomlView& b, const Scene& scene, BodySpec& bs) {
     bs.refine.back().size *= scene.analysis.mesh_scale;
   }
   bs.algorithm = mesh["algorithm"].choice_or({"frontal", "delaunay"}, "frontal");
+  check_mesh_budget(mesh, scene.analysis, bs);
 }
 
 }  // namespace

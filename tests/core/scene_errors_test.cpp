@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "core/errors.hpp"
+#include "core/mesh_budget.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
 
@@ -161,4 +162,55 @@ TEST(SceneErrors, SelectionNamingAMissingBodySuggestsOne) {
   const std::string t = scene("[[load]]\non = { body = \"bb\", edge = \"top\" }\ntraction = [0.0, 1.0]\n");
   expect_error({"edge body", t.c_str(), {}, {"bad.toml:11:", "load[0].on.body", "the name of a [[body]]",
                                              "found string \"bb\"", "did you mean 'b'"}});
+}
+
+// Issue 16, findings 2 and 4: degenerate geometry and sizes gmsh cannot resolve or would mesh
+// without bound are refused before gmsh sees them, at their key.
+TEST(SceneErrors, DegeneratePolygonsAreRefused) {
+  auto polygon = [](const std::string& points) {
+    return std::string(kMaterial) + "[[body]]\nname = \"p\"\nmaterial = \"steel\"\n"
+           "shape = { type = \"polygon\", points = " + points + " }\nmesh = { size = 0.5 }\n";
+  };
+  std::string t = polygon("[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]");
+  expect_error({"collinear", t.c_str(), {}, {"bad.toml:8:", "body[0].shape.points", "no area"}});
+  t = polygon("[[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]]");
+  expect_error({"bow tie", t.c_str(), {}, {"bad.toml:8:", "body[0].shape.points", "intersects itself"}});
+  t = polygon("[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]");
+  expect_error({"repeated", t.c_str(), {}, {"bad.toml:8:", "vertex 2 repeats vertex 3"}});
+}
+
+TEST(SceneErrors, SizesBeyondResolutionOrBudgetAreRefused) {
+  auto block = [](const std::string& mesh) {
+    return std::string(kMaterial) + "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+           "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [20.0, 20.0] }\nmesh = " + mesh + "\n";
+  };
+  std::string t = block("{ size = 1.0, refine = [ { near = [0.0, 0.0], size = 1e-8 } ] }");
+  expect_error({"refine 1e-8", t.c_str(), {}, {"bad.toml:", "body[0].mesh.refine[0].size", "at least 1e-7"}});
+  t = block("{ size = 1e-9 }");
+  expect_error({"size 1e-9", t.c_str(), {}, {"body[0].mesh.size", "at least 1e-7"}});
+  t = block("{ size = 0.002 }");  // about 2e8 triangles
+  expect_error({"budget", t.c_str(), {}, {"body[0].mesh", "max_elements", "give about"}});
+  t = block("{ size = 1.0 }");
+  expect_error({"mesh_scale", t.c_str(), {"analysis.mesh_scale=1e-4"}, {"body[0].mesh", "mesh_scale", "give about"}});
+  t = std::string(kMaterial) + "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+      "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1e300, 1e300] }\nmesh = { size = 1.0 }\n";
+  expect_error({"1e300", t.c_str(), {}, {"body[0].mesh"}});
+  // The limit is a key: the same mesh within a raised limit parses.
+  t = block("{ size = 0.002 }");
+  EXPECT_NO_THROW(parse_scene(t + "[analysis]\nmax_elements = 1e9\n", "ok.toml"));
+}
+
+TEST(MeshBudget, EstimateIsWithinAFactorOfTwoOfGmsh) {
+  // The uniform 0.25 block and a block refined around its centre against the counts gmsh
+  // makes (a refinement at a corner is counted whole: an overestimate by up to 4, on the safe
+  // side of the limit).
+  for (const char* mesh : {"{ size = 0.25 }", "{ size = 2.0, refine = [ { near = [5.0, 5.0], size = 0.05, growth = 1.3 } ] }"}) {
+    const Scene s = parse_scene(std::string(kMaterial) + "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+                                "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [10.0, 10.0] }\nmesh = " +
+                                mesh + "\n", "ok.toml");
+    const double estimate = estimate_elements(s.bodies[0]);
+    const double actual = build_model(s).mesh.num_elements();
+    EXPECT_GT(estimate, 0.5 * actual) << mesh;
+    EXPECT_LT(estimate, 2.0 * actual) << mesh;
+  }
 }

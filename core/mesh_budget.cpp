@@ -1,0 +1,95 @@
+#include "core/mesh_budget.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace c2d::core {
+
+namespace {
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// Whether segments ab and cd share a point (collinear overlaps included).
+bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+  const double d1 = cross(b - a, c - a), d2 = cross(b - a, d - a);
+  const double d3 = cross(d - c, a - c), d4 = cross(d - c, b - c);
+  if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    return true;
+  auto on = [](const Vec2& p, const Vec2& q, const Vec2& r, double c) {
+    return c == 0 && std::min(p.x(), q.x()) <= r.x() && r.x() <= std::max(p.x(), q.x()) &&
+           std::min(p.y(), q.y()) <= r.y() && r.y() <= std::max(p.y(), q.y());
+  };
+  return on(a, b, c, d1) || on(a, b, d, d2) || on(c, d, a, d3) || on(c, d, b, d4);
+}
+
+double polygon_area(const std::vector<Vec2>& p) {
+  double a = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) a += cross(p[i], p[(i + 1) % p.size()]);
+  return 0.5 * std::abs(a);
+}
+
+}  // namespace
+
+std::string polygon_problem(const std::vector<Vec2>& p) {
+  const size_t n = p.size();
+  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+  for (const auto& q : p) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  const double diag = (hi - lo).norm();
+  for (size_t i = 0; i < n; ++i)
+    if ((p[(i + 1) % n] - p[i]).norm() <= 1e-12 * diag)
+      return "vertex " + std::to_string(i + 1) + " repeats vertex " + std::to_string((i + 1) % n + 1);
+  // Non-adjacent edges must not meet (a polygon has a few dozen vertices: pairs are cheap).
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if (j == i + 1 || (i == 0 && j == n - 1)) continue;
+      if (segments_meet(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n]))
+        return "edges " + std::to_string(i + 1) + " and " + std::to_string(j + 1) +
+               " meet (the polygon intersects itself)";
+    }
+  if (!(polygon_area(p) > 1e-12 * diag * diag)) return "the polygon has no area (collinear points)";
+  return {};
+}
+
+double shape_area(const ShapeSpec& s) {
+  if (s.type == "rectangle") return (s.max - s.min).prod();
+  if (s.type == "polygon") return polygon_area(s.points);
+  if (s.type == "disk") return std::numbers::pi * s.radius * s.radius;
+  if (s.type == "disk_segment") return 0.5 * s.radius * s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0;
+  return 0.0;
+}
+
+double shape_diagonal(const ShapeSpec& s) {
+  if (s.type == "rectangle") return (s.max - s.min).norm();
+  if (s.type == "polygon" || s.type == "points") {
+    Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+    for (const auto& q : s.points) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+    return (hi - lo).norm();
+  }
+  return 2.0 * s.radius;
+}
+
+double estimate_elements(const BodySpec& b) {
+  constexpr double kTriangle = 0.433;  // area of an equilateral triangle of unit side
+  const double area = shape_area(b.shape), h = b.mesh_size;
+  if (!(area > 0) || !(h > 0)) return 0.0;
+  double n = area / (kTriangle * h * h);
+  for (const auto& r : b.refine) {
+    if (!(r.size < h)) continue;
+    const double s = r.size, g = std::max(r.growth, 1.0 + 1e-3);
+    const double length = r.segment ? (r.p1 - r.p0).norm() : 0.0;
+    // Core: a disc of the radius (a strip along a segment) at size s.
+    const double core = std::min(area, std::numbers::pi * r.radius * r.radius + 2.0 * r.radius * length);
+    n += core / (kTriangle * s * s);
+    // Graded zone: at distance t beyond the core the size is about s + (g − 1) t, up to h.
+    const double slope = g - 1.0;
+    n += (2.0 * length / (kTriangle * slope)) * (1.0 / s - 1.0 / h);
+    n += (2.0 * std::numbers::pi / (kTriangle * slope * slope)) *
+         (std::log(h / s) + r.radius * slope * (1.0 / s - 1.0 / h));
+  }
+  double smallest = h;
+  for (const auto& r : b.refine) smallest = std::min(smallest, r.size);
+  return std::min(n, area / (kTriangle * smallest * smallest));
+}
+
+}  // namespace c2d::core

@@ -1,0 +1,28 @@
+// Checks of a body's geometry and mesh request made before gmsh sees them: gmsh aborts the
+// process on degenerate input (inside its threaded meshing, where no exception reaches us) and
+// meshes without bound on tiny sizes, so both are refused here with the scene's location.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/scene.hpp"
+
+namespace c2d::core {
+
+/// Why a polygon cannot bound a body (a repeated vertex, zero area, or two edges that cross or
+/// touch away from their shared vertex); empty when it is a simple polygon.
+std::string polygon_problem(const std::vector<Vec2>& points);
+
+/// The area and the bounding-box diagonal of a shape (rectangle, polygon, disk, disk segment);
+/// 0 for a point cloud.
+double shape_area(const ShapeSpec& s);
+double shape_diagonal(const ShapeSpec& s);
+
+/// About how many triangles gmsh makes for a body: its area over the uniform size, plus each
+/// refinement's core disc (or strip) at its size and the graded zone where sizes grow by
+/// `growth` per element back to the body's size. An estimate (within a factor of about 2),
+/// for refusing requests far beyond the limit, not a prediction.
+double estimate_elements(const BodySpec& body);
+
+}  // namespace c2d::core
