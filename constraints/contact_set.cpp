@@ -126,50 +126,48 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   return p;
 }
 
-VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
-                      const std::vector<double>& thickness, const std::vector<int>& nodes,
-                      const VecX& force, const std::vector<char>& active) {
-  if (!edges.empty() && edges.front().count == 3) {
-    // Quadratic edges: recover on the linear (corner-node) pressure space, the stable partner
-    // of quadratic displacements. A middle node's force moves half to each end (the linear
-    // basis at the midpoint), which is exact for any linear pressure and filters the
-    // corner/middle imbalance node-to-segment forces carry (on hertz_block the quadratic
-    // projection of those forces overshoots p0 by 16%).
-    std::map<int, int> slot;
-    for (size_t i = 0; i < nodes.size(); ++i) slot[nodes[i]] = static_cast<int>(i);
-    VecX corner_force = VecX::Zero(static_cast<int>(nodes.size()));
-    std::vector<char> corner_active(nodes.size(), 0);
-    std::vector<MasterEdge> chords;
-    std::vector<char> is_middle(nodes.size(), 0);
-    for (const MasterEdge& e : edges) {
-      const int a = slot.at(e.nodes[0]), b = slot.at(e.nodes[1]), m = slot.at(e.nodes[2]);
-      is_middle[m] = 1;
-      corner_force[a] += 0.5 * force[m];
-      corner_force[b] += 0.5 * force[m];
-      if (active[m]) corner_active[a] = corner_active[b] = 1;
-      MasterEdge chord;
-      chord.nodes = {e.nodes[0], e.nodes[1], -1};
-      chords.push_back(chord);
-    }
-    for (size_t i = 0; i < nodes.size(); ++i)
-      if (!is_middle[i]) {
-        corner_force[static_cast<int>(i)] += force[static_cast<int>(i)];
-        corner_active[i] = corner_active[i] || active[i];
-      } else {
-        corner_active[i] = 0;
-      }
-    VecX p = recover_pressure(x, chords, thickness, nodes, corner_force, corner_active);
-    for (const MasterEdge& e : edges)
-      p[slot.at(e.nodes[2])] = 0.5 * (p[slot.at(e.nodes[0])] + p[slot.at(e.nodes[1])]);
-    return p;
+namespace {
+
+/// Quadratic edges: recover on the linear (corner-node) pressure space, the stable partner of
+/// quadratic displacements. A middle node's force moves half to each end (the linear basis at
+/// the midpoint), which is exact for any linear pressure and filters the corner/middle
+/// imbalance node-to-segment forces carry (on hertz_block the quadratic projection of those
+/// forces overshoots p0 by 16%). Middle nodes take the mean of their corners' pressures.
+VecX recover_on_corner_nodes(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
+                             const std::vector<double>& thickness, const std::vector<int>& nodes,
+                             const VecX& force, const std::vector<char>& active) {
+  std::map<int, int> slot;
+  for (size_t i = 0; i < nodes.size(); ++i) slot[nodes[i]] = static_cast<int>(i);
+  VecX corner_force = VecX::Zero(static_cast<int>(nodes.size()));
+  std::vector<char> corner_active(nodes.size(), 0);
+  std::vector<MasterEdge> chords;
+  std::vector<char> is_middle(nodes.size(), 0);
+  for (const MasterEdge& e : edges) {
+    const int a = slot.at(e.nodes[0]), b = slot.at(e.nodes[1]), m = slot.at(e.nodes[2]);
+    is_middle[m] = 1;
+    corner_force[a] += 0.5 * force[m];
+    corner_force[b] += 0.5 * force[m];
+    if (active[m]) corner_active[a] = corner_active[b] = 1;
+    MasterEdge chord;
+    chord.nodes = {e.nodes[0], e.nodes[1], -1};
+    chords.push_back(chord);
   }
-  // Unknowns: the pressures of the active nodes; inactive nodes hold p = 0, so the projection
-  // cannot ring beyond the edge of the contact zone.
-  std::map<int, int> index;
   for (size_t i = 0; i < nodes.size(); ++i)
-    if (active[i]) index.emplace(nodes[i], static_cast<int>(index.size()));
-  VecX out = VecX::Zero(static_cast<int>(nodes.size()));
-  if (index.empty()) return out;
+    if (!is_middle[i]) {
+      corner_force[static_cast<int>(i)] += force[static_cast<int>(i)];
+      corner_active[i] = corner_active[i] || active[i];
+    } else {
+      corner_active[i] = 0;
+    }
+  VecX p = recover_pressure(x, chords, thickness, nodes, corner_force, corner_active);
+  for (const MasterEdge& e : edges)
+    p[slot.at(e.nodes[2])] = 0.5 * (p[slot.at(e.nodes[0])] + p[slot.at(e.nodes[1])]);
+  return p;
+}
+
+/// The mass matrix of the pressure space over the edges, on the unknowns `index` numbers.
+SpMat pressure_mass_matrix(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
+                           const std::vector<double>& thickness, const std::map<int, int>& index) {
   // 4-point Gauss on [0, 1]: exact for the quadratic-times-quadratic products on straight edges,
   // and accurate on the gently curved edges of a contact surface.
   const double gp[4] = {0.0694318442029737, 0.3300094782075719, 0.6699905217924281,
@@ -198,6 +196,25 @@ VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>&
   const int ns = static_cast<int>(index.size());
   SpMat mass(ns, ns);
   mass.setFromTriplets(t.begin(), t.end());
+  return mass;
+}
+
+}  // namespace
+
+VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
+                      const std::vector<double>& thickness, const std::vector<int>& nodes,
+                      const VecX& force, const std::vector<char>& active) {
+  if (!edges.empty() && edges.front().count == 3)
+    return recover_on_corner_nodes(x, edges, thickness, nodes, force, active);
+  // Unknowns: the pressures of the active nodes; inactive nodes hold p = 0, so the projection
+  // cannot ring beyond the edge of the contact zone.
+  std::map<int, int> index;
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (active[i]) index.emplace(nodes[i], static_cast<int>(index.size()));
+  VecX out = VecX::Zero(static_cast<int>(nodes.size()));
+  if (index.empty()) return out;
+  const int ns = static_cast<int>(index.size());
+  SpMat mass = pressure_mass_matrix(x, edges, thickness, index);
   VecX f = VecX::Zero(ns);
   for (size_t i = 0; i < nodes.size(); ++i) {
     const auto it = index.find(nodes[i]);

@@ -208,8 +208,23 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
   }
   if (report_.status != SolveStatus::kConverged) return report_.status;
   const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
-  const int me = p_.num_equalities();
   x = VecX::Zero(size_);
+  VecX y;
+  SolveStatus st = solve_k_rho(regularised_rhs(b), y);
+  if (st != SolveStatus::kConverged) return st;
+  if (all_rows_) solve_inactive_rows(b, x);
+  VecX z = VecX::Zero(k);
+  if (k > 0) {
+    st = solve_multipliers(b, y, z, x);
+    if (st != SolveStatus::kConverged) return st;
+  }
+  x.head(n) = y;
+  check_solution(b, y, z, x);
+  return report_.status;
+}
+
+VecX SaddlePointSolver::regularised_rhs(const VecX& b) const {
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
   // Right-hand side of K_ρ: rows of R in the system satisfy C_r u = −b_r / s.
   VecX bu = b.head(n);
   if (rho_.size() > 0)
@@ -218,42 +233,51 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
         const double f = -rho_[rows_[r]] * b[positions_[r]] / s_;
         for (SpMat::InnerIterator it(ct_, rows_[r]); it; ++it) bu[it.row()] += f * it.value();
       }
-  VecX y;
-  SolveStatus st = chol_.solve(bu, y);
+  return bu;
+}
+
+SolveStatus SaddlePointSolver::solve_k_rho(const VecX& rhs, VecX& out) {
+  const SolveStatus st = chol_.solve(rhs, out);
   if (st != SolveStatus::kConverged) {
     report_.status = st;
     report_.message = chol_.report().message;
-    return st;
   }
+  return st;
+}
+
+void SaddlePointSolver::solve_inactive_rows(const VecX& b, VecX& x) const {
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
+  const int me = p_.num_equalities();
   // Inactive rows kept in the system: s z_i = b_i.
-  if (all_rows_) {
-    int pos = n + me;
-    std::vector<char> in_system(p_.num_gaps(), 0);
-    for (int r = 0; r < k; ++r)
-      if (in_rows_[r] && rows_[r] >= me) in_system[rows_[r] - me] = 1;
-    for (int i = 0; i < p_.num_gaps(); ++i, ++pos)
-      if (!in_system[i]) x[pos] = b[pos] / s_;
-  }
-  VecX z = VecX::Zero(k);
-  if (k > 0) {
-    VecX rhs = c_rows_ * y;
-    for (int r = 0; r < k; ++r)
-      rhs[r] = -((in_rows_[r] ? b[positions_[r]] : 0.0) + s_ * rhs[r]) / (s_ * s_);
-    z = schur_.solve(rhs);
-    // u = y + s K_ρ⁻¹ Cᵀ z: one more solve, where a kept W would cost n × k memory.
-    VecX dy;
-    st = chol_.solve(VecX(c_rows_.transpose() * z), dy);
-    if (st != SolveStatus::kConverged) {
-      report_.status = st;
-      report_.message = chol_.report().message;
-      return st;
-    }
-    y += s_ * dy;
-    for (int r = 0; r < k; ++r)
-      if (in_rows_[r]) x[positions_[r]] = z[r];
-      else z[r] = 0.0;  // an auxiliary unknown of R, not a multiplier
-  }
-  x.head(n) = y;
+  int pos = n + me;
+  std::vector<char> in_system(p_.num_gaps(), 0);
+  for (int r = 0; r < k; ++r)
+    if (in_rows_[r] && rows_[r] >= me) in_system[rows_[r] - me] = 1;
+  for (int i = 0; i < p_.num_gaps(); ++i, ++pos)
+    if (!in_system[i]) x[pos] = b[pos] / s_;
+}
+
+SolveStatus SaddlePointSolver::solve_multipliers(const VecX& b, VecX& y, VecX& z, VecX& x) {
+  const int k = static_cast<int>(rows_.size());
+  VecX rhs = c_rows_ * y;
+  for (int r = 0; r < k; ++r)
+    rhs[r] = -((in_rows_[r] ? b[positions_[r]] : 0.0) + s_ * rhs[r]) / (s_ * s_);
+  z = schur_.solve(rhs);
+  // u = y + s K_ρ⁻¹ Cᵀ z: one more solve, where a kept W would cost n × k memory.
+  VecX dy;
+  const SolveStatus st = solve_k_rho(VecX(c_rows_.transpose() * z), dy);
+  if (st != SolveStatus::kConverged) return st;
+  y += s_ * dy;
+  for (int r = 0; r < k; ++r)
+    if (in_rows_[r])
+      x[positions_[r]] = z[r];
+    else
+      z[r] = 0.0;  // an auxiliary unknown of R, not a multiplier
+  return st;
+}
+
+void SaddlePointSolver::check_solution(const VecX& b, const VecX& y, const VecX& z, VecX& x) {
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
   // Residual of the original system's rows (the others are exact by construction).
   VecX ru = p_.stiffness * y - b.head(n);
   if (k > 0) ru -= s_ * (c_rows_.transpose() * z);
@@ -276,7 +300,6 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
     report_.status = SolveStatus::kIllConditioned;
     report_.message = "saddle-point solve residual " + std::to_string(report_.relative_residual);
   }
-  return report_.status;
 }
 
 }  // namespace c2d::constraints

@@ -61,6 +61,16 @@ class SaddlePointSolver {
   void sync_report();
   /// Chooses R and ρ and factorises K_ρ; false when R cannot make K positive definite.
   bool factorize_regularised(int max_gap_rows);
+  /// Schur path: K_ρ's right-hand side, with the rows of R in the system moved onto it.
+  VecX regularised_rhs(const VecX& b) const;
+  /// Solves K_ρ out = rhs; a failure goes into the report.
+  SolveStatus solve_k_rho(const VecX& rhs, VecX& out);
+  /// With every row in the system: the inactive gap rows' unknowns, s z_i = b_i.
+  void solve_inactive_rows(const VecX& b, VecX& x) const;
+  /// The multipliers z from the Schur complement, and y corrected to u; z's R-only rows zeroed.
+  SolveStatus solve_multipliers(const VecX& b, VecX& y, VecX& z, VecX& x);
+  /// The original rows' relative residual and the solution's finiteness, into the report.
+  void check_solution(const VecX& b, const VecX& y, const VecX& z, VecX& x);
 
   const ConstrainedProblem& p_;
   double s_;

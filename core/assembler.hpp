@@ -55,6 +55,12 @@ class Assembler {
 
   /// Adds element e's matrix into K_ff (and its lift).
   void add_element(int e, const LocalMatrix& ke, const VecX* u_full, VecX* lift);
+  /// K_ff's sparsity pattern from node adjacency, with zero values.
+  void build_pattern();
+  /// Per element, the positions of its local matrix's entries in K_ff's values.
+  void build_scatter();
+  /// Colours chunks of consecutive elements so that chunks of one colour share no node.
+  void colour_chunks();
 };
 
 }  // namespace c2d::core

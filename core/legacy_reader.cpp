@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 #include "core/errors.hpp"
 
@@ -57,10 +58,8 @@ int as_index(LineReader& r, double v, int count, const char* what) {
   return static_cast<int>(v) - 1;
 }
 
-}  // namespace
-
-Scene read_legacy_scene(const std::string& path) {
-  LineReader r(path);
+/// The head line 'NN NE [ITER]': node and element counts (the iteration count is not used).
+std::pair<int, int> read_counts(LineReader& r) {
   const auto head = r.next("NN NE ITER");
   if (head.size() < 2 || head.size() > 3)
     r.fail("expected 'NN NE ITER' (node count, element count, iteration count), found " +
@@ -68,12 +67,39 @@ Scene read_legacy_scene(const std::string& path) {
   const int nn = static_cast<int>(head[0]), ne = static_cast<int>(head[1]);
   if (nn < 3 || ne < 1 || head[0] != nn || head[1] != ne)
     r.fail("expected positive integer node and element counts");
+  return {nn, ne};
+}
 
-  Scene scene;
-  scene.path = path;
-  scene.title = "legacy data file " + path;
-  auto model = std::make_shared<ExplicitModel>();
-  Mesh& mesh = model->mesh;
+/// One direction `c` of a node line: flag 1 prescribes `value` as a displacement, flag 0 with a
+/// non-zero value applies it as a nodal force.
+void add_node_condition(LineReader& r, const std::string& path, int id, int c, double flag,
+                        double value, Scene& scene) {
+  if (flag != 0 && flag != 1)
+    r.fail("expected a support flag 0 or 1, found " + std::to_string(flag));
+  SelectionSpec on;
+  on.kind = SelectionSpec::Kind::kNodes;
+  on.nodes = {id};
+  on.at.where = path + ":" + std::to_string(r.line()) + ": node " + std::to_string(id + 1);
+  if (flag == 1) {
+    SupportSpec s;
+    s.on = on;
+    (c == 0 ? s.ux : s.uy) = value;
+    s.at = on.at;
+    scene.supports.push_back(s);
+  } else if (value != 0.0) {
+    LoadSpec l;
+    l.kind = LoadSpec::Kind::kNodalForce;
+    l.on = on;
+    l.vector = c == 0 ? Vec2(value, 0) : Vec2(0, value);
+    l.at = on.at;
+    scene.loads.push_back(l);
+  }
+}
+
+/// The node block: coordinates into `mesh`, supports and loads into `scene`. Returns which
+/// nodes the block defined.
+std::vector<bool> read_nodes(LineReader& r, const std::string& path, int nn, Mesh& mesh,
+                             Scene& scene) {
   mesh.nodes.assign(nn, Vec2::Zero());
   std::vector<bool> seen(nn, false);
   for (int i = 0; i < nn; ++i) {
@@ -85,87 +111,121 @@ Scene read_legacy_scene(const std::string& path) {
     if (seen[id]) r.fail("node " + std::to_string(id + 1) + " defined twice");
     seen[id] = true;
     mesh.nodes[id] = Vec2(v[1], v[2]);
-    for (int c = 0; c < 2; ++c) {
-      const double flag = v[3 + c], value = v[5 + c];
-      if (flag != 0 && flag != 1) r.fail("expected a support flag 0 or 1, found " + std::to_string(flag));
-      SelectionSpec on;
-      on.kind = SelectionSpec::Kind::kNodes;
-      on.nodes = {id};
-      on.at.where = path + ":" + std::to_string(r.line()) + ": node " + std::to_string(id + 1);
-      if (flag == 1) {
-        SupportSpec s;
-        s.on = on;
-        (c == 0 ? s.ux : s.uy) = value;
-        s.at = on.at;
-        scene.supports.push_back(s);
-      } else if (value != 0.0) {
-        LoadSpec l;
-        l.kind = LoadSpec::Kind::kNodalForce;
-        l.on = on;
-        l.vector = c == 0 ? Vec2(value, 0) : Vec2(0, value);
-        l.at = on.at;
-        scene.loads.push_back(l);
-      }
-    }
+    for (int c = 0; c < 2; ++c) add_node_condition(r, path, id, c, v[3 + c], v[5 + c], scene);
   }
-  std::map<std::tuple<int, double, double, double>, int> material_index;
+  return seen;
+}
+
+/// The element block's shared state: element order (0 until the first solid element) and the
+/// plane state's element type (-1 until then), and one material per distinct property set.
+struct ElementBlock {
   int order = 0;
   int state = -1;
-  for (int i = 0; i < ne; ++i) {
-    const auto v = r.next("an element line 'id n1 n2 n3 type p1 p2 p3'");
-    int nodes_per = 0;
-    if (v.size() == 8) nodes_per = 3;
-    else if (v.size() == 11) nodes_per = 6;
-    else
-      r.fail("expected 8 (T3) or 11 (T6) numbers on an element line, found " +
-             std::to_string(v.size()));
-    const int type = static_cast<int>(v[1 + nodes_per]);
-    const double p1 = v[2 + nodes_per], p2 = v[3 + nodes_per], p3 = v[4 + nodes_per];
-    if (type == 1) {
-      ExplicitModel::Gap gap;
-      gap.node_a = as_index(r, v[1], nn, "node");
-      gap.node_b = as_index(r, v[2], nn, "node");
-      gap.direction = Vec2(p1, p2);
-      gap.stiffness = p3;
-      if (gap.direction.norm() == 0) r.fail("gap element with a zero direction (nx, ny)");
-      model->gaps.push_back(gap);
-      continue;
-    }
-    if (type != 0 && type != 2)
-      r.fail("expected element type 0 (plane stress), 1 (gap) or 2 (plane strain), found " +
-             std::to_string(type));
-    if (order == 0) order = nodes_per == 3 ? 1 : 2;
-    if ((order == 1) != (nodes_per == 3)) r.fail("mixed T3 and T6 elements");
-    if (state >= 0 && state != type) r.fail("mixed plane stress and plane strain elements");
-    state = type;
-    if (!(p1 > 0) || !(p2 > 0) || !(p3 > -1 && p3 < 0.5))
-      r.fail("expected E > 0, thickness > 0 and -1 < nu < 0.5");
-    std::array<int, 6> conn{-1, -1, -1, -1, -1, -1};
-    for (int k = 0; k < nodes_per; ++k) conn[k] = as_index(r, v[1 + k], nn, "node");
-    auto [it, inserted] = material_index.try_emplace({type, p1, p2, p3},
-                                                     static_cast<int>(model->materials.size()));
-    if (inserted) {
-      MaterialSpec m;
-      m.name = "material" + std::to_string(model->materials.size() + 1);
-      m.young = p1;
-      m.thickness = p2;
-      m.poisson = p3;
-      model->materials.push_back(m);
-    }
-    mesh.elements.push_back(conn);
-    mesh.element_body.push_back(0);
-    mesh.element_material.push_back(it->second);
+  std::map<std::tuple<int, double, double, double>, int> material_index;
+};
+
+/// One element line: its numbers, node count (3 or 6), type and properties p1 p2 p3.
+struct ElementLine {
+  std::vector<double> v;
+  int nodes_per = 0;
+  int type = 0;
+  double p1 = 0, p2 = 0, p3 = 0;
+};
+
+/// Reads an element line 'id n1 n2 n3 [n4 n5 n6] type p1 p2 p3'.
+ElementLine read_element_line(LineReader& r) {
+  ElementLine e;
+  e.v = r.next("an element line 'id n1 n2 n3 type p1 p2 p3'");
+  const auto& v = e.v;
+  if (v.size() == 8)
+    e.nodes_per = 3;
+  else if (v.size() == 11)
+    e.nodes_per = 6;
+  else
+    r.fail("expected 8 (T3) or 11 (T6) numbers on an element line, found " +
+           std::to_string(v.size()));
+  e.type = static_cast<int>(v[1 + e.nodes_per]);
+  e.p1 = v[2 + e.nodes_per], e.p2 = v[3 + e.nodes_per], e.p3 = v[4 + e.nodes_per];
+  return e;
+}
+
+/// A gap element (type 1): nodes n1 n2, direction (p1, p2), stiffness p3.
+void add_gap_element(LineReader& r, const ElementLine& e, int nn, ExplicitModel& model) {
+  ExplicitModel::Gap gap;
+  gap.node_a = as_index(r, e.v[1], nn, "node");
+  gap.node_b = as_index(r, e.v[2], nn, "node");
+  gap.direction = Vec2(e.p1, e.p2);
+  gap.stiffness = e.p3;
+  if (gap.direction.norm() == 0) r.fail("gap element with a zero direction (nx, ny)");
+  model.gaps.push_back(gap);
+}
+
+/// A solid element (type 0 or 2): E = p1, thickness = p2, nu = p3.
+void add_solid_element(LineReader& r, const ElementLine& e, int nn, ElementBlock& block,
+                       ExplicitModel& model) {
+  if (e.type != 0 && e.type != 2)
+    r.fail("expected element type 0 (plane stress), 1 (gap) or 2 (plane strain), found " +
+           std::to_string(e.type));
+  if (block.order == 0) block.order = e.nodes_per == 3 ? 1 : 2;
+  if ((block.order == 1) != (e.nodes_per == 3)) r.fail("mixed T3 and T6 elements");
+  if (block.state >= 0 && block.state != e.type)
+    r.fail("mixed plane stress and plane strain elements");
+  block.state = e.type;
+  if (!(e.p1 > 0) || !(e.p2 > 0) || !(e.p3 > -1 && e.p3 < 0.5))
+    r.fail("expected E > 0, thickness > 0 and -1 < nu < 0.5");
+  std::array<int, 6> conn{-1, -1, -1, -1, -1, -1};
+  for (int k = 0; k < e.nodes_per; ++k) conn[k] = as_index(r, e.v[1 + k], nn, "node");
+  auto [it, inserted] = block.material_index.try_emplace({e.type, e.p1, e.p2, e.p3},
+                                                         static_cast<int>(model.materials.size()));
+  if (inserted) {
+    MaterialSpec m;
+    m.name = "material" + std::to_string(model.materials.size() + 1);
+    m.young = e.p1;
+    m.thickness = e.p2;
+    m.poisson = e.p3;
+    model.materials.push_back(m);
   }
+  model.mesh.elements.push_back(conn);
+  model.mesh.element_body.push_back(0);
+  model.mesh.element_material.push_back(it->second);
+}
+
+/// The element block: T3 or T6 solids and gap elements, into `model`.
+ElementBlock read_elements(LineReader& r, int nn, int ne, ExplicitModel& model) {
+  ElementBlock block;
+  for (int i = 0; i < ne; ++i) {
+    const ElementLine e = read_element_line(r);
+    if (e.type == 1)
+      add_gap_element(r, e, nn, model);
+    else
+      add_solid_element(r, e, nn, block, model);
+  }
+  return block;
+}
+
+}  // namespace
+
+Scene read_legacy_scene(const std::string& path) {
+  LineReader r(path);
+  const auto [nn, ne] = read_counts(r);
+
+  Scene scene;
+  scene.path = path;
+  scene.title = "legacy data file " + path;
+  auto model = std::make_shared<ExplicitModel>();
+  Mesh& mesh = model->mesh;
+  const std::vector<bool> seen = read_nodes(r, path, nn, mesh, scene);
+  const ElementBlock block = read_elements(r, nn, ne, *model);
   if (mesh.elements.empty()) r.fail("the file has no solid (type 0 or 2) elements");
   const auto tail = r.next("the two big numbers 'BIG BIGkr'");
   (void)tail;
-  mesh.order = order;
+  mesh.order = block.order;
   for (int i = 0; i < nn; ++i)
     if (!seen[i]) throw InputError(path + ": node " + std::to_string(i + 1) + " is never defined");
   mesh.orient_counter_clockwise();
   mesh.build_boundary();
-  scene.analysis.order = order;
-  scene.analysis.state = state == 2 ? PlaneState::kPlaneStrain : PlaneState::kPlaneStress;
+  scene.analysis.order = block.order;
+  scene.analysis.state = block.state == 2 ? PlaneState::kPlaneStrain : PlaneState::kPlaneStress;
   scene.analysis.smoothing = Smoothing::kDirectAverage;  // the seed program's smoothing
   scene.materials = model->materials;
   BodySpec body;

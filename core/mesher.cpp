@@ -329,110 +329,133 @@ double requested_size(const BodySpec& body, const Vec2& p) {
   return h;
 }
 
+namespace {
+
+/// Opens a .msh file: its physical curves as named curves, with the element order converted if
+/// the file's differs from the scene's.
+std::vector<NamedCurve> open_msh_file(const std::string& file, int order) {
+  gmsh::open(file);
+  std::vector<NamedCurve> named;
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, 1);
+  for (const auto& [dim, tag] : groups) {
+    std::string name;
+    gmsh::model::getPhysicalName(dim, tag, name);
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
+    for (int c : entities) named.push_back({c, name.empty() ? std::to_string(tag) : name});
+  }
+  std::vector<int> types;
+  gmsh::model::mesh::getElementTypes(types, 2);
+  const bool has_t6 = std::find(types.begin(), types.end(), 9) != types.end();
+  if ((order == 2) != has_t6) gmsh::model::mesh::setOrder(order);
+  return named;
+}
+
+/// The previous cycle's sizes as a gmsh background mesh (a list-based scalar-triangle view,
+/// located through gmsh's octree).
+void set_background_size_field(const SizeField& f) {
+  std::vector<double> data;
+  data.reserve(12 * f.triangles.size());
+  for (size_t t = 0; t < f.triangles.size(); ++t) {
+    for (int c = 0; c < 2; ++c)
+      for (int i = 0; i < 3; ++i) data.push_back(f.triangles[t][i][c]);
+    data.insert(data.end(), {0.0, 0.0, 0.0});
+    data.insert(data.end(), f.sizes[t].begin(), f.sizes[t].end());
+  }
+  const int view = gmsh::view::add("size_field");
+  gmsh::view::addListData(view, "ST", static_cast<int>(f.triangles.size()), data);
+  const int field = gmsh::model::mesh::field::add("PostView");
+  gmsh::model::mesh::field::setNumber(field, "ViewTag", view);
+  gmsh::model::mesh::field::setAsBackgroundMesh(field);
+}
+
+/// Builds the body's shape and meshes it: sizes from the adapted size field, else from the
+/// body's mesh size and refinements; a point cloud is triangulated as given.
+std::vector<NamedCurve> mesh_shape(const BodySpec& body, int order) {
+  std::vector<NamedCurve> named = build_geometry(body.shape);
+  // A point cloud is triangulated as given (Delaunay, no points added): a size far above
+  // the cloud's extent.
+  const bool cloud = body.shape.type == "points";
+  double extent = 0.0;
+  for (const auto& q : body.shape.points) extent = std::max(extent, q.norm());
+  for (const auto& q : body.shape.boundary) extent = std::max(extent, q.norm());
+  const double cloud_size = 1e3 * (1.0 + extent);
+  gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
+  gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
+  const bool adapted = body.size_field && !body.size_field->empty() && !cloud;
+  gmsh::option::setNumber("Mesh.MeshSizeMax", cloud     ? cloud_size
+                                              : adapted ? body.size_field->max()
+                                                        : body.mesh_size);
+  // A point cloud: MeshAdapt with the boundary imposed and the interior points embedded keeps
+  // exactly the given points (gmsh's Delaunay mesher inserted points into a 3 x 3 grid, and
+  // gmsh::model::mesh::triangulate drops hull edges); Lawson flips then make it Delaunay.
+  gmsh::option::setNumber("Mesh.Algorithm", cloud ? 1 : body.algorithm == "delaunay" ? 5 : 6);
+  gmsh::option::setNumber("Mesh.ElementOrder", 1);
+  if (adapted) {
+    set_background_size_field(*body.size_field);
+  } else {
+    gmsh::model::mesh::setSizeCallback(
+        [&body, cloud, cloud_size](int, int, double x, double y, double) {
+          return cloud ? cloud_size : requested_size(body, {x, y});
+        });
+  }
+  gmsh::model::mesh::generate(2);
+  if (!adapted) gmsh::model::mesh::removeSizeCallback();
+  if (cloud) make_delaunay();
+  if (order == 2) gmsh::model::mesh::setOrder(2);
+  return named;
+}
+
+/// The triangulation of a point cloud must use the cloud's points and no others.
+void check_cloud_vertices(const ShapeSpec& shape, const Mesh& mesh) {
+  std::vector<Vec2> boundary, interior;
+  split_point_cloud(shape, boundary, interior);
+  std::vector<char> corner(mesh.num_nodes(), 0);
+  for (const auto& e : mesh.elements)
+    for (int k = 0; k < 3; ++k) corner[e[k]] = 1;
+  const auto vertices = std::count(corner.begin(), corner.end(), 1);
+  if (vertices != static_cast<long>(boundary.size() + interior.size()))
+    throw InputError("shape.points: the triangulation has " + std::to_string(vertices) +
+                     " vertices for " + std::to_string(boundary.size() + interior.size()) +
+                     " points (gmsh added or dropped some)");
+}
+
+/// A .msh file's physical groups as node sets, mapped by coordinates (node tags were
+/// compacted).
+void add_physical_node_groups(Mesh& mesh) {
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, -1);
+  const PointLocator locator(mesh);
+  for (const auto& [dim, tag] : groups) {
+    std::string name;
+    gmsh::model::getPhysicalName(dim, tag, name);
+    std::vector<std::size_t> tags;
+    std::vector<double> xyz;
+    gmsh::model::mesh::getNodesForPhysicalGroup(dim, tag, tags, xyz);
+    auto& dst = mesh.node_groups[name.empty() ? std::to_string(tag) : name];
+    for (size_t i = 0; i < tags.size(); ++i) {
+      const Vec2 p(xyz[3 * i], xyz[3 * i + 1]);
+      const int n = locator.nearest_node(p);
+      if (n >= 0 && (mesh.nodes[n] - p).norm() <= 1e-12 * (1.0 + p.norm())) dst.push_back(n);
+    }
+  }
+}
+
+}  // namespace
+
 Mesh mesh_body(const BodySpec& body, int order) {
   ensure_gmsh();
   gmsh::clear();
   gmsh::model::add(body.name);
   try {
-    std::vector<NamedCurve> named;
-    if (!body.msh_file.empty()) {
-      gmsh::open(body.msh_file);
-      gmsh::vectorpair groups;
-      gmsh::model::getPhysicalGroups(groups, 1);
-      for (const auto& [dim, tag] : groups) {
-        std::string name;
-        gmsh::model::getPhysicalName(dim, tag, name);
-        std::vector<int> entities;
-        gmsh::model::getEntitiesForPhysicalGroup(dim, tag, entities);
-        for (int c : entities) named.push_back({c, name.empty() ? std::to_string(tag) : name});
-      }
-      // Convert the element order if the file's differs from the scene's.
-      std::vector<int> types;
-      gmsh::model::mesh::getElementTypes(types, 2);
-      const bool has_t6 = std::find(types.begin(), types.end(), 9) != types.end();
-      if ((order == 2) != has_t6) gmsh::model::mesh::setOrder(order);
-    } else {
-      named = build_geometry(body.shape);
-      // A point cloud is triangulated as given (Delaunay, no points added): a size far above
-      // the cloud's extent.
-      const bool cloud = body.shape.type == "points";
-      double extent = 0.0;
-      for (const auto& q : body.shape.points) extent = std::max(extent, q.norm());
-      for (const auto& q : body.shape.boundary) extent = std::max(extent, q.norm());
-      const double cloud_size = 1e3 * (1.0 + extent);
-      gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);
-      gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
-      const bool adapted = body.size_field && !body.size_field->empty() && !cloud;
-      gmsh::option::setNumber("Mesh.MeshSizeMax", cloud      ? cloud_size
-                                                  : adapted ? body.size_field->max()
-                                                            : body.mesh_size);
-      // A point cloud: MeshAdapt with the boundary imposed and the interior points embedded keeps
-      // exactly the given points (gmsh's Delaunay mesher inserted points into a 3 x 3 grid, and
-      // gmsh::model::mesh::triangulate drops hull edges); Lawson flips then make it Delaunay.
-      gmsh::option::setNumber("Mesh.Algorithm", cloud ? 1 : body.algorithm == "delaunay" ? 5 : 6);
-      gmsh::option::setNumber("Mesh.ElementOrder", 1);
-      if (adapted) {
-        // The previous cycle's sizes as a gmsh background mesh (a list-based scalar-triangle
-        // view, located through gmsh's octree).
-        const SizeField& f = *body.size_field;
-        std::vector<double> data;
-        data.reserve(12 * f.triangles.size());
-        for (size_t t = 0; t < f.triangles.size(); ++t) {
-          for (int c = 0; c < 2; ++c)
-            for (int i = 0; i < 3; ++i) data.push_back(f.triangles[t][i][c]);
-          data.insert(data.end(), {0.0, 0.0, 0.0});
-          data.insert(data.end(), f.sizes[t].begin(), f.sizes[t].end());
-        }
-        const int view = gmsh::view::add("size_field");
-        gmsh::view::addListData(view, "ST", static_cast<int>(f.triangles.size()), data);
-        const int field = gmsh::model::mesh::field::add("PostView");
-        gmsh::model::mesh::field::setNumber(field, "ViewTag", view);
-        gmsh::model::mesh::field::setAsBackgroundMesh(field);
-      } else {
-        gmsh::model::mesh::setSizeCallback([&body, cloud, cloud_size](int, int, double x, double y,
-                                                                      double) {
-          return cloud ? cloud_size : requested_size(body, {x, y});
-        });
-      }
-      gmsh::model::mesh::generate(2);
-      if (!adapted) gmsh::model::mesh::removeSizeCallback();
-      if (cloud) make_delaunay();
-      if (order == 2) gmsh::model::mesh::setOrder(2);
-    }
+    const bool from_file = !body.msh_file.empty();
+    const std::vector<NamedCurve> named =
+        from_file ? open_msh_file(body.msh_file, order) : mesh_shape(body, order);
     Mesh mesh = read_gmsh_model(order, named);
-    if (body.shape.type == "points" && body.msh_file.empty()) {
-      // The triangulation must use the cloud's points and no others.
-      std::vector<Vec2> boundary, interior;
-      split_point_cloud(body.shape, boundary, interior);
-      std::vector<char> corner(mesh.num_nodes(), 0);
-      for (const auto& e : mesh.elements)
-        for (int k = 0; k < 3; ++k) corner[e[k]] = 1;
-      const auto vertices = std::count(corner.begin(), corner.end(), 1);
-      if (vertices != static_cast<long>(boundary.size() + interior.size()))
-        throw InputError("shape.points: the triangulation has " + std::to_string(vertices) +
-                         " vertices for " + std::to_string(boundary.size() + interior.size()) +
-                         " points (gmsh added or dropped some)");
-    }
-    if (!body.msh_file.empty()) {
-      // Physical groups as node sets, mapped by coordinates (node tags were compacted).
-      gmsh::vectorpair groups;
-      gmsh::model::getPhysicalGroups(groups, -1);
-      const PointLocator locator(mesh);
-      for (const auto& [dim, tag] : groups) {
-        std::string name;
-        gmsh::model::getPhysicalName(dim, tag, name);
-        std::vector<std::size_t> tags;
-        std::vector<double> xyz;
-        gmsh::model::mesh::getNodesForPhysicalGroup(dim, tag, tags, xyz);
-        auto& dst = mesh.node_groups[name.empty() ? std::to_string(tag) : name];
-        for (size_t i = 0; i < tags.size(); ++i) {
-          const Vec2 p(xyz[3 * i], xyz[3 * i + 1]);
-          const int n = locator.nearest_node(p);
-          if (n >= 0 && (mesh.nodes[n] - p).norm() <= 1e-12 * (1.0 + p.norm())) dst.push_back(n);
-        }
-      }
-    }
+    if (body.shape.type == "points" && !from_file) check_cloud_vertices(body.shape, mesh);
+    if (from_file) add_physical_node_groups(mesh);
     gmsh::clear();
     return mesh;
   } catch (const std::string& message) {  // gmsh API errors are thrown as std::string

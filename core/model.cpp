@@ -208,45 +208,44 @@ VecX prescribed_displacement(const Model& model, double lambda) {
   return u;
 }
 
-Model build_model(const Scene& scene) {
-  Model model;
-  const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+/// A scene material as the element kernels' material, in the analysis' plane state.
+Material make_material(const MaterialSpec& m, PlaneState state) {
+  Material mat;
+  mat.name = m.name;
+  mat.young = m.young;
+  mat.poisson = m.poisson;
+  mat.thickness = m.thickness;
+  mat.state = state;
+  return mat;
+}
+
+/// The mesh and materials: a legacy file's explicit mesh, or every body meshed and appended.
+void mesh_bodies(const Scene& scene, Model& model) {
   const PlaneState state = scene.analysis.state;
-  auto make_material = [state](const MaterialSpec& m) {
-    Material mat;
-    mat.name = m.name;
-    mat.young = m.young;
-    mat.poisson = m.poisson;
-    mat.thickness = m.thickness;
-    mat.state = state;
-    return mat;
-  };
   if (scene.explicit_model) {
     model.mesh = scene.explicit_model->mesh;
-    for (const auto& m : scene.explicit_model->materials) model.materials.push_back(make_material(m));
+    for (const auto& m : scene.explicit_model->materials)
+      model.materials.push_back(make_material(m, state));
     model.body_names = {"body"};
-  } else {
-    model.mesh.order = scene.analysis.order;
-    for (const auto& m : scene.materials) model.materials.push_back(make_material(m));
-    for (size_t b = 0; b < scene.bodies.size(); ++b) {
-      const BodySpec& spec = scene.bodies[b];
-      Mesh body_mesh = mesh_body(spec, scene.analysis.order);
-      int mat = 0;
-      for (size_t m = 0; m < scene.materials.size(); ++m)
-        if (scene.materials[m].name == spec.material) mat = static_cast<int>(m);
-      model.mesh.append(body_mesh, static_cast<int>(b), mat, spec.name + "/");
-      model.body_names.push_back(spec.name);
-    }
+    return;
   }
-  model.node_material.assign(model.mesh.num_nodes(), 0);
-  for (int e = 0; e < model.mesh.num_elements(); ++e)
-    for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
-      model.node_material[model.mesh.elements[e][i]] = model.mesh.element_material[e];
-  model.mesh_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const Eigen::Vector4d box = model.mesh.bounding_box();
-  model.model_size = std::hypot(box[2] - box[0], box[3] - box[1]);
+  model.mesh.order = scene.analysis.order;
+  for (const auto& m : scene.materials) model.materials.push_back(make_material(m, state));
+  for (size_t b = 0; b < scene.bodies.size(); ++b) {
+    const BodySpec& spec = scene.bodies[b];
+    Mesh body_mesh = mesh_body(spec, scene.analysis.order);
+    int mat = 0;
+    for (size_t m = 0; m < scene.materials.size(); ++m)
+      if (scene.materials[m].name == spec.material) mat = static_cast<int>(m);
+    model.mesh.append(body_mesh, static_cast<int>(b), mat, spec.name + "/");
+    model.body_names.push_back(spec.name);
+  }
+}
 
+/// Prescribes the supports' displacements (a rotation's per node) in the DOF map.
+void apply_supports(const Scene& scene, Model& model) {
   model.dofs = DofMap(model.mesh.num_dofs());
   for (const auto& s : scene.supports) {
     const std::vector<int> nodes = select_nodes(model, s.on);
@@ -264,7 +263,59 @@ Model build_model(const Scene& scene) {
     }
   }
   model.dofs.finalize();
+}
 
+/// A body force on the elements whose nodes are all selected.
+void add_body_force(const Model& model, const LoadSpec& l, VecX& f) {
+  const auto nodes = select_nodes(model, l.on);
+  std::vector<bool> in(model.mesh.num_nodes(), false);
+  for (int n : nodes) in[n] = true;
+  for (int e = 0; e < model.mesh.num_elements(); ++e) {
+    bool all = true;
+    for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
+      all = all && in[model.mesh.elements[e][i]];
+    if (!all) continue;
+    const LocalVector fe =
+        element_body_force(model.mesh.element_coords(e),
+                           model.materials[model.mesh.element_material[e]].thickness, l.vector);
+    for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
+      f.segment<2>(2 * model.mesh.elements[e][i]) += fe.segment<2>(2 * i);
+  }
+}
+
+/// A traction, pressure or total force on the selected boundary edges.
+void add_edge_load(const Model& model, const LoadSpec& l, VecX& f) {
+  using K = LoadSpec::Kind;
+  const auto edges = select_edges(model, l.on);
+  const int nn = model.mesh.order == 1 ? 2 : 3;
+  auto edge_coords = [&](const BoundaryEdge& be) {
+    Eigen::MatrixX2d x(nn, 2);
+    for (int i = 0; i < nn; ++i) x.row(i) = model.mesh.nodes[be.nodes[i]].transpose();
+    return x;
+  };
+  Vec2 traction = l.vector;
+  double pressure = l.kind == K::kPressure ? l.value : 0.0;
+  if (l.kind == K::kPressure) traction.setZero();
+  if (l.kind == K::kTotalForce) {
+    // Uniform traction whose resultant is the given force: F / (Σ t L).
+    double tl = 0.0;
+    for (int i : edges) {
+      const auto& be = model.mesh.boundary_edges[i];
+      tl += edge_length(edge_coords(be)) *
+            model.materials[model.mesh.element_material[be.element]].thickness;
+    }
+    traction = l.vector / tl;
+  }
+  for (int i : edges) {
+    const auto& be = model.mesh.boundary_edges[i];
+    const double t = model.materials[model.mesh.element_material[be.element]].thickness;
+    const Eigen::VectorXd fe = edge_load(edge_coords(be), t, traction, pressure);
+    for (int k = 0; k < nn; ++k) f.segment<2>(2 * be.nodes[k]) += fe.segment<2>(2 * k);
+  }
+}
+
+/// The external force vector: every load, in the scene's order.
+void apply_loads(const Scene& scene, Model& model) {
   model.external_force = VecX::Zero(model.mesh.num_dofs());
   VecX& f = model.external_force;
   for (const auto& l : scene.loads) {
@@ -272,49 +323,29 @@ Model build_model(const Scene& scene) {
     if (l.kind == K::kNodalForce) {
       for (int n : select_nodes(model, l.on)) f.segment<2>(2 * n) += l.vector;
     } else if (l.kind == K::kBodyForce) {
-      const auto nodes = select_nodes(model, l.on);
-      std::vector<bool> in(model.mesh.num_nodes(), false);
-      for (int n : nodes) in[n] = true;
-      for (int e = 0; e < model.mesh.num_elements(); ++e) {
-        bool all = true;
-        for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
-          all = all && in[model.mesh.elements[e][i]];
-        if (!all) continue;
-        const LocalVector fe =
-            element_body_force(model.mesh.element_coords(e),
-                               model.materials[model.mesh.element_material[e]].thickness, l.vector);
-        for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
-          f.segment<2>(2 * model.mesh.elements[e][i]) += fe.segment<2>(2 * i);
-      }
+      add_body_force(model, l, f);
     } else {
-      const auto edges = select_edges(model, l.on);
-      const int nn = model.mesh.order == 1 ? 2 : 3;
-      auto edge_coords = [&](const BoundaryEdge& be) {
-        Eigen::MatrixX2d x(nn, 2);
-        for (int i = 0; i < nn; ++i) x.row(i) = model.mesh.nodes[be.nodes[i]].transpose();
-        return x;
-      };
-      Vec2 traction = l.vector;
-      double pressure = l.kind == K::kPressure ? l.value : 0.0;
-      if (l.kind == K::kPressure) traction.setZero();
-      if (l.kind == K::kTotalForce) {
-        // Uniform traction whose resultant is the given force: F / (Σ t L).
-        double tl = 0.0;
-        for (int i : edges) {
-          const auto& be = model.mesh.boundary_edges[i];
-          tl += edge_length(edge_coords(be)) *
-                model.materials[model.mesh.element_material[be.element]].thickness;
-        }
-        traction = l.vector / tl;
-      }
-      for (int i : edges) {
-        const auto& be = model.mesh.boundary_edges[i];
-        const double t = model.materials[model.mesh.element_material[be.element]].thickness;
-        const Eigen::VectorXd fe = edge_load(edge_coords(be), t, traction, pressure);
-        for (int k = 0; k < nn; ++k) f.segment<2>(2 * be.nodes[k]) += fe.segment<2>(2 * k);
-      }
+      add_edge_load(model, l, f);
     }
   }
+}
+
+}  // namespace
+
+Model build_model(const Scene& scene) {
+  Model model;
+  const auto t0 = std::chrono::steady_clock::now();
+  mesh_bodies(scene, model);
+  model.node_material.assign(model.mesh.num_nodes(), 0);
+  for (int e = 0; e < model.mesh.num_elements(); ++e)
+    for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
+      model.node_material[model.mesh.elements[e][i]] = model.mesh.element_material[e];
+  model.mesh_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const Eigen::Vector4d box = model.mesh.bounding_box();
+  model.model_size = std::hypot(box[2] - box[0], box[3] - box[1]);
+
+  apply_supports(scene, model);
+  apply_loads(scene, model);
   return model;
 }
 
