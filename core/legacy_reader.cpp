@@ -156,7 +156,11 @@ void add_gap_element(LineReader& r, const ElementLine& e, int nn, ExplicitModel&
   gap.node_b = as_index(r, e.v[2], nn, "node");
   gap.direction = Vec2(e.p1, e.p2);
   gap.stiffness = e.p3;
-  if (gap.direction.norm() == 0) r.fail("gap element with a zero direction (nx, ny)");
+  if (gap.node_a == gap.node_b) r.fail("gap element from a node to itself");
+  if (!(gap.stiffness > 0) || !std::isfinite(gap.stiffness))
+    r.fail("gap element with a stiffness k > 0, found " + std::to_string(gap.stiffness));
+  if (!(gap.direction.norm() > 0) || !gap.direction.allFinite())
+    r.fail("gap element with a zero direction (nx, ny)");
   model.gaps.push_back(gap);
 }
 

@@ -169,6 +169,8 @@ Scene parse_scene(const std::string& text, const std::string& name,
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  if (std::filesystem::is_directory(path))
+    throw InputError(path + ": expected a scene file (.toml or .dat), found a folder");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the scene file");
   const std::string ext = std::filesystem::path(path).extension().string();

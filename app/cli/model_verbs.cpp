@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "app/cli/verbs.hpp"
+#include "app/output_folder.hpp"
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/writers.hpp"
@@ -19,7 +20,7 @@ int cmd_mesh(const Options& o) {
   const core::Scene scene = core::load_scene(o.scene, o.sets);
   const core::Model model = core::build_model(scene);
   const std::string out = default_out(o, scene);
-  std::filesystem::create_directories(out);
+  create_output_folder(out);
   const core::Results empty = core::Results::zeros(
       model.mesh.num_nodes(), model.mesh.num_elements(), model.mesh.nodes_per_element());
   core::write_file_atomic(out + "/mesh.vtu", core::vtu_document(model, empty));

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "constraints/method_registry.hpp"
 #include "core/errors.hpp"
 
 namespace c2d::app {
@@ -44,7 +45,12 @@ const ValueOption kValueOptions[] = {
     {"--set", true,
      [](Options& o, const std::string&, const std::string& v) { o.sets.push_back(v); }},
     {"--out", true, [](Options& o, const std::string&, const std::string& v) { o.out = v; }},
-    {"--method", true, [](Options& o, const std::string&, const std::string& v) { o.method = v; }},
+    {"--method", true,
+     [](Options& o, const std::string&, const std::string& v) {
+       if (!constraints::find_method(v))
+         throw InputError("--method: expected " + constraints::method_list(" | ") + ", found '" + v + "'");
+       o.method = v;
+     }},
     {"--methods", true,
      [](Options& o, const std::string&, const std::string& v) { o.methods = v; }},
     {"--data", false, [](Options& o, const std::string&, const std::string& v) { o.data = v; }},

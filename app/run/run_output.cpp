@@ -1,4 +1,5 @@
 #include "app/run/run_output.hpp"
+#include "app/output_folder.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -20,7 +21,7 @@ double seconds_since(RunOutput::Clock::time_point t) {
 
 RunOutput::RunOutput(const core::Scene& scene, std::string dir)
     : scene_(scene), dir_(std::move(dir)) {
-  std::filesystem::create_directories(dir_);
+  create_output_folder(dir_);
 }
 
 void RunOutput::write_series(Series& files, const std::string& pvd, const char* pattern, int number,

@@ -1,4 +1,5 @@
 #include "app/studies/bench.hpp"
+#include "app/output_folder.hpp"
 
 #include <omp.h>
 
@@ -318,7 +319,7 @@ int run_bench(const BenchOptions& o) {
       throw InputError(o.examples + "/" + c.scene +
                        ": bench scene not found (expected the bundled "
                        "examples folder; pass --examples DIR)");
-  fs::create_directories(out);
+  create_output_folder(out);
   const core::Stopwatch clock;
   std::vector<BenchRow> rows(ladder.size());
   for (size_t i = 0; i < ladder.size(); ++i) rows[i].c = ladder[i];

@@ -1,4 +1,5 @@
 #include "app/studies/study.hpp"
+#include "app/output_folder.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -131,7 +132,7 @@ bool RunFigures::read(const CaseOutcome& c) {
 std::string study_out(const StudyOptions& o, const std::string& verb) {
   const std::string out =
       o.out.empty() ? "out/" + verb + "_" + fs::path(o.scene).stem().string() : o.out;
-  fs::create_directories(out);
+  create_output_folder(out);
   return out;
 }
 

@@ -654,3 +654,23 @@ TEST(Cli, AdaptiveRunWritesItsCyclesAndPlotDrawsEveryField) {
   EXPECT_EQ(run("run " + example("legacy/two_blocks_gap.dat") + " --adapt --out " + out.string(), &output), 2);
   EXPECT_NE(output.find("adaptivity needs bodies meshed from shapes"), std::string::npos) << output;
 }
+
+TEST(Cli, InputFaultsAreNamedAsSuchWithExitTwo) {
+  // Issue 16, finding 8: an unknown --method, a scene path that is a folder, and --out naming a
+  // file or a folder that cannot be created are input errors (exit 2) that name the input.
+  std::string output;
+  const fs::path dir = fs::temp_directory_path() / ("c2d_cli_faults_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "a_file") << "x";
+  EXPECT_EQ(run_args({"run", example("hertz_rigid_fast.toml"), "--method", "newton"}, &output), 2);
+  EXPECT_NE(output.find("--method: expected penalty | adaptive_penalty"), std::string::npos) << output;
+  EXPECT_NE(output.find("found 'newton'"), std::string::npos) << output;
+  EXPECT_EQ(run_args({"run", dir.string()}, &output), 2);
+  EXPECT_NE(output.find("expected a scene file (.toml or .dat), found a folder"), std::string::npos) << output;
+  EXPECT_EQ(run_args({"run", example("hertz_rigid_fast.toml"), "--out", (dir / "a_file").string()}, &output), 2);
+  EXPECT_NE(output.find("a_file: expected an output folder, found a file"), std::string::npos) << output;
+  EXPECT_EQ(run_args({"run", example("hertz_rigid_fast.toml"), "--out", (dir / "a_file" / "sub").string()}, &output), 2);
+  EXPECT_NE(output.find("expected an output folder that can be created"), std::string::npos) << output;
+  fs::remove_all(dir);
+}

@@ -95,3 +95,25 @@ TEST(LegacyReader, GapElementsAreReadAsNodePairs) {
   EXPECT_DOUBLE_EQ(s.explicit_model->gaps[0].stiffness, 1e6);
   EXPECT_EQ(build_model(s).mesh.num_elements(), 2);  // gaps are constraints, not elements
 }
+
+TEST(LegacyReader, DegenerateGapElementsAreRefusedAtTheirLine) {
+  // Issue 16, finding 5: zero or negative stiffness and a gap from a node to itself.
+  const std::string head = "4 3 1\n1 0 0 1 1 0 0\n2 1 0 0 0 0 0\n3 1 1 0 0 0 0\n4 0 1 1 1 0 0\n"
+                           "1 1 2 3 0 1000 1 0.3\n2 1 3 4 0 1000 1 0.3\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"3 2 3 0 1 0 1 0\n", "a stiffness k > 0"},
+      {"3 2 3 0 1 0 1 -5\n", "a stiffness k > 0"},
+      {"3 2 2 0 1 0 1 1e6\n", "from a node to itself"},
+  };
+  for (const auto& [line, expected] : cases) {
+    const std::string path = write_temp("c2d_bad_gap.dat", head + line + "1e20 1e20\n");
+    try {
+      load_scene(path);
+      ADD_FAILURE() << line << ": expected an InputError";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("c2d_bad_gap.dat:8:"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(expected), std::string::npos) << msg;
+    }
+  }
+}

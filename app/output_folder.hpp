@@ -1,0 +1,13 @@
+// The output folder of a run or a study, created up front so that a path that cannot hold one
+// is refused as bad input before any work.
+#pragma once
+
+#include <string>
+
+namespace c2d::app {
+
+/// Creates `dir` (and its parents) if needed. Throws InputError naming `dir` when it names an
+/// existing file or cannot be created (permissions, a file on the path).
+void create_output_folder(const std::string& dir);
+
+}  // namespace c2d::app
