@@ -1,5 +1,7 @@
 #include "core/legacy_reader.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -107,6 +109,8 @@ std::vector<bool> read_nodes(LineReader& r, const std::string& path, int nn, Mes
     if (v.size() != 7)
       r.fail("expected 7 numbers on a node line (id x y sx sy fx fy), found " +
              std::to_string(v.size()));
+    for (double x : v)
+      if (!std::isfinite(x)) r.fail("expected finite numbers on a node line, found " + std::to_string(x));
     const int id = as_index(r, v[0], nn, "node");
     if (seen[id]) r.fail("node " + std::to_string(id + 1) + " defined twice");
     seen[id] = true;
@@ -164,6 +168,15 @@ void add_gap_element(LineReader& r, const ElementLine& e, int nn, ExplicitModel&
   model.gaps.push_back(gap);
 }
 
+/// Refuses an element whose corner nodes are collinear (zero area: a singular stiffness).
+void check_element_area(LineReader& r, const std::vector<Vec2>& x, const std::array<int, 6>& conn) {
+  const Vec2 a = x[conn[1]] - x[conn[0]], b = x[conn[2]] - x[conn[0]];
+  const double scale = std::max({a.squaredNorm(), b.squaredNorm(), (b - a).squaredNorm()});
+  if (!(std::abs(a.x() * b.y() - a.y() * b.x()) > 1e-12 * scale))
+    r.fail("an element of positive area, found collinear corner nodes " + std::to_string(conn[0] + 1) +
+           ", " + std::to_string(conn[1] + 1) + ", " + std::to_string(conn[2] + 1));
+}
+
 /// A solid element (type 0 or 2): E = p1, thickness = p2, nu = p3.
 void add_solid_element(LineReader& r, const ElementLine& e, int nn, ElementBlock& block,
                        ExplicitModel& model) {
@@ -175,10 +188,16 @@ void add_solid_element(LineReader& r, const ElementLine& e, int nn, ElementBlock
   if (block.state >= 0 && block.state != e.type)
     r.fail("mixed plane stress and plane strain elements");
   block.state = e.type;
-  if (!(e.p1 > 0) || !(e.p2 > 0) || !(e.p3 > -1 && e.p3 < 0.5))
-    r.fail("expected E > 0, thickness > 0 and -1 < nu < 0.5");
+  if (!(e.p1 > 0) || !(e.p2 > 0) || !(e.p3 > -1 && e.p3 < 0.5) || !std::isfinite(e.p1) ||
+      !std::isfinite(e.p2))
+    r.fail("expected finite E > 0, thickness > 0 and -1 < nu < 0.5");
   std::array<int, 6> conn{-1, -1, -1, -1, -1, -1};
-  for (int k = 0; k < e.nodes_per; ++k) conn[k] = as_index(r, e.v[1 + k], nn, "node");
+  for (int k = 0; k < e.nodes_per; ++k) {
+    conn[k] = as_index(r, e.v[1 + k], nn, "node");
+    for (int j = 0; j < k; ++j)
+      if (conn[j] == conn[k]) r.fail("an element with distinct nodes, found node " + std::to_string(conn[k] + 1) + " twice");
+  }
+  check_element_area(r, model.mesh.nodes, conn);
   auto [it, inserted] = block.material_index.try_emplace({e.type, e.p1, e.p2, e.p3},
                                                          static_cast<int>(model.materials.size()));
   if (inserted) {

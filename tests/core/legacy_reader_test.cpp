@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "core/errors.hpp"
 #include "core/model.hpp"
@@ -113,6 +114,31 @@ TEST(LegacyReader, DegenerateGapElementsAreRefusedAtTheirLine) {
     } catch (const InputError& e) {
       const std::string msg = e.what();
       EXPECT_NE(msg.find("c2d_bad_gap.dat:8:"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(expected), std::string::npos) << msg;
+    }
+  }
+}
+
+TEST(LegacyReader, NonFiniteAndDegenerateInputIsRefusedAtItsLine) {
+  // Issue 16, finding 6: NaN coordinates, E = inf, a repeated node and a zero-area element used
+  // to end as "singular" (or reach the output); each is now a located input error.
+  const std::string nodes = "1 0 0 1 1 0 0\n2 1 0 0 0 0 0\n3 1 1 0 0 0 0\n4 0 1 1 1 0 0\n";
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"4 1 1\n1 0 0 1 1 0 0\n2 nan 0 0 0 0 0\n3 1 1 0 0 0 0\n4 0 1 1 1 0 0\n1 1 2 3 0 1000 1 0.3\n",
+       ":3:", "finite numbers on a node line"},
+      {"4 1 1\n" + nodes + "1 1 2 3 0 inf 1 0.3\n", ":6:", "finite E > 0"},
+      {"4 1 1\n" + nodes + "1 1 2 2 0 1000 1 0.3\n", ":6:", "found node 2 twice"},
+      {"4 1 1\n1 0 0 1 1 0 0\n2 1 0 0 0 0 0\n3 2 0 0 0 0 0\n4 0 1 1 1 0 0\n1 1 2 3 0 1000 1 0.3\n",
+       ":6:", "collinear corner nodes 1, 2, 3"},
+  };
+  for (const auto& [text, line, expected] : cases) {
+    const std::string path = write_temp("c2d_bad_element.dat", text + "1e20 1e20\n");
+    try {
+      load_scene(path);
+      ADD_FAILURE() << expected << ": expected an InputError";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find("c2d_bad_element.dat" + line), std::string::npos) << msg;
       EXPECT_NE(msg.find(expected), std::string::npos) << msg;
     }
   }
