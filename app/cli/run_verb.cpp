@@ -20,18 +20,27 @@ class Reporter {
  public:
   explicit Reporter(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO)) {}
   void phase(const std::string& what) {
-    log_ << what << '\n';
+    write_log(what + '\n');
     if (!quiet_ && tty_) std::cerr << "  .. " << what << std::endl;
   }
   void line(const std::string& text) {
-    log_ << text;
+    write_log(text);
     if (!quiet_) std::cout << text << std::flush;
   }
-  std::string log() const { return log_.str(); }
+  /// From now on run.log gets every line as it is printed (the earlier ones first).
+  void attach(RunOutput& output) {
+    output_ = &output;
+    output.log(early_.str());
+  }
 
  private:
+  void write_log(const std::string& text) {
+    if (output_) output_->log(text);
+    else early_ << text;
+  }
   bool quiet_, tty_;
-  std::ostringstream log_;
+  std::ostringstream early_;
+  RunOutput* output_ = nullptr;
 };
 
 /// The scene with --set and, for --adapt, the [adapt] overrides applied.
@@ -64,6 +73,7 @@ int cmd_run(const Options& o) {
   rep.phase("reading " + o.scene);
   const core::Scene scene = load_run_scene(o);
   RunOutput output(scene, default_out(o, scene));
+  rep.attach(output);
   const auto phase = [&](const std::string& line) { rep.phase(line); };
   std::unique_ptr<SceneRun> solved;
   AdaptRun adapt;
@@ -89,7 +99,7 @@ int cmd_run(const Options& o) {
     rep.line(std::string(adapt.reached ? "adapt      " : "warning    adapt: ") + adapt.stop +
              " (adapt.csv, cycle_NN.vtu)\n");
   if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
-  output.write_log(rep.log());
+  output.commit();
   return solved->results.status == SolveStatus::kConverged ? kExitOk : kExitSolveFailed;
 }
 

@@ -1,9 +1,12 @@
 #include "app/run/run_output.hpp"
-#include "app/output_folder.hpp"
+
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <system_error>
 
+#include "app/output_folder.hpp"
 #include "app/report/charts.hpp"
 #include "app/report/run_tables.hpp"
 #include "app/report/summary.hpp"
@@ -20,8 +23,39 @@ double seconds_since(RunOutput::Clock::time_point t) {
 }  // namespace
 
 RunOutput::RunOutput(const core::Scene& scene, std::string dir)
-    : scene_(scene), dir_(std::move(dir)) {
+    : scene_(scene), target_(std::move(dir)) {
+  namespace fs = std::filesystem;
+  // The target must be a folder or creatable as one; the run itself goes to a sibling work
+  // folder, swapped in by commit(), so the target never mixes two runs.
+  std::error_code ec;
+  if (fs::exists(target_, ec) && !fs::is_directory(target_, ec))
+    create_output_folder(target_);  // refuses a file, naming it
+  const fs::path target = fs::absolute(target_).lexically_normal();
+  const fs::path parent = (target.has_filename() ? target : target.parent_path()).parent_path();
+  create_output_folder(parent.string());
+  dir_ = (parent / ((target.has_filename() ? target : target.parent_path()).filename().string() +
+                    ".part." + std::to_string(::getpid())))
+             .string();
+  std::filesystem::remove_all(dir_, ec);
   create_output_folder(dir_);
+  log_.open(dir_ + "/run.log");
+}
+
+RunOutput::~RunOutput() {
+  if (committed_) return;
+  std::error_code ec;  // a run that ended in an exception leaves nothing behind
+  std::filesystem::remove_all(dir_, ec);
+}
+
+void RunOutput::commit() {
+  namespace fs = std::filesystem;
+  log_.close();
+  std::error_code ec;
+  const std::string old = dir_ + ".old";
+  if (fs::exists(target_, ec)) fs::rename(target_, old);
+  fs::rename(dir_, target_);
+  fs::remove_all(old, ec);
+  committed_ = true;
 }
 
 void RunOutput::write_series(Series& files, const std::string& pvd, const char* pattern, int number,
@@ -103,8 +137,8 @@ nlohmann::json RunOutput::write_summary(const SceneRun& run, const AdaptRun* ada
   return summary;
 }
 
-void RunOutput::write_log(const std::string& text) {
-  core::write_file_atomic(dir_ + "/run.log", text);
+void RunOutput::log(const std::string& text) {
+  log_ << text << std::flush;
 }
 
 }  // namespace c2d::app

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -19,11 +20,22 @@ class RunOutput {
  public:
   using Clock = std::chrono::steady_clock;
 
-  /// Writes into `dir` (created here); [output] of `scene` decides whether fields and charts
-  /// are written. `scene` must outlive this object.
+  /// Writes into a fresh work folder beside `dir` (DIR.part.PID), which commit() renames to
+  /// `dir`, replacing an earlier run's folder whole: a folder never mixes two runs, and a run
+  /// refused or ended by an exception leaves neither. Throws InputError when `dir` names a file
+  /// or cannot be created. [output] of `scene` decides whether fields and charts are written;
+  /// `scene` must outlive this object.
   RunOutput(const core::Scene& scene, std::string dir);
+  ~RunOutput();
+  RunOutput(const RunOutput&) = delete;
+  RunOutput& operator=(const RunOutput&) = delete;
 
-  const std::string& dir() const { return dir_; }
+  /// The output folder as the user named it (the files appear there at commit()).
+  const std::string& dir() const { return target_; }
+  /// The work folder the files are written to until commit().
+  const std::string& work_dir() const { return dir_; }
+  /// Puts the finished run in place of the output folder.
+  void commit();
 
   /// A converged load step: step_NNNN.vtu, and results.pvd rewritten to list it.
   void write_step(const nonlinear::StepRecord& step, const core::Model& model,
@@ -43,8 +55,8 @@ class RunOutput {
   /// adaptive runs. Returns what it wrote.
   nlohmann::json write_summary(const SceneRun& run, const AdaptRun* adapt);
 
-  /// run.log: what the run printed.
-  void write_log(const std::string& text);
+  /// Appends to run.log as the run goes.
+  void log(const std::string& text);
 
  private:
   using Series = std::vector<std::pair<double, std::string>>;  ///< (time, file) per VTU
@@ -56,7 +68,9 @@ class RunOutput {
   std::string write_charts(const SceneRun& run);
 
   const core::Scene& scene_;
-  std::string dir_;
+  std::string target_, dir_;
+  bool committed_ = false;
+  std::ofstream log_;
   Series step_files_, cycle_files_;
   std::vector<AdaptCycle> cycles_;
 };

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -671,6 +672,48 @@ TEST(Cli, InputFaultsAreNamedAsSuchWithExitTwo) {
   EXPECT_EQ(run_args({"run", example("hertz_rigid_fast.toml"), "--out", (dir / "a_file").string()}, &output), 2);
   EXPECT_NE(output.find("a_file: expected an output folder, found a file"), std::string::npos) << output;
   EXPECT_EQ(run_args({"run", example("hertz_rigid_fast.toml"), "--out", (dir / "a_file" / "sub").string()}, &output), 2);
-  EXPECT_NE(output.find("expected an output folder that can be created"), std::string::npos) << output;
+  EXPECT_NE(output.find("a_file: expected an output folder"), std::string::npos) << output;
+  fs::remove_all(dir);
+}
+
+TEST(Cli, AnOutputFolderNeverMixesTwoRuns) {
+  // Issue 16, finding 7: a run writes into a work folder beside the target and swaps it in
+  // whole at the end. A failed run replaces an earlier converged one (its summary says failed,
+  // no step file of the earlier run stays); a refused input leaves no folder; two runs into one
+  // folder at once leave one of them whole; no work folder remains.
+  const fs::path dir = fs::temp_directory_path() / ("c2d_cli_folders_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string out = (dir / "out").string();
+  std::string output;
+  ASSERT_EQ(run_args({"run", example("two_cantilevers.toml"), "--out", out, "--quiet"}, &output), 0) << output;
+  ASSERT_TRUE(fs::exists(dir / "out" / "step_0002.vtu"));
+  EXPECT_EQ(run_args({"run", example("cantilever.toml"), "--set", "support[0].on.edge=bottom", "--set",
+                      "support[0].fix=[\"uy\"]", "--out", out, "--quiet"}, &output), 1);
+  std::ifstream in(dir / "out" / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"].get<std::string>().rfind("failed: singular", 0), 0u) << s["status"];
+  EXPECT_FALSE(fs::exists(dir / "out" / "step_0002.vtu"));
+  EXPECT_FALSE(fs::exists(dir / "out" / "contact.csv"));
+  EXPECT_EQ(run_args({"run", example("cantilever.toml"), "--set", "support[0].on.edge=nowhere", "--out",
+                      (dir / "refused").string(), "--quiet"}, &output), 2);
+  EXPECT_FALSE(fs::exists(dir / "refused"));
+  // Two runs at once into one folder, with different methods: the folder is one of them.
+  const std::string both = (dir / "both").string();
+  std::thread other([&] {
+    std::string o;
+    c2d::app::run_process(C2D_BINARY, {"run", example("hertz_rigid_fast.toml"), "--method", "penalty", "--out", both, "--quiet"},
+                          (dir / "other.log").string());
+  });
+  EXPECT_EQ(run_args({"run", example("hertz_rigid_fast.toml"), "--method", "ssn", "--out", both, "--quiet"}, &output), 0);
+  other.join();
+  std::ifstream sj(dir / "both" / "summary.json");
+  const std::string method = nlohmann::json::parse(sj)["solver"]["backend"];
+  std::ifstream log(dir / "both" / "run.log");
+  std::stringstream text;
+  text << log.rdbuf();
+  EXPECT_NE(text.str().find("with " + method + " contact"), std::string::npos) << method;
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
   fs::remove_all(dir);
 }
