@@ -74,6 +74,7 @@ int cmd_run(const Options& o) {
   const core::Scene scene = load_run_scene(o);
   RunOutput output(scene, default_out(o, scene));
   rep.attach(output);
+  output.end_on_interrupt();
   const auto phase = [&](const std::string& line) { rep.phase(line); };
   std::unique_ptr<SceneRun> solved;
   AdaptRun adapt;

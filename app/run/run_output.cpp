@@ -1,6 +1,9 @@
 #include "app/run/run_output.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <cstdio>
 #include <filesystem>
@@ -41,6 +44,46 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   log_.open(dir_ + "/run.log");
 }
 
+namespace {
+
+// What the interrupt handler needs, prepared before it is installed: it may only call
+// async-signal-safe functions (open, write, close, rename, _exit).
+char g_work[4096], g_target[4096], g_aside[4096], g_summary[4096];
+const char kInterrupted[] =
+    "{\n  \"status\": \"interrupted\",\n  \"message\": \"SIGINT or SIGTERM before the run finished; "
+    "the files are those written until then\"\n}\n";
+
+extern "C" void on_interrupt(int) {
+  const int fd = ::open(g_summary, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd >= 0) {
+    [[maybe_unused]] const ssize_t n = ::write(fd, kInterrupted, sizeof kInterrupted - 1);
+    ::close(fd);
+  }
+  ::rename(g_target, g_aside);  // an earlier run's folder, if any, is set aside
+  ::rename(g_work, g_target);
+  const char note[] = "interrupted: partial results and summary.json in the output folder\n";
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, note, sizeof note - 1);
+  ::_exit(130);
+}
+
+void copy_path(char* to, const std::string& from) {
+  std::snprintf(to, 4096, "%s", from.c_str());
+}
+
+}  // namespace
+
+void RunOutput::end_on_interrupt() {
+  copy_path(g_work, dir_);
+  copy_path(g_target, target_);
+  copy_path(g_aside, dir_ + ".interrupted-aside");
+  copy_path(g_summary, dir_ + "/summary.json");
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
 RunOutput::~RunOutput() {
   if (committed_) return;
   std::error_code ec;  // a run that ended in an exception leaves nothing behind
@@ -49,6 +92,8 @@ RunOutput::~RunOutput() {
 
 void RunOutput::commit() {
   namespace fs = std::filesystem;
+  std::signal(SIGINT, SIG_DFL);  // from here on the run is complete
+  std::signal(SIGTERM, SIG_DFL);
   log_.close();
   std::error_code ec;
   const std::string old = dir_ + ".old";

@@ -36,6 +36,10 @@ class RunOutput {
   const std::string& work_dir() const { return dir_; }
   /// Puts the finished run in place of the output folder.
   void commit();
+  /// From now until commit(), SIGINT and SIGTERM end the run with exit 130, leaving the files
+  /// written so far in the output folder with a summary.json whose status is "interrupted"
+  /// (an earlier run's folder is set aside as DIR.part.PID.interrupted-aside).
+  void end_on_interrupt();
 
   /// A converged load step: step_NNNN.vtu, and results.pvd rewritten to list it.
   void write_step(const nonlinear::StepRecord& step, const core::Model& model,

@@ -7,6 +7,9 @@
 #include "app/report/csv_table.hpp"
 #include "constraints/method_registry.hpp"
 
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -16,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -715,5 +719,41 @@ TEST(Cli, AnOutputFolderNeverMixesTwoRuns) {
   EXPECT_NE(text.str().find("with " + method + " contact"), std::string::npos) << method;
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
+  fs::remove_all(dir);
+}
+
+TEST(Cli, SigintEndsARunAsInterruptedWithExit130) {
+  // Issue 16, finding 7: SIGINT during the solve (a 110k-DOF contact run that takes seconds)
+  // ends with exit 130 and an output folder whose summary.json says "interrupted".
+  const fs::path dir = fs::temp_directory_path() / ("c2d_cli_sigint_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string out = (dir / "out").string(), binary = C2D_BINARY,
+                    scene = example("two_cantilevers.toml");
+  std::vector<std::string> words{binary, "run", scene, "--set", "analysis.mesh_scale=0.3", "--out", out, "--quiet"};
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  ASSERT_EQ(posix_spawn(&pid, binary.c_str(), nullptr, nullptr, argv.data(), environ), 0);
+  // Signal once the solve has begun (its run.log, written as the run goes, says so).
+  const fs::path log = dir / ("out.part." + std::to_string(pid)) / "run.log";
+  for (int i = 0; i < 600; ++i) {
+    std::ifstream l(log);
+    std::stringstream t;
+    t << l.rdbuf();
+    if (t.str().find("solving") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  std::ifstream in(dir / "out" / "summary.json");
+  ASSERT_TRUE(in.good());
+  EXPECT_EQ(nlohmann::json::parse(in)["status"], "interrupted");
+  EXPECT_TRUE(fs::exists(dir / "out" / "run.log"));
   fs::remove_all(dir);
 }
