@@ -95,7 +95,7 @@ int cmd_run(const Options& o) {
   const std::string chart_error = output.write_results(*solved, t0);
   const nlohmann::json summary =
       output.write_summary(*solved, scene.adapt.enabled ? &adapt : nullptr);
-  rep.line(terminal_summary(summary, output.dir()));
+  rep.line(terminal_summary(summary, output.dir(), output.work_dir()));
   if (scene.adapt.enabled)
     rep.line(std::string(adapt.reached ? "adapt      " : "warning    adapt: ") + adapt.stop +
              " (adapt.csv, cycle_NN.vtu)\n");

@@ -159,7 +159,8 @@ nlohmann::json make_summary(const SummaryParts& p) {
   return j;
 }
 
-std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir) {
+std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir,
+                             const std::string& files_dir) {
   std::ostringstream os;
   os << std::setprecision(6);
   os << "status     " << s["status"].get<std::string>() << '\n';
@@ -201,7 +202,7 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
        << '\n';
   std::string files;  // what this run wrote ([output] may leave fields or charts out)
   for (const char* f : {"summary.json", "results.pvd", "nodes.csv", "contact.csv", "deformed.png"})
-    if (std::filesystem::exists(out_dir + "/" + f))
+    if (std::filesystem::exists((files_dir.empty() ? out_dir : files_dir) + "/" + f))
       files += (files.empty() ? "" : ", ") + std::string(f);
   os << "results    " << out_dir << "/ (" << files
      << (s.contains("load_factor") ? ", trace.csv; charts: contact2d trace " + out_dir

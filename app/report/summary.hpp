@@ -32,7 +32,9 @@ std::string run_status(const core::Results& results);
 /// (load_factor) and the adaptive cycles when there were any.
 nlohmann::json make_summary(const SummaryParts& parts);
 
-/// A few human lines for the terminal.
-std::string terminal_summary(const nlohmann::json& summary, const std::string& out_dir);
+/// A few human lines for the terminal, naming `out_dir` and the files of the run found in
+/// `files_dir` (the folder they are in now; default `out_dir`).
+std::string terminal_summary(const nlohmann::json& summary, const std::string& out_dir,
+                             const std::string& files_dir = "");
 
 }  // namespace c2d::app

@@ -690,8 +690,11 @@ TEST(Cli, AnOutputFolderNeverMixesTwoRuns) {
   fs::create_directories(dir);
   const std::string out = (dir / "out").string();
   std::string output;
-  ASSERT_EQ(run_args({"run", example("two_cantilevers.toml"), "--out", out, "--quiet"}, &output), 0) << output;
+  ASSERT_EQ(run_args({"run", example("two_cantilevers.toml"), "--out", out}, &output), 0) << output;
   ASSERT_TRUE(fs::exists(dir / "out" / "step_0002.vtu"));
+  // The terminal names the folder and the files the run wrote (found in the work folder then).
+  EXPECT_NE(output.find(out + "/ (summary.json, results.pvd, nodes.csv, contact.csv"), std::string::npos)
+      << output;
   EXPECT_EQ(run_args({"run", example("cantilever.toml"), "--set", "support[0].on.edge=bottom", "--set",
                       "support[0].fix=[\"uy\"]", "--out", out, "--quiet"}, &output), 1);
   std::ifstream in(dir / "out" / "summary.json");
