@@ -102,11 +102,8 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
           names.push_back(spec.obstacles[i].name);
           if (spec.obstacles[i].name == name) c.obstacle = static_cast<int>(i);
         }
-        if (c.obstacle < 0) {
-          const std::string near = core::nearest_name(name, names);
-          m["obstacle"].fail("the name of an [[obstacle]]" +
-                             (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
-        }
+        if (c.obstacle < 0)
+          m["obstacle"].fail("the name of an [[obstacle]]" + core::did_you_mean(name, names));
       } else {
         c.master = core::parse_selection(m);
       }

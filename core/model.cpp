@@ -32,11 +32,9 @@ int body_index(const Model& model, const std::string& name) {
 int selected_body(const Model& model, const SelectionSpec& s) {
   if (s.body.empty()) return -1;
   const int body = body_index(model, s.body);
-  if (body < 0) {
-    const std::string near = nearest_name(s.body, model.body_names);
+  if (body < 0)
     throw InputError(s.at.where + ": expected the name of a [[body]], found '" + s.body + "'" +
-                     (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
-  }
+                     did_you_mean(s.body, model.body_names));
   return body;
 }
 

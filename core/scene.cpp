@@ -36,9 +36,7 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
       if (b.name == s.body) return;
       names.push_back(b.name);
     }
-    const std::string near = nearest_name(s.body, names);
-    v["on"]["body"].fail("the name of a [[body]]" +
-                         (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
+    v["on"]["body"].fail("the name of a [[body]]" + did_you_mean(s.body, names));
   };
   for (const auto& s : root["support"].tables()) {
     scene.supports.push_back(parse_support(s));

@@ -310,11 +310,7 @@ BodySpec parse_body(const TomlView& b, const Scene& scene) {
     known |= m.name == bs.material;
     names.push_back(m.name);
   }
-  if (!known) {
-    const std::string near = nearest_name(bs.material, names);
-    b["material"].fail("the name of a [[material]]" +
-                       (near.empty() ? std::string() : " (did you mean '" + near + "'?)"));
-  }
+  if (!known) b["material"].fail("the name of a [[material]]" + did_you_mean(bs.material, names));
   parse_body_mesh(b, scene, bs);
   return bs;
 }

@@ -66,12 +66,10 @@ void TomlView::check_keys(std::initializer_list<const char*> allowed) const {
   for (const auto& [key, value] : *node_->as_table()) {
     const std::string k(key.str());
     if (std::find(names.begin(), names.end(), k) != names.end()) continue;
-    const std::string near = nearest_name(k, names);
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
     TomlView bad(&value, path_.empty() ? k : path_ + "." + k, file_, node_);
-    throw InputError(bad.where() + ": unknown key '" + k + "'" +
-                     (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+    throw InputError(bad.where() + ": unknown key '" + k + "'" + did_you_mean(k, names) +
                      "; expected one of: " + list);
   }
 }
@@ -175,6 +173,11 @@ std::vector<TomlView> TomlView::items() const {
   for (size_t i = 0; i < arr.size(); ++i)
     out.emplace_back(&arr[i], path_ + "[" + std::to_string(i) + "]", file_, node_);
   return out;
+}
+
+std::string did_you_mean(const std::string& key, const std::vector<std::string>& candidates) {
+  const std::string near = nearest_name(key, candidates);
+  return near.empty() ? std::string() : " (did you mean '" + near + "'?)";
 }
 
 std::string nearest_name(const std::string& key, const std::vector<std::string>& candidates) {

@@ -64,5 +64,8 @@ class TomlView {
 
 /// Levenshtein-nearest candidate, or empty when nothing is close.
 std::string nearest_name(const std::string& key, const std::vector<std::string>& candidates);
+/// " (did you mean 'NEAREST'?)" when a candidate is near `key`, else "": the suffix of every
+/// unknown-name message.
+std::string did_you_mean(const std::string& key, const std::vector<std::string>& candidates);
 
 }  // namespace c2d::core
