@@ -27,6 +27,13 @@ VecX DofMap::expand(const VecX& free_values, double load_factor) const {
   return u;
 }
 
+VecX DofMap::with_free(const VecX& full, const VecX& free_values) const {
+  VecX u = full;
+  for (int i = 0; i < num_dofs(); ++i)
+    if (!constrained_[i]) u[i] = free_values[equation_[i]];
+  return u;
+}
+
 VecX DofMap::restrict(const VecX& full) const {
   VecX r(num_free_);
   for (int i = 0; i < num_dofs(); ++i)

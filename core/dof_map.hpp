@@ -29,6 +29,8 @@ class DofMap {
 
   /// Full vector from free values plus prescribed values scaled by `load_factor`.
   VecX expand(const VecX& free_values, double load_factor = 1.0) const;
+  /// `full` with its free entries replaced by `free_values` (the constrained ones kept).
+  VecX with_free(const VecX& full, const VecX& free_values) const;
   /// Free part of a full vector.
   VecX restrict(const VecX& full) const;
 

@@ -19,12 +19,7 @@ void FiniteStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
 }
 
 VecX FiniteStrainSystem::full(const VecX& u_free) const {
-  VecX u = u_prescribed_;
-  for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof) {
-    const int eq = model_.dofs.equation(dof);
-    if (eq >= 0) u[dof] = u_free[eq];
-  }
-  return u;
+  return model_.dofs.with_free(u_prescribed_, u_free);
 }
 
 bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {

@@ -3,10 +3,7 @@
 namespace c2d::nonlinear {
 
 VecX SmallStrainSystem::full(const VecX& u_free) const {
-  VecX u = u_prescribed_;
-  for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
-    if (const int eq = model_.dofs.equation(dof); eq >= 0) u[dof] = u_free[eq];
-  return u;
+  return model_.dofs.with_free(u_prescribed_, u_free);
 }
 
 bool SmallStrainSystem::step_predictor(const VecX& u0, VecX& load) {
