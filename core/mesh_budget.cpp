@@ -23,19 +23,24 @@ bool segments_meet(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
   return on(a, b, c, d1) || on(a, b, d, d2) || on(c, d, a, d3) || on(c, d, b, d4);
 }
 
-double polygon_area(const std::vector<Vec2>& p) {
-  double a = 0.0;
-  for (size_t i = 0; i < p.size(); ++i) a += cross(p[i], p[(i + 1) % p.size()]);
-  return 0.5 * std::abs(a);
+/// The diagonal of the points' bounding box.
+double diagonal(const std::vector<Vec2>& p) {
+  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
+  for (const auto& q : p) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
+  return (hi - lo).norm();
 }
 
 }  // namespace
 
+double signed_area(const std::vector<Vec2>& p) {
+  double a = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) a += cross(p[i], p[(i + 1) % p.size()]);
+  return 0.5 * a;
+}
+
 std::string polygon_problem(const std::vector<Vec2>& p) {
   const size_t n = p.size();
-  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
-  for (const auto& q : p) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-  const double diag = (hi - lo).norm();
+  const double diag = diagonal(p);
   for (size_t i = 0; i < n; ++i)
     if ((p[(i + 1) % n] - p[i]).norm() <= 1e-12 * diag)
       return "vertex " + std::to_string(i + 1) + " repeats vertex " + std::to_string((i + 1) % n + 1);
@@ -47,13 +52,13 @@ std::string polygon_problem(const std::vector<Vec2>& p) {
         return "edges " + std::to_string(i + 1) + " and " + std::to_string(j + 1) +
                " meet (the polygon intersects itself)";
     }
-  if (!(polygon_area(p) > 1e-12 * diag * diag)) return "the polygon has no area (collinear points)";
+  if (!(std::abs(signed_area(p)) > 1e-12 * diag * diag)) return "the polygon has no area (collinear points)";
   return {};
 }
 
 double shape_area(const ShapeSpec& s) {
   if (s.type == "rectangle") return (s.max - s.min).prod();
-  if (s.type == "polygon") return polygon_area(s.points);
+  if (s.type == "polygon") return std::abs(signed_area(s.points));
   if (s.type == "disk") return std::numbers::pi * s.radius * s.radius;
   if (s.type == "disk_segment") return 0.5 * s.radius * s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0;
   return 0.0;
@@ -61,11 +66,7 @@ double shape_area(const ShapeSpec& s) {
 
 double shape_diagonal(const ShapeSpec& s) {
   if (s.type == "rectangle") return (s.max - s.min).norm();
-  if (s.type == "polygon" || s.type == "points") {
-    Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
-    for (const auto& q : s.points) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-    return (hi - lo).norm();
-  }
+  if (s.type == "polygon" || s.type == "points") return diagonal(s.points);
   return 2.0 * s.radius;
 }
 

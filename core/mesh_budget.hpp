@@ -14,6 +14,9 @@ namespace c2d::core {
 /// touch away from their shared vertex); empty when it is a simple polygon.
 std::string polygon_problem(const std::vector<Vec2>& points);
 
+/// The signed area of a closed polygon (positive when counter-clockwise).
+double signed_area(const std::vector<Vec2>& polygon);
+
 /// The area and the bounding-box diagonal of a shape (rectangle, polygon, disk, disk segment);
 /// 0 for a point cloud.
 double shape_area(const ShapeSpec& s);

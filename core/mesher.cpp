@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "core/errors.hpp"
+#include "core/mesh_budget.hpp"
 
 namespace c2d::core {
 
@@ -97,10 +98,8 @@ void split_point_cloud(const ShapeSpec& s, std::vector<Vec2>& boundary, std::vec
                          " and " + std::to_string(std::max(sorted[i].second, sorted[j].second) + 1) +
                          " coincide; expected distinct points");
   std::vector<Vec2> polygon = s.boundary.empty() ? convex_hull(s.points, tol * size) : s.boundary;
-  double area = 0.0;
-  for (size_t i = 0; i < polygon.size(); ++i)
-    area += cross(Vec2::Zero(), polygon[i], polygon[(i + 1) % polygon.size()]);
-  if (std::abs(area) <= 1e-12 * size * size)
+  const double area = signed_area(polygon);
+  if (2.0 * std::abs(area) <= 1e-12 * size * size)
     throw InputError(std::string(s.boundary.empty() ? "shape.points" : "shape.boundary") +
                      ": the points are collinear (no area to triangulate); expected a 2D cloud");
   if (area < 0) std::reverse(polygon.begin(), polygon.end());
