@@ -24,9 +24,9 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
   const core::Mesh& mesh = model.mesh;
   for (size_t c = 0; c < spec.pairs.size(); ++c) {
     const ContactPairSpec& cs = spec.pairs[c];
-    add_slave_edges(cs);
     const DiscretizationInfo* info = find_discretization(cs.detection);
     if (!info) throw InputError(cs.where + ": unknown detection '" + cs.detection + "'");
+    add_slave_edges(cs, info->slave_surface);
     pairs_.push_back(info->create({model, cs, spec_.obstacles, static_cast<int>(c)}));
   }
   if (scene.explicit_model) add_gap_elements(*scene.explicit_model);
@@ -45,13 +45,13 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
   length_scale_ = shortest > 0 && shortest < 1e300 ? shortest : model.model_size * 1e-3;
 }
 
-void ContactSet::add_slave_edges(const ContactPairSpec& cs) {
+void ContactSet::add_slave_edges(const ContactPairSpec& cs, bool required) {
   const core::Mesh& mesh = model_.mesh;
   std::vector<int> slave_edges;
   try {
     slave_edges = core::select_edges(model_, cs.slave);
   } catch (const InputError&) {
-    if (cs.detection != "node_to_node") throw;
+    if (required) throw;
   }
   for (int id : slave_edges) {
     slave_edges_.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));

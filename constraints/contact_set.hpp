@@ -80,9 +80,9 @@ class ContactSet {
   double model_size() const { return model_.model_size; }
 
  private:
-  /// The slave surface of one [[contact]] (for pressure recovery; none for a node_to_node pair
-  /// given by nodes only).
-  void add_slave_edges(const ContactPairSpec& cs);
+  /// The slave surface of one [[contact]] (for pressure recovery); a selection without boundary
+  /// edges is refused when `required` (the discretization recovers pressure on the surface).
+  void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
   void add_gap_elements(const core::ExplicitModel& legacy);
 

@@ -2,14 +2,16 @@
 
 #include "constraints/discretizations/node_to_node.hpp"
 #include "constraints/discretizations/node_to_segment.hpp"
+#include "constraints/registry.hpp"
 
 namespace c2d::constraints {
 
 namespace {
 
 template <class Discretization>
-DiscretizationInfo entry(std::string name, std::string summary, bool obstacles) {
-  return {std::move(name), std::move(summary), obstacles,
+DiscretizationInfo entry(std::string name, std::string summary, bool obstacles,
+                         bool slave_surface) {
+  return {std::move(name), std::move(summary), obstacles, slave_surface,
           [](const DiscretizationInput& in) -> std::unique_ptr<ContactDiscretization> {
             return std::make_unique<Discretization>(in);
           }};
@@ -19,24 +21,18 @@ DiscretizationInfo entry(std::string name, std::string summary, bool obstacles) 
 
 const std::vector<DiscretizationInfo>& discretization_registry() {
   static const std::vector<DiscretizationInfo> registry = {
-      entry<NodeToSegment>("node_to_segment", "each slave node projected onto the master edges (linear or quadratic) or a rigid obstacle", true),
-      entry<NodeToNode>("node_to_node", "each slave node paired with its nearest master node along a fixed direction (the seed's gap element)", false),
+      entry<NodeToSegment>("node_to_segment", "each slave node projected onto the master edges (linear or quadratic) or a rigid obstacle", true, true),
+      entry<NodeToNode>("node_to_node", "each slave node paired with its nearest master node along a fixed direction (the seed's gap element)", false, false),
   };
   return registry;
 }
 
 const DiscretizationInfo* find_discretization(std::string_view name) {
-  for (const auto& d : discretization_registry())
-    if (d.name == name) return &d;
-  return nullptr;
+  return find_entry(discretization_registry(), name);
 }
 
 const std::vector<std::string>& discretization_names() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> out;
-    for (const auto& d : discretization_registry()) out.push_back(d.name);
-    return out;
-  }();
+  static const std::vector<std::string> names = entry_names(discretization_registry());
   return names;
 }
 

@@ -40,6 +40,9 @@ struct DiscretizationInfo {
   std::string name;     ///< the value of a [[contact]]'s `detection`
   std::string summary;  ///< one line for the docs
   bool obstacles = false;  ///< accepts a rigid obstacle as master
+  /// The slave selection must hold boundary edges (the surface the pressure is recovered on);
+  /// else a selection of nodes alone is enough.
+  bool slave_surface = true;
   std::unique_ptr<ContactDiscretization> (*create)(const DiscretizationInput&) = nullptr;
 };
 

@@ -6,6 +6,7 @@
 #include "constraints/methods/lagrange_strategy.hpp"
 #include "constraints/methods/penalty_strategy.hpp"
 #include "constraints/methods/ssn_strategy.hpp"
+#include "constraints/registry.hpp"
 
 namespace c2d::constraints {
 
@@ -35,18 +36,10 @@ const std::vector<MethodInfo>& method_registry() {
   return registry;
 }
 
-const MethodInfo* find_method(std::string_view name) {
-  for (const auto& m : method_registry())
-    if (m.name == name) return &m;
-  return nullptr;
-}
+const MethodInfo* find_method(std::string_view name) { return find_entry(method_registry(), name); }
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> out;
-    for (const auto& m : method_registry()) out.push_back(m.name);
-    return out;
-  }();
+  static const std::vector<std::string> names = entry_names(method_registry());
   return names;
 }
 
