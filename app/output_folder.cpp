@@ -7,12 +7,16 @@
 
 namespace c2d::app {
 
-void create_output_folder(const std::string& dir) {
-  namespace fs = std::filesystem;
+void refuse_file_as_folder(const std::string& dir) {
   std::error_code ec;
-  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
     throw InputError(dir + ": expected an output folder, found a file");
-  fs::create_directories(dir, ec);
+}
+
+void create_output_folder(const std::string& dir) {
+  refuse_file_as_folder(dir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
   if (ec) throw InputError(dir + ": expected an output folder that can be created, found: " + ec.message());
 }
 

@@ -6,6 +6,10 @@
 
 namespace c2d::app {
 
+/// Throws InputError naming `dir` when it names an existing file (a folder, or nothing yet, is
+/// fine).
+void refuse_file_as_folder(const std::string& dir);
+
 /// Creates `dir` (and its parents) if needed. Throws InputError naming `dir` when it names an
 /// existing file or cannot be created (permissions, a file on the path).
 void create_output_folder(const std::string& dir);

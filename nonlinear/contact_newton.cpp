@@ -91,19 +91,16 @@ class ConstrainedStep {
       if (!iterate(outer)) return std::move(out_);
       if (out_.status == SolveStatus::kConverged) break;
     }
-    if (out_.status != SolveStatus::kConverged) {
+    if (out_.status == SolveStatus::kConverged) {
+      out_.newton.status = SolveStatus::kConverged;
+      out_.memory = previous_;
+    } else {
       fail(SolveStatus::kMaxIterations, "active set or geometry still changing after " +
                                             std::to_string(in_.max_outer) + " outer iterations");
-      out_.u_free = u_;  // the last state that satisfied the equations with its set held
-      out_.rows = std::move(state_rows_);
-      out_.state = std::move(state_);
-      return std::move(out_);
     }
-    out_.newton.status = SolveStatus::kConverged;
+    // The last state that satisfied the equations with its set held: the rows and forces of
+    // the solve that produced it (converged: the strategy confirmed their linearisation there).
     out_.u_free = u_;
-    out_.memory = previous_;
-    // The rows and forces of the solve that produced the state (the strategy confirmed their
-    // linearisation at it).
     out_.rows = std::move(state_rows_);
     out_.state = std::move(state_);
     return std::move(out_);

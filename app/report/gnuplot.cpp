@@ -16,10 +16,7 @@ namespace c2d::app {
 
 namespace {
 
-bool has_control_character(std::string_view text) {
-  return std::any_of(text.begin(), text.end(),
-                     [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
-}
+bool is_control(char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }
 
 /// Doubles every single quote: inside '...' gnuplot substitutes nothing (no backquotes, no
 /// macros, no escapes), and '' stands for one quote.
@@ -33,13 +30,12 @@ std::string single_quoted(std::string_view text) {
 
 std::string gp_text(std::string_view text) {
   std::string clean(text);
-  for (char& c : clean)
-    if (has_control_character({&c, 1})) c = ' ';
+  std::replace_if(clean.begin(), clean.end(), is_control, ' ');
   return single_quoted(clean);
 }
 
 std::string gp_file(const std::string& path) {
-  if (has_control_character(path))
+  if (std::any_of(path.begin(), path.end(), is_control))
     throw InputError(path + ": expected a file path without control characters, found one");
   // Absolute, so that the name can never start with '<' or '|' (gnuplot runs those as commands).
   return single_quoted(std::filesystem::absolute(path).lexically_normal().string());

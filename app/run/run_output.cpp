@@ -30,16 +30,13 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   namespace fs = std::filesystem;
   // The target must be a folder or creatable as one; the run itself goes to a sibling work
   // folder, swapped in by commit(), so the target never mixes two runs.
+  refuse_file_as_folder(target_);
+  fs::path folder = fs::absolute(target_).lexically_normal();
+  if (!folder.has_filename()) folder = folder.parent_path();  // "out/" names "out"
+  create_output_folder(folder.parent_path().string());
+  dir_ = folder.string() + ".part." + std::to_string(::getpid());
   std::error_code ec;
-  if (fs::exists(target_, ec) && !fs::is_directory(target_, ec))
-    create_output_folder(target_);  // refuses a file, naming it
-  const fs::path target = fs::absolute(target_).lexically_normal();
-  const fs::path parent = (target.has_filename() ? target : target.parent_path()).parent_path();
-  create_output_folder(parent.string());
-  dir_ = (parent / ((target.has_filename() ? target : target.parent_path()).filename().string() +
-                    ".part." + std::to_string(::getpid())))
-             .string();
-  std::filesystem::remove_all(dir_, ec);
+  fs::remove_all(dir_, ec);
   create_output_folder(dir_);
   log_.open(dir_ + "/run.log");
 }
