@@ -49,14 +49,16 @@ Vec2 combine(const MasterEdge& e, const std::vector<Vec2>& x, const std::array<d
   return out;
 }
 
-namespace {
-
 Vec2 outward_normal(const Vec2& tangent) {
   const double len = tangent.norm();
   return len > 0 ? Vec2(tangent.y() / len, -tangent.x() / len) : Vec2(0, 0);
 }
 
-}  // namespace
+Vec2 edge_normal(const MasterEdge& e, const std::vector<Vec2>& x, double xi) {
+  std::array<double, 3> n, dn, ddn;
+  edge_shape(e.count, xi, n, dn, ddn);
+  return outward_normal(combine(e, x, dn));
+}
 
 SegmentProjection project_on_edge(const MasterEdge& e, const std::vector<Vec2>& x,
                                   const Vec2& p) {
@@ -129,6 +131,83 @@ MasterSurfaceSearch::MasterSurfaceSearch(std::vector<MasterEdge> edges, const st
   }
 }
 
+void MasterSurfaceSearch::cell_range(const Vec2& lo, const Vec2& hi, int& i0, int& i1, int& j0,
+                                     int& j1) const {
+  i0 = std::clamp(static_cast<int>(std::floor((lo.x() - origin_.x()) / cell_)), 0, nx_ - 1);
+  i1 = std::clamp(static_cast<int>(std::floor((hi.x() - origin_.x()) / cell_)), 0, nx_ - 1);
+  j0 = std::clamp(static_cast<int>(std::floor((lo.y() - origin_.y()) / cell_)), 0, ny_ - 1);
+  j1 = std::clamp(static_cast<int>(std::floor((hi.y() - origin_.y()) / cell_)), 0, ny_ - 1);
+}
+
+std::vector<int> MasterSurfaceSearch::edges_near(const Vec2& lo, const Vec2& hi) const {
+  std::vector<int> out;
+  if (edges_.empty() || hi.x() < origin_.x() || hi.y() < origin_.y() ||
+      lo.x() > origin_.x() + nx_ * cell_ || lo.y() > origin_.y() + ny_ * cell_)
+    return out;
+  int i0, i1, j0, j1;
+  cell_range(lo, hi, i0, i1, j0, j1);
+  for (int j = j0; j <= j1; ++j)
+    for (int i = i0; i <= i1; ++i) {
+      const auto& cell = cells_[static_cast<size_t>(j) * nx_ + i];
+      out.insert(out.end(), cell.begin(), cell.end());
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+Vec2 MasterSurfaceSearch::vertex_normal(int node) const {
+  Vec2 mean = Vec2::Zero();
+  for (int id : vertex_edges_[vertex_slot_[node]]) {
+    const auto& e = edges_[id];
+    std::array<double, 3> n, dn, ddn;
+    edge_shape(e.count, e.nodes[0] == node ? 0.0 : 1.0, n, dn, ddn);
+    mean += outward_normal(combine(e, x_, dn));
+  }
+  return mean.norm() > 0 ? Vec2(mean.normalized()) : mean;
+}
+
+bool MasterSurfaceSearch::is_free_end(int node) const {
+  return node >= 0 && node < static_cast<int>(vertex_slot_.size()) && vertex_slot_[node] >= 0 &&
+         vertex_edges_[vertex_slot_[node]].size() == 1;
+}
+
+void MasterSurfaceSearch::treat_vertex(const Vec2& p, SegmentProjection& q) const {
+  const MasterEdge& e = edges_[q.edge];
+  const int end = q.xi <= 0.0 ? 0 : 1;
+  const int node = e.nodes[end];
+  const Vec2 d = p - x_[node];
+  const Vec2 edge_normal = q.normal;  // the edge's own normal at its end
+  q.vertex = node;
+  q.point = x_[node];
+  q.weights = {0, 0, 0};
+  q.weights[end] = 1.0;
+  if (is_free_end(node)) {
+    // Past a free end the surface continues, for a tenth of the end edge's length, as a
+    // parabola tangent to the edge that falls away by that length: a rounded end, so that the
+    // gap is continuous (no release of a slave that sank just past the end, no cycling).
+    const double band = 0.1 * (x_[e.nodes[1]] - x_[e.nodes[0]]).norm();
+    const Vec2 out = (x_[node] - x_[e.nodes[1 - end]]).normalized();  // along the edge, outward
+    const double past = out.dot(d);
+    if (past <= band) {
+      const double s = std::max(past, 0.0);
+      q.gap = edge_normal.dot(d) + s * s / band;
+      q.normal = (edge_normal + (2.0 * s / band) * out).normalized();
+      return;
+    }
+    q.beyond_free_end = true;
+  }
+  const Vec2 mean = vertex_normal(node);
+  const bool outside = q.beyond_free_end || mean.dot(d) > 0;
+  if (outside && d.norm() > 1e-12 * cell_) {
+    q.normal = d.normalized();
+    q.gap = d.norm();
+  } else {
+    q.normal = mean.norm() > 0 ? mean : edge_normal;
+    q.gap = q.normal.dot(d);
+  }
+}
+
 SegmentProjection MasterSurfaceSearch::project(const Vec2& p, int exclude_node) const {
   SegmentProjection best;
   if (edges_.empty()) return best;
@@ -151,35 +230,22 @@ SegmentProjection MasterSurfaceSearch::project(const Vec2& p, int exclude_node) 
   }
   if (!best.found) return best;
   // Closest point at an edge end: a vertex shared by edges (sliding across) or a corner.
-  if (best.xi <= 0.0 || best.xi >= 1.0) {
-    const int node = edges_[best.edge].nodes[best.xi <= 0.0 ? 0 : 1];
-    Vec2 mean = Vec2::Zero();
-    for (int id : vertex_edges_[vertex_slot_[node]]) {
-      const auto& e = edges_[id];
-      std::array<double, 3> n, dn, ddn;
-      edge_shape(e.count, e.nodes[0] == node ? 0.0 : 1.0, n, dn, ddn);
-      mean += outward_normal(combine(e, x_, dn));
-    }
-    mean = mean.norm() > 0 ? Vec2(mean.normalized()) : best.normal;
-    const Vec2 d = p - x_[node];
-    best.vertex = node;
-    best.point = x_[node];
-    best.weights = {0, 0, 0};
-    best.weights[best.xi <= 0.0 ? 0 : 1] = 1.0;
-    // A free end of the master surface (one adjacent edge): the region beyond it is not
-    // bounded by the master, so a point there is outside, at its distance from the end (a slave
-    // beside a punch's corner, level with or above its face, is not under it).
-    const bool free_end = vertex_edges_[vertex_slot_[node]].size() == 1;
-    if ((free_end || mean.dot(d) > 0) && d.norm() > 1e-12 * cell_) {
-      best.normal = d.normalized();
-      best.gap = d.norm();
-    } else {
-      best.normal = mean;
-      best.gap = mean.dot(d);
-    }
-  }
+  if (best.xi <= 0.0 || best.xi >= 1.0) treat_vertex(p, best);
   if (best.gap > search_) best.found = false;
   return best;
+}
+
+GapRow node_row(int slave, const Vec2& normal, double gap,
+                const std::vector<std::pair<int, double>>& master) {
+  GapRow r;
+  r.slave = slave;
+  r.normal = normal;
+  r.gap = gap;
+  r.terms.reserve(master.size() + 1);
+  r.terms.emplace_back(slave, normal);
+  for (const auto& [node, w] : master)
+    if (w != 0.0) r.terms.emplace_back(node, -w * normal);
+  return r;
 }
 
 }  // namespace c2d::constraints

@@ -48,6 +48,9 @@ struct SegmentProjection {
   Vec2 normal = Vec2::Zero();
   Vec2 point = Vec2::Zero();
   std::array<double, 3> weights{0, 0, 0};  ///< shape function values at xi
+  /// The closest point is a free end of the master surface and p lies beyond the rounded end
+  /// (see MasterSurfaceSearch): p faces no master.
+  bool beyond_free_end = false;
 };
 
 /// Edge shape functions on the parameter xi in [0, 1] (ends 0 and 1, middle node 2), with their
@@ -56,6 +59,11 @@ void edge_shape(int count, double xi, std::array<double, 3>& n, std::array<doubl
                 std::array<double, 3>& ddn);
 /// Σ_a w_a x_a over the edge's nodes.
 Vec2 combine(const MasterEdge& e, const std::vector<Vec2>& x, const std::array<double, 3>& w);
+
+/// The unit normal (t_y, −t_x) of a tangent t: outward for an edge with its body on the left.
+Vec2 outward_normal(const Vec2& tangent);
+/// The outward unit normal of an edge at parameter xi.
+Vec2 edge_normal(const MasterEdge& e, const std::vector<Vec2>& x, double xi);
 
 /// Closest-point projection onto one linear or quadratic edge (Newton on the parameter,
 /// clamped to the edge). The gap and normal are the edge's own (no vertex treatment).
@@ -69,9 +77,15 @@ SegmentProjection project_on_edge(const MasterEdge& edge, const std::vector<Vec2
 /// A point whose closest point is an edge end (a slave facing a master corner or sliding from
 /// one edge to the next) gets the vertex treatment: outside the body the normal is the
 /// direction from the vertex to the point and the gap its distance (continuous with the
-/// adjacent edges' gaps); inside, the normal is the mean of the adjacent edges' normals. At a
-/// free end of the master surface (one adjacent edge) every point is outside: the region beyond
-/// the end is not bounded by the master.
+/// adjacent edges' gaps); inside, the normal is the mean of the adjacent edges' normals.
+///
+/// At a free end of the master surface (one adjacent edge) the surface continues, for a tenth
+/// of the end edge's length, as a parabola tangent to the edge that falls away by that length:
+/// gap = n·d + s²/band with s the distance past the end. A slave that sank just past the end of
+/// a master (a block's corner on a block of the same width, which Poisson's effect pushes past
+/// the end) is held, never released, and the gap is continuous, so the active set does not
+/// cycle on it. Farther out, a point is beside the master (a slave beside a punch's corner is
+/// not under it): its gap is its distance from the end, and it is flagged `beyond_free_end`.
 class MasterSurfaceSearch {
  public:
   MasterSurfaceSearch(std::vector<MasterEdge> edges, const std::vector<Vec2>& x,
@@ -80,6 +94,13 @@ class MasterSurfaceSearch {
   /// contain `exclude_node` are skipped (a slave node never contacts its own edges).
   SegmentProjection project(const Vec2& p, int exclude_node = -1) const;
   const std::vector<MasterEdge>& edges() const { return edges_; }
+  /// The edges whose boxes, grown by the search distance, may overlap the box [lo, hi]
+  /// (sorted, unique).
+  std::vector<int> edges_near(const Vec2& lo, const Vec2& hi) const;
+  /// The unit outward normal at a master node: the mean of its adjacent edges' normals at it.
+  Vec2 vertex_normal(int node) const;
+  /// Whether a master node ends the surface (one adjacent edge).
+  bool is_free_end(int node) const;
 
  private:
   std::vector<MasterEdge> edges_;
@@ -91,18 +112,31 @@ class MasterSurfaceSearch {
   std::vector<std::vector<int>> cells_;
   std::vector<std::vector<int>> vertex_edges_;  ///< per master node: adjacent edges (by id map)
   std::vector<int> vertex_slot_;                ///< node -> row in vertex_edges_, -1 if none
+
+  void cell_range(const Vec2& lo, const Vec2& hi, int& i0, int& i1, int& j0, int& j1) const;
+  /// The vertex treatment of a closest point at an edge end (see the class comment).
+  void treat_vertex(const Vec2& p, SegmentProjection& q) const;
 };
 
-/// A linearised gap row: slave node, master nodes with weights, normal, current gap.
+/// A linearised gap row: δg = Σ_k c_k · δu_k over its nodes. A node-based row (node_to_segment,
+/// node_to_node) has c = n at its slave node and −w_a n at the master nodes; a mortar row
+/// integrates over the slave surface and is divided by its weight, so that every row's gap is a
+/// length and its multiplier a force.
 struct GapRow {
-  int slave = -1;
-  std::vector<std::pair<int, double>> master;  ///< (node, weight)
-  Vec2 normal = Vec2::UnitY();
+  int slave = -1;             ///< the node that owns the row (where its results are reported)
+  std::vector<std::pair<int, Vec2>> terms;  ///< (node, c_k)
+  Vec2 normal = Vec2::UnitY();///< the normal at the slave (for reports)
   double gap = 0.0;           ///< at the configuration it was detected in
-  int master_id = -1;         ///< edge, vertex (−2 − node), obstacle or pair id: changes = sliding
+  /// Mortar rows: ∫ Φ_j t ds, the share of the slave surface the row stands for, so that the
+  /// row's force divided by it is the pressure at its node. 0 for node-based rows.
+  double weight = 0.0;
   double penalty = 0.0;       ///< prescribed penalty (seed gap elements), 0 = method's choice
   int pair = 0;               ///< which [[contact]] entry produced it
   int slot = -1;              ///< stable identity across detections (see ContactSet::num_slots)
 };
+
+/// A node-based row: slave node s, master nodes with weights, normal n: c_s = n, c_a = −w_a n.
+GapRow node_row(int slave, const Vec2& normal, double gap,
+                const std::vector<std::pair<int, double>>& master);
 
 }  // namespace c2d::constraints

@@ -78,12 +78,13 @@ void ContactSet::add_gap_elements(const core::ExplicitModel& legacy) {
     pairs_.push_back(std::make_unique<NodeToNode>(std::move(gaps), static_cast<int>(spec_.pairs.size())));
 }
 
-std::vector<GapRow> ContactSet::detect(const VecX& u) const {
+std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain) const {
   const core::Mesh& mesh = model_.mesh;
   std::vector<Vec2> x(mesh.num_nodes());
   for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
+  const Configuration c{x, mesh.nodes, small_strain};
   std::vector<GapRow> rows;
-  for (size_t p = 0; p < pairs_.size(); ++p) pairs_[p]->detect(x, first_slot_[p], rows);
+  for (size_t p = 0; p < pairs_.size(); ++p) pairs_[p]->detect(c, first_slot_[p], rows);
   return rows;
 }
 
@@ -103,19 +104,15 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
     const GapRow& r = rows[i];
     // g(u) = g_det + Σ a_j (u_j − u_det,j): free DOFs become columns, the rest is constant.
     double g0 = r.gap;
-    auto add = [&](int node, double w) {
+    for (const auto& [node, coefficient] : r.terms)
       for (int c = 0; c < 2; ++c) {
         const int dof = 2 * node + c;
-        const double a = w * r.normal[c];
+        const double a = coefficient[c];
         if (a == 0.0) continue;
         const int eq = dofs.equation(dof);
-        g0 -= a * u_full[dof];
-        if (eq >= 0) t.emplace_back(i, eq, a);
-        else g0 += a * u_full[dof];  // prescribed: stays at its detection value
+        if (eq >= 0) t.emplace_back(i, eq, a), g0 -= a * u_full[dof];
+        // a prescribed DOF stays at its detection value
       }
-    };
-    add(r.slave, 1.0);
-    for (const auto& [node, w] : r.master) add(node, -w);
     p.gap0[i] = g0;
     p.gap_penalty[i] = r.penalty;
   }
@@ -248,33 +245,70 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     cn.gap = 1e300;
     r.nodes.push_back(cn);
   }
+  std::vector<double> mortar_weight(r.nodes.size(), 0.0);
   for (size_t i = 0; i < rows.size(); ++i) {
-    ContactNodeResult& cn = r.nodes[slot[rows[i].slave]];
+    const int at = slot[rows[i].slave];
+    ContactNodeResult& cn = r.nodes[at];
     const int k = static_cast<int>(i);
     cn.gap = std::min(cn.gap, s.gap.size() > k ? s.gap[k] : rows[i].gap);
     cn.force += s.contact_force.size() > k ? s.contact_force[k] : 0.0;
     cn.penalty = std::max(cn.penalty, s.penalty.size() > k ? s.penalty[k] : 0.0);
     cn.active = cn.active || (static_cast<int>(s.active.size()) > k && s.active[k]);
+    mortar_weight[at] += rows[i].weight;
   }
-  VecX force(static_cast<int>(r.nodes.size()));
-  std::vector<char> active(r.nodes.size(), 0);
-  for (size_t i = 0; i < r.nodes.size(); ++i) {
-    if (r.nodes[i].gap == 1e300) r.nodes[i].gap = 0.0;  // no master within reach
-    force[static_cast<int>(i)] = r.nodes[i].force;
-    active[i] = r.nodes[i].active;
-  }
-  const VecX p = recover_pressure(mesh.nodes, slave_edges_, slave_edge_thickness_, slave_nodes_,
-                                  force, active);
+  assign_pressure(slot, mortar_weight, r);
   r.has_surface = !slave_edges_.empty();
   r.active_nodes = 0;
   r.total_force = 0.0;
   r.p_max = 0.0;
-  for (size_t i = 0; i < r.nodes.size(); ++i) {
-    r.nodes[i].pressure = p[static_cast<int>(i)];
-    r.active_nodes += r.nodes[i].active;
-    r.total_force += r.nodes[i].force;
-    r.p_max = std::max(r.p_max, r.nodes[i].pressure);
+  for (const ContactNodeResult& cn : r.nodes) {
+    r.active_nodes += cn.active;
+    r.total_force += cn.force;
+    r.p_max = std::max(r.p_max, cn.pressure);
   }
+  r.length = contact_length(slot, r.nodes);
+  r.max_penetration = s.max_penetration;
+  r.rows = static_cast<int>(rows.size());
+}
+
+void ContactSet::assign_pressure(const std::map<int, int>& slot,
+                                 const std::vector<double>& mortar_weight,
+                                 ContactReport& r) const {
+  // Node-based rows: a pressure recovered from the nodal forces on the edges they load.
+  std::vector<MasterEdge> edges;
+  std::vector<double> thickness;
+  std::vector<char> mortar_edge(slave_edges_.size(), 0);
+  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    const MasterEdge& e = slave_edges_[k];
+    mortar_edge[k] = mortar_weight[slot.at(e.nodes[0])] > 0 || mortar_weight[slot.at(e.nodes[1])] > 0;
+    if (!mortar_edge[k]) edges.push_back(e), thickness.push_back(slave_edge_thickness_[k]);
+  }
+  const int n = static_cast<int>(r.nodes.size());
+  VecX force(n);
+  std::vector<char> active(r.nodes.size(), 0);
+  for (int i = 0; i < n; ++i) {
+    if (r.nodes[i].gap == 1e300) r.nodes[i].gap = 0.0;  // no master within reach
+    force[i] = mortar_weight[i] > 0 ? 0.0 : r.nodes[i].force;
+    active[i] = mortar_weight[i] > 0 ? 0 : r.nodes[i].active;
+  }
+  const VecX p = recover_pressure(model_.mesh.nodes, edges, thickness, slave_nodes_, force, active);
+  // Mortar rows: the multiplier is the pressure's integral against the row's hat.
+  for (int i = 0; i < n; ++i)
+    r.nodes[i].pressure = mortar_weight[i] > 0 ? r.nodes[i].force / mortar_weight[i] : p[i];
+  // The middle node of a quadratic mortar edge lies on the linear multiplier between its corners.
+  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    const MasterEdge& e = slave_edges_[k];
+    if (!mortar_edge[k] || e.count != 3) continue;
+    const ContactNodeResult &a = r.nodes[slot.at(e.nodes[0])], &b = r.nodes[slot.at(e.nodes[1])];
+    ContactNodeResult& m = r.nodes[slot.at(e.nodes[2])];
+    m.pressure = 0.5 * (a.pressure + b.pressure);
+    m.gap = 0.5 * (a.gap + b.gap);
+    m.active = a.active && b.active;
+  }
+}
+
+double ContactSet::contact_length(const std::map<int, int>& slot,
+                                  const std::vector<ContactNodeResult>& nodes) const {
   // Contact length: every slave node owns the part of its edges nearer to it than to the
   // edge's other nodes (T3 edges split at the middle; T6 at the quarter points), and the length
   // is the arc length owned by active nodes. Node-to-node contact only knows that the contact
@@ -282,7 +316,8 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
   // unbiased, within a quarter (T6) or half (T3) of the edge there. (The recovered pressure
   // is positive up to the first open node's far side, so its support overestimated b by about
   // one node spacing.)
-  r.length = 0.0;
+  const core::Mesh& mesh = model_.mesh;
+  double length = 0.0;
   for (const MasterEdge& e : slave_edges_) {
     auto point = [&](double s) {
       if (e.count == 2) return Vec2((1 - s) * mesh.nodes[e.nodes[0]] + s * mesh.nodes[e.nodes[1]]);
@@ -293,16 +328,15 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     const double t3[2][2] = {{0.0, 0.5}, {0.5, 1.0}};
     const double t6[3][2] = {{0.0, 0.25}, {0.75, 1.0}, {0.25, 0.75}};
     for (int a = 0; a < e.count; ++a) {
-      if (!r.nodes[slot[e.nodes[a]]].active) continue;
+      if (!nodes[slot.at(e.nodes[a])].active) continue;
       const double s0 = e.count == 2 ? t3[a][0] : t6[a][0], s1 = e.count == 2 ? t3[a][1] : t6[a][1];
       constexpr int kSamples = 16;  // arc length of a curved T6 edge
       for (int k = 0; k < kSamples; ++k)
-        r.length += (point(s0 + (s1 - s0) * (k + 1) / kSamples) -
-                     point(s0 + (s1 - s0) * k / kSamples)).norm();
+        length += (point(s0 + (s1 - s0) * (k + 1) / kSamples) -
+                   point(s0 + (s1 - s0) * k / kSamples)).norm();
     }
   }
-  r.max_penetration = s.max_penetration;
-  r.rows = static_cast<int>(rows.size());
+  return length;
 }
 
 }  // namespace c2d::constraints

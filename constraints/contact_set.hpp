@@ -3,6 +3,7 @@
 #pragma once
 
 #include <limits>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -59,8 +60,9 @@ class ContactSet {
   const StrategyOptions& options() const { return spec_.options; }
   int num_slave_nodes() const { return static_cast<int>(slave_nodes_.size()); }
 
-  /// Gap rows at the configuration X + u (u: full displacement vector).
-  std::vector<GapRow> detect(const VecX& u_full) const;
+  /// Gap rows at the configuration X + u (u: full displacement vector); `small_strain` takes
+  /// normals and measures from the reference configuration (see Configuration).
+  std::vector<GapRow> detect(const VecX& u_full, bool small_strain = false) const;
 
   /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
   /// configuration), with prescribed DOFs moved into g0.
@@ -85,6 +87,13 @@ class ContactSet {
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
   void add_gap_elements(const core::ExplicitModel& legacy);
+  /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
+  /// from the nodal forces elsewhere.
+  void assign_pressure(const std::map<int, int>& slot, const std::vector<double>& mortar_weight,
+                       ContactReport& r) const;
+  /// Arc length of the slave surface owned by active nodes.
+  double contact_length(const std::map<int, int>& slot,
+                        const std::vector<ContactNodeResult>& nodes) const;
 
   const core::Model& model_;
   ContactSceneSpec spec_;

@@ -1,5 +1,6 @@
 #include "constraints/discretization.hpp"
 
+#include "constraints/discretizations/mortar.hpp"
 #include "constraints/discretizations/node_to_node.hpp"
 #include "constraints/discretizations/node_to_segment.hpp"
 #include "constraints/registry.hpp"
@@ -22,6 +23,7 @@ DiscretizationInfo entry(std::string name, std::string summary, bool obstacles,
 const std::vector<DiscretizationInfo>& discretization_registry() {
   static const std::vector<DiscretizationInfo> registry = {
       entry<NodeToSegment>("node_to_segment", "each slave node projected onto the master edges (linear or quadratic) or a rigid obstacle", true, true),
+      entry<Mortar>("mortar", "segment-to-segment: the gap weighted by linear multiplier hats on the slave corner nodes and integrated over the slave surface (passes the patch test on non-matching meshes)", true, true),
       entry<NodeToNode>("node_to_node", "each slave node paired with its nearest master node along a fixed direction (the seed's gap element)", false, false),
   };
   return registry;

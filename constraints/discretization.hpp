@@ -15,6 +15,17 @@
 
 namespace c2d::constraints {
 
+/// Where rows are evaluated. Finite strain (load-stepped runs): everything at the current
+/// positions x. Small strain (a linear analysis): which master edge or point a slave meets is
+/// found at the current positions, so a slave may slide past a segment end, but normals and
+/// integration measures are the reference configuration's, so every row is linear in u and the
+/// row forces sum to the force transmitted.
+struct Configuration {
+  const std::vector<Vec2>& x;          ///< current positions (reference + displacement)
+  const std::vector<Vec2>& reference;  ///< the mesh's node positions
+  bool small_strain = false;
+};
+
 class ContactDiscretization {
  public:
   virtual ~ContactDiscretization() = default;
@@ -22,9 +33,8 @@ class ContactDiscretization {
   virtual int num_slots() const = 0;
   /// The nodes whose rows this pair produces (each may appear in several pairs).
   virtual const std::vector<int>& slave_nodes() const = 0;
-  /// Appends the rows found at the current coordinates x (reference + displacement), numbered
-  /// from `first_slot`.
-  virtual void detect(const std::vector<Vec2>& x, int first_slot, std::vector<GapRow>& rows) const = 0;
+  /// Appends the rows found in configuration `c`, numbered from `first_slot`.
+  virtual void detect(const Configuration& c, int first_slot, std::vector<GapRow>& rows) const = 0;
 };
 
 /// What a discretization is built from: the model, its pair's table, the scene's obstacles,

@@ -121,7 +121,7 @@ class ConstrainedStep {
       return false;
     }
     core::Stopwatch detection;
-    rows_ = contact_.detect(u_full);
+    rows_ = contact_.detect(u_full, system_.is_linear());
     out_.detection_seconds += detection.lap();
     // A linear system whose state reproduces the rows and gaps it was solved with poses the
     // same problem again: the strategy would return the same set and no step.

@@ -81,18 +81,15 @@ NodeToNode::NodeToNode(std::vector<NodePair> pairs, int index)
   for (const auto& np : pairs_) slaves_.push_back(np.slave);
 }
 
-void NodeToNode::detect(const std::vector<Vec2>& x, int first_slot,
+void NodeToNode::detect(const Configuration& c, int first_slot,
                         std::vector<GapRow>& rows) const {
+  // The direction is fixed, so the gap is linear in u in either configuration.
   for (size_t k = 0; k < pairs_.size(); ++k) {
     const NodePair& np = pairs_[k];
-    GapRow r;
-    r.slave = np.slave;
-    r.master = {{np.master, 1.0}};
-    r.normal = np.direction;
-    r.gap = np.direction.dot(x[np.slave] - x[np.master]);
+    GapRow r = node_row(np.slave, np.direction,
+                        np.direction.dot(c.x[np.slave] - c.x[np.master]), {{np.master, 1.0}});
     r.penalty = np.penalty;
     r.pair = index_;
-    r.master_id = np.master;
     r.slot = first_slot + static_cast<int>(k);
     rows.push_back(r);
   }

@@ -21,7 +21,7 @@ class NodeToNode final : public ContactDiscretization {
   NodeToNode(std::vector<NodePair> pairs, int index);
   int num_slots() const override { return static_cast<int>(pairs_.size()); }
   const std::vector<int>& slave_nodes() const override { return slaves_; }
-  void detect(const std::vector<Vec2>& x, int first_slot, std::vector<GapRow>& rows) const override;
+  void detect(const Configuration& c, int first_slot, std::vector<GapRow>& rows) const override;
 
  private:
   std::vector<NodePair> pairs_;

@@ -10,7 +10,6 @@ NodeToSegment::NodeToSegment(const DiscretizationInput& in)
     : slaves_(core::select_nodes(in.model, in.pair.slave)), index_(in.index) {
   const core::Mesh& mesh = in.model.mesh;
   if (in.pair.obstacle >= 0) {
-    obstacle_index_ = in.pair.obstacle;
     obstacle_ = &in.obstacles[in.pair.obstacle];
     if (in.pair.search_distance > 0) search_ = in.pair.search_distance;
     return;
@@ -21,39 +20,56 @@ NodeToSegment::NodeToSegment(const DiscretizationInput& in)
   for (const auto& e : master_edges_)
     longest = std::max(longest, (mesh.nodes[e.nodes[1]] - mesh.nodes[e.nodes[0]]).norm());
   search_ = in.pair.search_distance > 0 ? in.pair.search_distance : 2.0 * longest;
+  reference_x_ = &mesh.nodes;
+  reference_.emplace(master_edges_, mesh.nodes, search_);
 }
 
-void NodeToSegment::detect(const std::vector<Vec2>& x, int first_slot,
-                           std::vector<GapRow>& rows) const {
-  if (obstacle_) {
-    for (size_t k = 0; k < slaves_.size(); ++k) {
-      const int s = slaves_[k];
-      GapRow r;
-      r.slave = s;
-      obstacle_->gap(x[s], r.gap, r.normal);
-      if (r.gap > search_) continue;
-      r.master_id = obstacle_index_;
-      r.pair = index_;
-      r.slot = first_slot + static_cast<int>(k);
-      rows.push_back(r);
-    }
-    return;
-  }
-  const MasterSurfaceSearch search(master_edges_, x, search_);
+void NodeToSegment::detect_obstacle(const Configuration& c, int first_slot,
+                                    std::vector<GapRow>& rows) const {
   for (size_t k = 0; k < slaves_.size(); ++k) {
     const int s = slaves_[k];
-    const SegmentProjection q = search.project(x[s], s);
-    if (!q.found) continue;
-    GapRow r;
-    r.slave = s;
-    r.gap = q.gap;
-    r.normal = q.normal;
+    double g;
+    Vec2 n;
+    if (c.small_strain) {  // the gap linearised about the reference position
+      obstacle_->gap(c.reference[s], g, n);
+      g += n.dot(c.x[s] - c.reference[s]);
+    } else {
+      obstacle_->gap(c.x[s], g, n);
+    }
+    if (g > search_) continue;
+    GapRow r = node_row(s, n, g, {});
     r.pair = index_;
     r.slot = first_slot + static_cast<int>(k);
-    r.master_id = q.vertex >= 0 ? -2 - q.vertex : q.edge;
+    rows.push_back(r);
+  }
+}
+
+Vec2 NodeToSegment::reference_normal(const SegmentProjection& q) const {
+  const MasterEdge& e = master_edges_[q.edge];
+  if (q.vertex < 0 || reference_->is_free_end(q.vertex)) return edge_normal(e, *reference_x_, q.xi);
+  return reference_->vertex_normal(q.vertex);
+}
+
+void NodeToSegment::detect(const Configuration& c, int first_slot,
+                           std::vector<GapRow>& rows) const {
+  if (obstacle_) return detect_obstacle(c, first_slot, rows);
+  const MasterSurfaceSearch search(master_edges_, c.x, search_);
+  for (size_t k = 0; k < slaves_.size(); ++k) {
+    const int s = slaves_[k];
+    const SegmentProjection q = search.project(c.x[s], s);
+    if (!q.found) continue;
     const MasterEdge& e = master_edges_[q.edge];
-    for (int a = 0; a < e.count; ++a)
-      if (q.weights[a] != 0.0) r.master.emplace_back(e.nodes[a], q.weights[a]);
+    std::vector<std::pair<int, double>> master;
+    for (int a = 0; a < e.count; ++a) master.emplace_back(e.nodes[a], q.weights[a]);
+    Vec2 n = q.normal;
+    double g = q.gap;
+    if (c.small_strain && !q.beyond_free_end) {
+      n = reference_normal(q);
+      g = n.dot(c.x[s] - combine(e, c.x, q.weights));
+    }
+    GapRow r = node_row(s, n, g, master);
+    r.pair = index_;
+    r.slot = first_slot + static_cast<int>(k);
     rows.push_back(r);
   }
 }

@@ -101,6 +101,20 @@ TEST(Detection, PointBesideAFreeEndOfTheMasterIsOutside) {
   const auto under = search.project(Vec2(0.5, 0.1));
   EXPECT_EQ(under.vertex, -1);
   EXPECT_NEAR(under.gap, -0.1, 1e-14);
+  // Just past the end (within a tenth of the end edge) the face continues as a parabola falling
+  // away by 0.1 over 0.1: a slave that sank there is held, never released. At x = 1.03 the
+  // rounded face lies 0.03²/0.1 = 0.009 above the face's line, so a point 0.01 above the line
+  // penetrates by 0.001 (the punch is above; y grows into it).
+  const auto sunk = search.project(Vec2(1.03, 0.01));
+  ASSERT_TRUE(sunk.found);
+  EXPECT_FALSE(sunk.beyond_free_end);
+  EXPECT_NEAR(sunk.gap, -0.001, 1e-14);
+  EXPECT_NEAR(sunk.normal.x(), 0.6 / std::sqrt(1.36), 1e-14);  // ∝ (0, −1) + 2·0.03/0.1·(1, 0)
+  // The gap is continuous across the band's end for points on the face's line.
+  const auto inside_band = search.project(Vec2(1.1 - 1e-12, 0.0));
+  EXPECT_NEAR(inside_band.gap, 0.1, 1e-10);
+  EXPECT_TRUE(level.beyond_free_end);
+  EXPECT_TRUE(above.beyond_free_end);
 }
 
 TEST(Detection, CircleObstaclesOutsideAndInside) {

@@ -232,8 +232,10 @@ direction = [0.0, 1.0]
   const auto rows = contact.detect(VecX::Zero(model.mesh.num_dofs()));
   ASSERT_GT(rows.size(), 5u);
   for (const auto& r : rows) {
-    ASSERT_EQ(r.master.size(), 1u);
-    const Vec2 xs = model.mesh.nodes[r.slave], xm = model.mesh.nodes[r.master[0].first];
+    ASSERT_EQ(r.terms.size(), 2u);  // the slave node, then its master node
+    EXPECT_EQ(r.terms[0].first, r.slave);
+    EXPECT_NEAR((r.terms[0].second + r.terms[1].second).norm(), 0.0, 1e-15);
+    const Vec2 xs = model.mesh.nodes[r.slave], xm = model.mesh.nodes[r.terms[1].first];
     EXPECT_NEAR((xm - xs).norm(), 0.0, 1e-9);  // gmsh places the nodes to ~1e-11
     EXPECT_NEAR(r.gap, 0.0, 1e-9);
     EXPECT_NEAR(r.normal.y(), 1.0, 1e-12);
