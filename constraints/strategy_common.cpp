@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "constraints/saddle_point_solver.hpp"
 
@@ -56,7 +57,8 @@ void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
   const int m = p.num_gaps();
   if (s.u.size() != p.num_unknowns()) s.u = VecX::Zero(p.num_unknowns());
   if (s.contact_force.size() != m) s.contact_force = VecX::Zero(m);
-  if (s.eq_multiplier.size() != p.num_equalities()) s.eq_multiplier = VecX::Zero(p.num_equalities());
+  if (s.eq_multiplier.size() != p.num_equalities())
+    s.eq_multiplier = VecX::Zero(p.num_equalities());
   if (s.penalty.size() != m) s.penalty = VecX::Zero(m);
   if (static_cast<int>(s.active.size()) != m) s.active.assign(m, 0);
   const bool finite = s.u.allFinite() && s.contact_force.allFinite() &&
@@ -76,6 +78,115 @@ void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
   if (!s.history.empty()) s.iterations = s.history.back().iteration;
 }
 
+namespace {
+
+/// Whether an active-set iteration is settling: it is not when this many iterations in a row
+/// change the set without reaching a new fewest number of changing rows (the full-step
+/// iteration on a slender body wanders like that for dozens of iterations).
+class StallMonitor {
+ public:
+  bool progress(const ActiveSetTracker::Change& change) {
+    const int changes = change.entering + change.leaving;
+    if (changes < fewest_) {
+      fewest_ = changes;
+      since_fewest_ = 0;
+      return true;
+    }
+    return ++since_fewest_ < kStallIterations;
+  }
+
+ private:
+  static constexpr int kStallIterations = 3;
+  int fewest_ = std::numeric_limits<int>::max();
+  int since_fewest_ = 0;
+};
+
+IterationRecord safeguard_record(int iteration, const std::vector<char>& active, int entering,
+                                 int leaving, const VecX& gap) {
+  ActiveSetTracker::Change change;
+  change.entering = entering;
+  change.leaving = leaving;
+  return make_record(iteration, active, change, gap, 0.0);
+}
+
+}  // namespace
+
+SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_set,
+                            const VecX& shift, int max_steps, int iteration,
+                            std::vector<char>& active, ConstraintSolution& s,
+                            std::string& message) {
+  const int m = p.num_gaps();
+  const double gap_tol = touch_tolerance(p);
+  auto gap_of = [&](const VecX& u) { return VecX(p.gap0 + p.gap_jacobian * u); };
+  // 1. A set whose forces are all compressive: drop the rows in tension (the set shrinks, so
+  //    this ends, at worst with no rows).
+  for (;;) {
+    if (const SolveStatus st = solve_set(active, s, message); st != SolveStatus::kConverged) {
+      message = "safeguard: " + message;
+      return st;
+    }
+    const double tol =
+        1e-10 * std::max(m > 0 ? s.contact_force.cwiseAbs().maxCoeff() : 0.0, 1e-300);
+    int leaving = 0;
+    for (int i = 0; i < m; ++i)
+      if (active[i] && s.contact_force[i] < -tol) active[i] = 0, ++leaving;
+    if (leaving == 0) break;
+    s.history.push_back(safeguard_record(++iteration, active, 0, leaving, gap_of(s.u)));
+  }
+  for (int i = 0; i < m; ++i)
+    s.contact_force[i] = active[i] ? std::max(0.0, s.contact_force[i]) : 0.0;
+  // 2. The most penetrating rows added one at a time.
+  int q = -1;  // the row being added, when a step stopped short of closing it
+  ConstraintSolution target;
+  for (int step = 1; step <= max_steps; ++step) {
+    const VecX g = gap_of(s.u);
+    if (q < 0) {
+      for (int i = 0; i < m; ++i)
+        if (!active[i] && g[i] - shift[i] < -gap_tol &&
+            (q < 0 || g[i] - shift[i] < g[q] - shift[q]))
+          q = i;
+      if (q < 0) return SolveStatus::kConverged;
+    }
+    std::vector<char> trial = active;
+    trial[q] = 1;
+    if (const SolveStatus st = solve_set(trial, target, message); st != SolveStatus::kConverged) {
+      message = "safeguard: " + message;
+      return st;
+    }
+    // Along the path λ_q grows; if it cannot, row q depends on the active rows.
+    if (!(target.contact_force[q] > s.contact_force[q])) {
+      message = "safeguard: penetrating row " + std::to_string(q) +
+                " takes no force beside the active rows (redundant rows)";
+      return SolveStatus::kSingular;
+    }
+    double tau = 1.0;
+    int blocking = -1;
+    for (int i = 0; i < m; ++i)
+      if (active[i] && i != q && target.contact_force[i] < 0.0) {
+        const double t = s.contact_force[i] / (s.contact_force[i] - target.contact_force[i]);
+        if (t < tau) tau = t, blocking = i;
+      }
+    s.u += tau * (target.u - s.u);
+    if (s.eq_multiplier.size() > 0)
+      s.eq_multiplier += tau * (target.eq_multiplier - s.eq_multiplier);
+    s.contact_force += tau * (target.contact_force - s.contact_force);
+    int entering = 0, leaving = 0;
+    if (blocking >= 0) {
+      active[blocking] = 0, ++leaving;
+    } else {
+      active[q] = 1, ++entering;
+      q = -1;
+    }
+    for (int i = 0; i < m; ++i)
+      s.contact_force[i] = active[i] || i == q ? std::max(0.0, s.contact_force[i]) : 0.0;
+    s.history.push_back(safeguard_record(++iteration, active, entering, leaving, gap_of(s.u)));
+  }
+  if (q >= 0) active[q] = s.contact_force[q] > 0;
+  message = "safeguard: rows still penetrating after " + std::to_string(max_steps) +
+            " dual active-set steps";
+  return SolveStatus::kMaxIterations;
+}
+
 PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p)
     : p_(p), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()) {}
 
@@ -88,6 +199,9 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
   const int m = p_.num_gaps();
   ActiveSetTracker tracker;
   tracker.record(active);
+  StallMonitor stall;
+  std::string why =
+      "active set still changing after " + std::to_string(max_iterations) + " iterations";
   const VecX rhs_eq =
       p_.num_equalities() > 0 ? VecX(at_ * (mu + k_eq.cwiseProduct(p_.eq_rhs))) : VecX();
   for (int it = 1; it <= max_iterations; ++it) {
@@ -114,22 +228,69 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
     std::vector<char> next(m, 0);
     for (int i = 0; i < m; ++i) next[i] = lambda[i] - k_gap[i] * g[i] > 0;
     const auto change = tracker.record(next);
-    IterationRecord rec = make_record(first_iteration + it - 1, next, change, g,
-                                      solver_.report().relative_residual);
-    rec.penalty = std::max(m > 0 ? k_gap.maxCoeff() : 0.0,
-                           p_.num_equalities() > 0 ? k_eq.maxCoeff() : 0.0);
+    IterationRecord rec =
+        make_record(first_iteration + it - 1, next, change, g, solver_.report().relative_residual);
+    rec.penalty =
+        std::max(m > 0 ? k_gap.maxCoeff() : 0.0, p_.num_equalities() > 0 ? k_eq.maxCoeff() : 0.0);
     history.push_back(rec);
-    active = next;
     if (change.unchanged) return out;
     if (change.repeated) {
-      out.status = SolveStatus::kCycling;
-      out.message = "the penalised active set returned to an earlier set after " +
-                    std::to_string(it) + " iterations";
-      return out;
+      why = "the penalised active set returned to an earlier set after " + std::to_string(it) +
+            " iterations";
+      break;
     }
+    if (!stall.progress(change)) {
+      why = "the penalised active set not settling after " + std::to_string(it) + " iterations";
+      break;
+    }
+    active = next;
   }
-  out.status = SolveStatus::kMaxIterations;
-  out.message = "active set still changing after " + std::to_string(max_iterations) + " iterations";
+  // The set cycles or wanders: the safeguard finishes from the last set, or names why not.
+  const int first = history.empty() ? first_iteration : history.back().iteration + 1;
+  ConstraintSolution state;
+  state.history.swap(history);
+  std::string message;
+  auto solve_set = [&](const std::vector<char>& set, ConstraintSolution& out_set,
+                       std::string& error) {
+    VecX k_set(m);
+    for (int i = 0; i < m; ++i) k_set[i] = set[i] ? k_gap[i] : 0.0;
+    SpMat kp = p_.stiffness;
+    if (m > 0) kp += SpMat(gt_ * k_set.asDiagonal() * p_.gap_jacobian);
+    if (p_.num_equalities() > 0) kp += SpMat(at_ * k_eq.asDiagonal() * p_.eq_jacobian);
+    VecX rhs = p_.load;
+    if (m > 0) {
+      VecX w(m);
+      for (int i = 0; i < m; ++i) w[i] = set[i] ? lambda[i] - k_gap[i] * p_.gap0[i] : 0.0;
+      rhs += gt_ * w;
+    }
+    if (p_.num_equalities() > 0) rhs += rhs_eq;
+    SolveStatus st = solver_.factorize(kp);
+    if (st == SolveStatus::kConverged) st = solver_.solve(rhs, out_set.u);
+    if (st != SolveStatus::kConverged) {
+      error = solver_.report().message;
+      return st;
+    }
+    out_set.contact_force = VecX::Zero(m);
+    if (m > 0) {
+      const VecX g = p_.gap0 + p_.gap_jacobian * out_set.u;
+      for (int i = 0; i < m; ++i)
+        if (set[i]) out_set.contact_force[i] = lambda[i] - k_gap[i] * g[i];
+    }
+    out_set.eq_multiplier =
+        p_.num_equalities() > 0
+            ? VecX(mu - k_eq.cwiseProduct(p_.eq_jacobian * out_set.u - p_.eq_rhs))
+            : VecX();
+    return SolveStatus::kConverged;
+  };
+  VecX shift = VecX::Zero(m);
+  for (int i = 0; i < m; ++i) shift[i] = lambda[i] / k_gap[i];
+  out.status = dual_active_set(p_, solve_set, shift, max_iterations + 2 * m, first - 1, active,
+                               state, message);
+  history.swap(state.history);
+  if (state.u.size() == p_.num_unknowns()) u = state.u;
+  out.iterations =
+      history.empty() ? out.iterations : history.back().iteration - first_iteration + 1;
+  if (out.status != SolveStatus::kConverged) out.message = why + "; " + message;
   return out;
 }
 
@@ -215,22 +376,31 @@ void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_
   std::vector<char> active = initially_closed(p);
   ActiveSetTracker tracker;
   tracker.record(active);
+  StallMonitor stall;
   SaddlePointSolver kkt(p, scale);
-  s.status = SolveStatus::kMaxIterations;
-  s.message = "active set still changing after " + std::to_string(max_iterations) + " " + step +
-              "s";
-  for (int it = 1; it <= max_iterations; ++it) {
+  bool analysed = false;
+  // One set's saddle point, split into u, μ and λ.
+  const SetSolve solve_set = [&](const std::vector<char>& set, ConstraintSolution& out,
+                                 std::string& error) {
     VecX x;
-    SolveStatus st = kkt.factorize(active, all_rows, all_rows && it > 1);
+    SolveStatus st = kkt.factorize(set, all_rows, all_rows && analysed);
+    analysed = true;
+    if (st == SolveStatus::kConverged) st = kkt.solve(saddle_point_rhs(p, set, scale, all_rows), x);
     if (st == SolveStatus::kConverged)
-      st = kkt.solve(saddle_point_rhs(p, active, scale, all_rows), x);
-    if (st != SolveStatus::kConverged) {
+      split_saddle_point(p, set, scale, all_rows, x, out);
+    else
+      error = kkt.report().message;
+    return st;
+  };
+  s.status = SolveStatus::kMaxIterations;
+  std::string why =
+      "active set still changing after " + std::to_string(max_iterations) + " " + step + "s";
+  for (int it = 1; it <= max_iterations; ++it) {
+    if (const SolveStatus st = solve_set(active, s, s.message); st != SolveStatus::kConverged) {
       s.status = st;
-      s.message = kkt.report().message;
       s.iterations = it;
       break;
     }
-    split_saddle_point(p, active, scale, all_rows, x, s);
     const VecX g = p.num_gaps() > 0 ? VecX(p.gap0 + p.gap_jacobian * s.u) : VecX();
     std::vector<char> next = active;
     const double residual = next_set(s, g, kkt.report().relative_residual, next);
@@ -243,17 +413,34 @@ void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_
     }
     if (change.repeated) {
       s.status = SolveStatus::kCycling;
-      s.message = "active set returned to an earlier set at " + step + " " + std::to_string(it);
+      why = "active set returned to an earlier set at " + step + " " + std::to_string(it);
+      break;
+    }
+    if (!stall.progress(change)) {
+      why = "active set not settling after " + std::to_string(it) + " " + step + "s";
       break;
     }
     active = next;
+  }
+  if (s.status == SolveStatus::kCycling || s.status == SolveStatus::kMaxIterations) {
+    // The set cycles or wanders: the safeguard finishes from the last set, or names why not.
+    std::string message;
+    const int last = s.history.empty() ? 0 : s.history.back().iteration;
+    s.status = dual_active_set(p, solve_set, VecX::Zero(p.num_gaps()),
+                               max_iterations + 2 * p.num_gaps(), last, active, s, message);
+    s.message = s.status == SolveStatus::kConverged ? "" : why + "; " + message;
   }
   s.active = active;
   copy_solver_figures(kkt.report(), s);
   s.pivot_ratio = kkt.report().rcond;
   if (s.status != SolveStatus::kConverged && s.status != SolveStatus::kCycling &&
-      s.status != SolveStatus::kMaxIterations)
+      s.status != SolveStatus::kMaxIterations) {
     s.u = VecX::Zero(p.num_unknowns());
+    s.contact_force = VecX::Zero(p.num_gaps());
+  }
+  // A state that stopped short reports no tension: a row in tension carries no force.
+  if (s.status != SolveStatus::kConverged && s.contact_force.size() == p.num_gaps())
+    s.contact_force = s.contact_force.cwiseMax(0.0);
 }
 
 }  // namespace c2d::constraints

@@ -15,11 +15,9 @@ namespace c2d::constraints {
 /// Penetration tolerance: the absolute option, else relative × the problem's length scale.
 double penetration_tolerance(const StrategyOptions& options, const ConstrainedProblem& p);
 
-
 /// Rows closed at the start: the problem's warm start if it has one, else the rows with
 /// g0 ≤ 1e-12 × model size (touching or already penetrating).
 std::vector<char> initially_closed(const ConstrainedProblem& p);
-
 
 /// The history record of one active-set iteration that produced `next`.
 IterationRecord make_record(int iteration, const std::vector<char>& next,
@@ -41,11 +39,31 @@ void copy_solver_figures(const Report& r, ConstraintSolution& s) {
   s.solve_seconds = r.solve_seconds;
 }
 
+/// Solves the equality problem of the gap rows marked in a set: fills u, λ (0 off the set; a
+/// row of the set may be in tension) and μ, or returns a failed status with a message.
+using SetSolve = std::function<SolveStatus(const std::vector<char>& set, ConstraintSolution& s,
+                                           std::string& message)>;
+
+/// The safeguard of the active-set iterations when theirs cycles or wanders: a dual active-set
+/// method (Goldfarb and Idnani's, each set's system solved afresh through `solve_set`). From
+/// `active` it drops the rows in tension until every force is ≥ 0, then adds the most violated
+/// row q (g_q − shift_q < −touch tolerance; shift = λ̂/k for penalised rows, 0 for exact ones)
+/// along the straight path from the current state to the solution of A ∪ {q}: λ_q grows, and
+/// where a force of A would turn negative the step stops and that row leaves. Every state has
+/// λ ≥ 0 and the dual objective grows at each step, so no set returns and the number of steps
+/// is finite. `s` holds the last state and gets one history record per step, numbered after
+/// `iteration`; `active` the last set. Returns converged, or the status and `message` of what
+/// stopped it (a failed solve, a redundant row, `max_steps`).
+SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_set,
+                            const VecX& shift, int max_steps, int iteration,
+                            std::vector<char>& active, ConstraintSolution& s, std::string& message);
+
 /// Minimises ½uᵀKu − fᵀu + Σ_i (1/2k_i) max(0, λ_i − k_i g_i(u))² − μᵀh(u) + ½ Σ_j k_j h_j(u)²
 /// (h = A u − b) for fixed λ, μ: with λ = μ = 0 the pure penalty method, otherwise one
 /// augmented-Lagrangian subproblem. The max() makes it semi-smooth; an active-set loop solves it
-/// exactly once the set settles. The matrix K + Gᵀ diag(k·active) G + Aᵀ diag(k_eq) A keeps one
-/// pattern, so CHOLMOD's symbolic analysis is reused across iterations and calls.
+/// exactly once the set settles; when it cycles or stops settling, dual_active_set() finishes. The
+/// matrix K + Gᵀ diag(k·active) G + Aᵀ diag(k_eq) A keeps one pattern, so CHOLMOD's symbolic
+/// analysis is reused across iterations and calls.
 class PenalizedSolver {
  public:
   explicit PenalizedSolver(const ConstrainedProblem& p);
@@ -100,10 +118,12 @@ using NextActiveSet = std::function<double(const ConstraintSolution& s, const Ve
                                            double linear_residual, std::vector<char>& next)>;
 
 /// The active-set loop of the multiplier methods: solve the saddle-point system of the current
-/// set, propose the next set, stop when it repeats (converged) or returns to an earlier one
-/// (cycling). With `all_rows` the system keeps every row (one pattern, one symbolic analysis);
-/// otherwise only the active rows, analysed anew each iteration. `step` names an iteration in
-/// messages ("iteration", "Newton step").
+/// set, propose the next set, stop when it repeats (converged). When the set returns to an
+/// earlier one (cycling), stops settling (see StallMonitor) or reaches `max_iterations`,
+/// dual_active_set() finishes from the last set; what remains is a named failure whose state
+/// carries no tension. With `all_rows` the system keeps every row (one pattern, one symbolic
+/// analysis); otherwise only the active rows, analysed anew each iteration. `step` names an
+/// iteration in messages ("iteration", "Newton step").
 void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_rows,
                       const NextActiveSet& next_set, const std::string& step,
                       ConstraintSolution& s);

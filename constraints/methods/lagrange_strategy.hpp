@@ -1,5 +1,7 @@
 // Lagrange multipliers with an active-set loop: the saddle-point system of the closed rows is
 // solved by sparse LU; rows in tension leave, penetrating rows enter, until the set repeats.
+// A set that cycles or stops settling (a slender body pushed onto one point) is finished by the
+// dual active-set safeguard (strategy_common.hpp), whose states never carry tension.
 #pragma once
 
 #include "constraints/constraint_strategy.hpp"

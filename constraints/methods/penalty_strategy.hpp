@@ -1,5 +1,6 @@
 // Penalty: each closed gap row becomes a spring of stiffness k; the constraint holds only up to
-// a penetration of about force / k, which the solution reports.
+// a penetration of about force / k, which the solution reports. The active set is the rows with
+// g < 0 at the solved state; when that iteration wanders, the dual active-set safeguard finishes.
 #pragma once
 
 #include "constraints/constraint_strategy.hpp"

@@ -2,7 +2,9 @@
 // primal-dual active set method of Hintermüller, Ito and Kunisch): all rows stay in one
 // saddle-point system whose pattern never changes, so UMFPACK's symbolic analysis is done once
 // and each iteration is one numeric factorization. Converges in a few steps to the exact
-// solution; a returning active set is reported as cycling.
+// solution. Globalised by the dual active-set safeguard (strategy_common.hpp): a step that
+// returns to an earlier set or stops reducing the rows that change hands over to it, and its
+// dual objective grows monotonically until the complementarity conditions hold.
 #pragma once
 
 #include "constraints/constraint_strategy.hpp"
