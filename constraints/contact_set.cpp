@@ -129,22 +129,25 @@ namespace {
 /// quadratic displacements. A middle node's force moves half to each end (the linear basis at
 /// the midpoint), which is exact for any linear pressure and filters the corner/middle
 /// imbalance node-to-segment forces carry (on hertz_block the quadratic projection of those
-/// forces overshoots p0 by 16%). Middle nodes take the mean of their corners' pressures.
+/// forces overshoots p0 by 16%). Only active corners carry unknowns: an active middle beside an
+/// open corner gives its whole force to its active corner, and a middle node reports the
+/// field's value between its corners when it is active, 0 when it is open. A middle active
+/// between two open corners (a contact zone inside half an edge) gets its force over its own
+/// tributary length, 2/3 of the edge.
 VecX recover_on_corner_nodes(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
                              const std::vector<double>& thickness, const std::vector<int>& nodes,
                              const VecX& force, const std::vector<char>& active) {
   std::map<int, int> slot;
   for (size_t i = 0; i < nodes.size(); ++i) slot[nodes[i]] = static_cast<int>(i);
   VecX corner_force = VecX::Zero(static_cast<int>(nodes.size()));
-  std::vector<char> corner_active(nodes.size(), 0);
+  std::vector<char> corner_active(nodes.size(), 0), is_middle(nodes.size(), 0);
   std::vector<MasterEdge> chords;
-  std::vector<char> is_middle(nodes.size(), 0);
   for (const MasterEdge& e : edges) {
     const int a = slot.at(e.nodes[0]), b = slot.at(e.nodes[1]), m = slot.at(e.nodes[2]);
     is_middle[m] = 1;
-    corner_force[a] += 0.5 * force[m];
-    corner_force[b] += 0.5 * force[m];
-    if (active[m]) corner_active[a] = corner_active[b] = 1;
+    const double share_a = active[a] && active[b] ? 0.5 : active[a] ? 1.0 : active[b] ? 0.0 : 0.5;
+    corner_force[a] += share_a * force[m];
+    corner_force[b] += (1.0 - share_a) * force[m];
     MasterEdge chord;
     chord.nodes = {e.nodes[0], e.nodes[1], -1};
     chords.push_back(chord);
@@ -152,13 +155,21 @@ VecX recover_on_corner_nodes(const std::vector<Vec2>& x, const std::vector<Maste
   for (size_t i = 0; i < nodes.size(); ++i)
     if (!is_middle[i]) {
       corner_force[static_cast<int>(i)] += force[static_cast<int>(i)];
-      corner_active[i] = corner_active[i] || active[i];
-    } else {
-      corner_active[i] = 0;
+      corner_active[i] = active[i];
     }
   VecX p = recover_pressure(x, chords, thickness, nodes, corner_force, corner_active);
-  for (const MasterEdge& e : edges)
-    p[slot.at(e.nodes[2])] = 0.5 * (p[slot.at(e.nodes[0])] + p[slot.at(e.nodes[1])]);
+  for (size_t k = 0; k < edges.size(); ++k) {
+    const MasterEdge& e = edges[k];
+    const int a = slot.at(e.nodes[0]), b = slot.at(e.nodes[1]), m = slot.at(e.nodes[2]);
+    if (!active[m]) {
+      p[m] = 0.0;
+    } else if (active[a] || active[b]) {
+      p[m] = 0.5 * (p[a] + p[b]);
+    } else {
+      const double tributary = 2.0 / 3.0 * (x[e.nodes[1]] - x[e.nodes[0]]).norm() * thickness[k];
+      p[m] = tributary > 0 ? force[m] / tributary : 0.0;
+    }
+  }
   return p;
 }
 
@@ -223,7 +234,21 @@ VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>&
     if (diag[i] == 0.0) mass.coeffRef(i, i) = 1.0, f[i] = 0.0;
   Eigen::SimplicialLDLT<SpMat> ldlt(mass);
   if (ldlt.info() != Eigen::Success) return out;
-  const VecX p = ldlt.solve(f);
+  VecX p = ldlt.solve(f);
+  // The projection holds p = 0 on the open nodes, so the last active node's basis function
+  // reaches into the open neighbour's edge, where M p = f is not imposed: ∫ p ds would exceed
+  // Σ f by about t h p_last / 6 per contact edge. One multiplier on ∫ p ds = cᵀ p = Σ f (c_i =
+  // ∫ φ_i t ds over all of node i's edges) restores the total: the recovered pressure carries
+  // exactly the force the rows transmit.
+  VecX c = VecX::Zero(ns);
+  for (size_t k = 0; k < edges.size(); ++k)
+    for (int a = 0; a < 2; ++a) {
+      const auto it = index.find(edges[k].nodes[a]);
+      if (it != index.end())
+        c[it->second] += 0.5 * thickness[k] * (x[edges[k].nodes[1]] - x[edges[k].nodes[0]]).norm();
+    }
+  const VecX q = ldlt.solve(c);
+  if (c.dot(q) > 0) p += ((f.sum() - c.dot(p)) / c.dot(q)) * q;
   if (!p.allFinite()) return out;
   for (size_t i = 0; i < nodes.size(); ++i) {
     const auto it = index.find(nodes[i]);
@@ -256,7 +281,12 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     cn.active = cn.active || (static_cast<int>(s.active.size()) > k && s.active[k]);
     mortar_weight[at] += rows[i].weight;
   }
-  assign_pressure(slot, mortar_weight, r);
+  std::vector<char> mortar_edge(slave_edges_.size(), 0);
+  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    const MasterEdge& e = slave_edges_[k];
+    mortar_edge[k] = mortar_weight[slot[e.nodes[0]]] > 0 || mortar_weight[slot[e.nodes[1]]] > 0;
+  }
+  assign_pressure(slot, mortar_weight, mortar_edge, r);
   r.has_surface = !slave_edges_.empty();
   r.active_nodes = 0;
   r.total_force = 0.0;
@@ -266,23 +296,19 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     r.total_force += cn.force;
     r.p_max = std::max(r.p_max, cn.pressure);
   }
-  r.length = contact_length(slot, r.nodes);
+  r.length = contact_length(slot, mortar_edge, r.nodes);
   r.max_penetration = s.max_penetration;
   r.rows = static_cast<int>(rows.size());
 }
 
 void ContactSet::assign_pressure(const std::map<int, int>& slot,
                                  const std::vector<double>& mortar_weight,
-                                 ContactReport& r) const {
+                                 const std::vector<char>& mortar_edge, ContactReport& r) const {
   // Node-based rows: a pressure recovered from the nodal forces on the edges they load.
   std::vector<MasterEdge> edges;
   std::vector<double> thickness;
-  std::vector<char> mortar_edge(slave_edges_.size(), 0);
-  for (size_t k = 0; k < slave_edges_.size(); ++k) {
-    const MasterEdge& e = slave_edges_[k];
-    mortar_edge[k] = mortar_weight[slot.at(e.nodes[0])] > 0 || mortar_weight[slot.at(e.nodes[1])] > 0;
-    if (!mortar_edge[k]) edges.push_back(e), thickness.push_back(slave_edge_thickness_[k]);
-  }
+  for (size_t k = 0; k < slave_edges_.size(); ++k)
+    if (!mortar_edge[k]) edges.push_back(slave_edges_[k]), thickness.push_back(slave_edge_thickness_[k]);
   const int n = static_cast<int>(r.nodes.size());
   VecX force(n);
   std::vector<char> active(r.nodes.size(), 0);
@@ -308,6 +334,7 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
 }
 
 double ContactSet::contact_length(const std::map<int, int>& slot,
+                                  const std::vector<char>& mortar_edge,
                                   const std::vector<ContactNodeResult>& nodes) const {
   // Contact length: every slave node owns the part of its edges nearer to it than to the
   // edge's other nodes (T3 edges split at the middle; T6 at the quarter points), and the length
@@ -315,10 +342,12 @@ double ContactSet::contact_length(const std::map<int, int>& slot,
   // edge lies between the last active node and the first open one, and this puts it halfway:
   // unbiased, within a quarter (T6) or half (T3) of the edge there. (The recovered pressure
   // is positive up to the first open node's far side, so its support overestimated b by about
-  // one node spacing.)
+  // one node spacing.) A mortar edge's multiplier is linear between its corners, so each
+  // corner owns half of it, T6 included.
   const core::Mesh& mesh = model_.mesh;
   double length = 0.0;
-  for (const MasterEdge& e : slave_edges_) {
+  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    const MasterEdge& e = slave_edges_[k];
     auto point = [&](double s) {
       if (e.count == 2) return Vec2((1 - s) * mesh.nodes[e.nodes[0]] + s * mesh.nodes[e.nodes[1]]);
       return Vec2((1 - s) * (1 - 2 * s) * mesh.nodes[e.nodes[0]] +
@@ -327,9 +356,10 @@ double ContactSet::contact_length(const std::map<int, int>& slot,
     // Parametric stretches of the edge owned by each of its nodes (ends first, then mid-side).
     const double t3[2][2] = {{0.0, 0.5}, {0.5, 1.0}};
     const double t6[3][2] = {{0.0, 0.25}, {0.75, 1.0}, {0.25, 0.75}};
-    for (int a = 0; a < e.count; ++a) {
+    const bool halves = e.count == 2 || mortar_edge[k];
+    for (int a = 0; a < (halves ? 2 : 3); ++a) {
       if (!nodes[slot.at(e.nodes[a])].active) continue;
-      const double s0 = e.count == 2 ? t3[a][0] : t6[a][0], s1 = e.count == 2 ? t3[a][1] : t6[a][1];
+      const double s0 = halves ? t3[a][0] : t6[a][0], s1 = halves ? t3[a][1] : t6[a][1];
       constexpr int kSamples = 16;  // arc length of a curved T6 edge
       for (int k = 0; k < kSamples; ++k)
         length += (point(s0 + (s1 - s0) * (k + 1) / kSamples) -

@@ -90,9 +90,9 @@ class ContactSet {
   /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
   /// from the nodal forces elsewhere.
   void assign_pressure(const std::map<int, int>& slot, const std::vector<double>& mortar_weight,
-                       ContactReport& r) const;
+                       const std::vector<char>& mortar_edge, ContactReport& r) const;
   /// Arc length of the slave surface owned by active nodes.
-  double contact_length(const std::map<int, int>& slot,
+  double contact_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
                         const std::vector<ContactNodeResult>& nodes) const;
 
   const core::Model& model_;

@@ -189,9 +189,26 @@ class ConstrainedStep {
     qp.initial_active.assign(m, 0);
     qp.initial_force = VecX::Zero(m);
     const double touch = touch_tolerance(qp);
+    bool any = false;
     for (int i = 0; i < m; ++i) {
       qp.initial_active[i] = previous_[rows_[i].slot] || qp.gap0[i] <= touch;
       qp.initial_force[i] = force_by_slot_[rows_[i].slot];
+      any = any || qp.initial_active[i];
+    }
+    // Nothing touches yet but some rows nearly do (within 1 % of the smallest contact edge):
+    // guess the nearest closed. A body held only by its contact (a cylinder on a floor) is
+    // otherwise singular in the first solve; a wrong guess costs one active-set iteration. Node
+    // rows at a first touch have gap 0, but a mortar row's gap is a mean under its hat, positive
+    // on a curved surface. Rows on prescribed DOFs only cannot be closed.
+    if (!any && m > 0) {
+      std::vector<char> free(m, 0);
+      for (int k = 0; k < qp.gap_jacobian.outerSize(); ++k)
+        for (SpMat::InnerIterator it(qp.gap_jacobian, k); it; ++it) free[it.row()] = 1;
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < m; ++i)
+        if (free[i]) nearest = std::min(nearest, qp.gap0[i]);
+      if (nearest <= 1e-2 * qp.length_scale)
+        for (int i = 0; i < m; ++i) qp.initial_active[i] = free[i] && qp.gap0[i] <= nearest + touch;
     }
   }
 

@@ -431,11 +431,16 @@ TEST(Cli, PenaltySweepShowsPenetrationFallingUntilIllConditioning) {
   for (size_t i = first_failure; i < rows.size(); ++i)
     EXPECT_EQ(std::get<1>(rows[i]).rfind("\"failed: ill_conditioned", 0), 0u)
         << std::get<0>(rows[i]) << " " << std::get<1>(rows[i]);
+  // Penalty converges to the exactly constrained solution as O(1/k): the p_max error's distance
+  // from its limit (the stiffest converged run) shrinks with k once k dominates, until the
+  // ill-conditioned solves' round-off (2e-5 of p_max at k ≥ 1e14 here) takes over.
+  const double limit = std::get<2>(rows[first_failure - 1]);
   for (size_t i = 1; i < first_failure; ++i) {
     EXPECT_LT(std::get<3>(rows[i]), std::get<3>(rows[i - 1])) << std::get<0>(rows[i]);
     if (std::get<0>(rows[i]) > 1e6) {
       EXPECT_NEAR(std::get<3>(rows[i - 1]) / std::get<3>(rows[i]), 10.0, 2.0) << std::get<0>(rows[i]);
-      EXPECT_LE(std::abs(std::get<2>(rows[i])), std::abs(std::get<2>(rows[i - 1])) * (1 + 1e-3))
+      EXPECT_LE(std::abs(std::get<2>(rows[i]) - limit),
+                std::abs(std::get<2>(rows[i - 1]) - limit) * (1 + 1e-3) + 2e-5)
           << std::get<0>(rows[i]);
     }
   }
