@@ -39,7 +39,11 @@ struct ContactReport {
   int active_nodes = 0;
   double p_max = 0.0;
   double length = 0.0;          ///< measure of the slave surface carrying pressure
-  double max_penetration = 0.0;
+  double max_penetration = 0.0; ///< of the solved (linearised) rows
+  /// Of the rows detected afresh at the final positions, and the bound a converged run keeps
+  /// it under (the method's own penetration + 1e-9 × model size); NaN when not measured.
+  double measured_penetration = std::numeric_limits<double>::quiet_NaN();
+  double penetration_tolerance = std::numeric_limits<double>::quiet_NaN();
   double total_force = 0.0;     ///< Σ normal forces
   double seconds = 0.0;         ///< time in the backend
   double detection_seconds = 0.0; ///< time in contact search (every detection pass)

@@ -10,6 +10,7 @@ const char* to_string(SolveStatus s) {
     case SolveStatus::kCycling: return "cycling";
     case SolveStatus::kSingular: return "singular";
     case SolveStatus::kIllConditioned: return "ill_conditioned";
+    case SolveStatus::kPenetration: return "penetration";
     case SolveStatus::kFailed: return "failed";
   }
   return "failed";

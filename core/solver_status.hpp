@@ -12,6 +12,8 @@ enum class SolveStatus {
   kCycling,
   kSingular,
   kIllConditioned,
+  /// The final state penetrates more than the method reports (checked on fresh detection).
+  kPenetration,
   kFailed,
 };
 

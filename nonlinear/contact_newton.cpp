@@ -94,9 +94,11 @@ class ConstrainedStep {
     if (out_.status == SolveStatus::kConverged) {
       out_.newton.status = SolveStatus::kConverged;
       out_.memory = previous_;
+      verify_final_state();
     } else {
       fail(SolveStatus::kMaxIterations, "active set or geometry still changing after " +
                                             std::to_string(in_.max_outer) + " outer iterations");
+      verify_final_state();
     }
     // The last state that satisfied the equations with its set held: the rows and forces of
     // the solve that produced it (converged: the strategy confirmed their linearisation there).
@@ -313,6 +315,20 @@ class ConstrainedStep {
     ContactReport report;
     contact_.report(rows_, state_, report);
     it.max_pressure = report.p_max;
+  }
+
+  /// "converged" is checked on the final state: the rows detected afresh at the final
+  /// positions may not penetrate beyond what the method reports. A failed step is measured too.
+  void verify_final_state() {
+    const std::vector<GapRow> fresh = contact_.detect(system_.full(u_), system_.is_linear());
+    double measured = 0.0;
+    for (const GapRow& r : fresh) measured = std::max(measured, -r.gap);
+    out_.measured_penetration = measured;
+    out_.penetration_tolerance = state_.max_penetration + 1e-9 * contact_.model_size();
+    if (out_.status == SolveStatus::kConverged && measured > out_.penetration_tolerance)
+      fail(SolveStatus::kPenetration,
+           "the final state penetrates by " + std::to_string(measured) + ", beyond the " +
+               std::to_string(state_.max_penetration) + " the method reports");
   }
 
   void fail(SolveStatus status, const std::string& message) {

@@ -76,6 +76,12 @@ struct ContactStepResult {
   constraints::ConstraintSolution state;   ///< gaps, forces, active set, penalties there
   StrategyTotals strategy;                 ///< the strategy's solves over the outer iterations
   double detection_seconds = 0.0;          ///< contact search, every outer iteration
+  /// Deepest penetration of the rows detected afresh at the final positions (not the
+  /// linearised rows), and what a converged step allows: the penetration the method itself
+  /// reports (a penalty's force / k) plus 1e-9 of the model size.
+  /// NaN when the step ended before a state to measure.
+  double measured_penetration = std::numeric_limits<double>::quiet_NaN();
+  double penetration_tolerance = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The constrained step: one load step to the load factor and prescribed values set on

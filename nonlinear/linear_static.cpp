@@ -43,6 +43,8 @@ void solve_with_contact_step(const constraints::ContactSet& contact, const Model
   report.stiffness_max = k_ff.nonZeros() ? k_ff.coeffs().cwiseAbs().maxCoeff() : 0.0;
   if (step.state.gap.size() == static_cast<int>(step.rows.size()))
     contact.report(step.rows, step.state, report);
+  report.measured_penetration = step.measured_penetration;
+  report.penetration_tolerance = step.penetration_tolerance;
   r.status = step.status;
   r.message = step.message;
   r.solver.backend = report.method;

@@ -124,6 +124,8 @@ class LoadStepper {
       memory_ = cstep.memory;
       last_contact_.status = SolveStatus::kConverged;
       contact_->report(cstep.rows, cstep.state, last_contact_);
+      last_contact_.measured_penetration = cstep.measured_penetration;
+      last_contact_.penetration_tolerance = cstep.penetration_tolerance;
       rec.contact_state = last_contact_;
     }
     // After a cutback, grow back toward the nominal increment once a step comes easily.

@@ -24,6 +24,8 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
                       {"p_max", number(contact.has_surface ? contact.p_max : nan)},
                       {"length", number(contact.has_surface ? contact.length : nan)},
                       {"max_penetration", number(contact.max_penetration)},
+                      {"measured_penetration", number(contact.measured_penetration)},
+                      {"penetration_tolerance", number(contact.penetration_tolerance)},
                       {"total_force", number(contact.total_force)},
                       {"status", to_string(contact.status)},
                       {"message", contact.message},
@@ -187,7 +189,8 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
        << c["slave_nodes"] << " slave nodes active\n"
        << "           p_max " << c["p_max"].dump() << ", length " << c["length"].dump()
        << ", total force " << c["total_force"].get<double>() << ", max penetration "
-       << c["max_penetration"].get<double>() << '\n';
+       << c["max_penetration"].get<double>() << " (measured at the final positions: "
+       << c["measured_penetration"].dump() << ")\n";
     if (s.contains("reference") && s["reference"].contains("relative_error"))
       for (const auto& [key, e] : s["reference"]["relative_error"].items())
         if (!e.is_null()) {
