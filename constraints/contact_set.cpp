@@ -329,7 +329,7 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
     ContactNodeResult& m = r.nodes[slot.at(e.nodes[2])];
     m.pressure = 0.5 * (a.pressure + b.pressure);
     m.gap = 0.5 * (a.gap + b.gap);
-    m.active = a.active && b.active;
+    m.active = a.active || b.active;  // inside the support of an active multiplier
   }
 }
 

@@ -143,11 +143,55 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
   return os.str();
 }
 
+/// The observed order of convergence of a method: the least-squares slope of log(error)
+/// against log(h) over its converged levels (h ∝ mesh_scale); NaN with fewer than 2 levels.
+double observed_order(const std::vector<CompareRow>& rows, const std::string& method,
+                      const std::string& metric) {
+  std::vector<std::pair<double, double>> points;
+  for (const auto& r : rows) {
+    const double e = accuracy(r, metric);
+    if (r.method == method && std::isfinite(e) && e > 0 && r.mesh_scale > 0)
+      points.emplace_back(std::log(r.mesh_scale), std::log(e));
+  }
+  if (points.size() < 2) return std::nan("");
+  double mx = 0, my = 0;
+  for (const auto& [x, y] : points) mx += x, my += y;
+  mx /= points.size(), my /= points.size();
+  double sxy = 0, sxx = 0;
+  for (const auto& [x, y] : points) sxy += (x - mx) * (y - my), sxx += (x - mx) * (x - mx);
+  return sxx > 0 ? sxy / sxx : std::nan("");
+}
+
+/// orders.csv and compare.md's table: one line per method.
+std::string orders_csv(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
+                       const std::string& metric) {
+  std::ostringstream os;
+  os << "method,metric,order\n";
+  for (const auto& m : methods) os << m << ',' << metric << ',' << cell(observed_order(rows, m, metric)) << '\n';
+  return os.str();
+}
+
+std::string orders_md(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
+                      const std::string& metric) {
+  if (metric.empty()) return "";
+  std::ostringstream os;
+  os << "Observed order of convergence (slope of log " << metric_name(metric)
+     << " against log h over the converged levels; each level halves every element size, the "
+        "graded zone's included):\n\n| method | order |\n|---|---|\n";
+  for (const auto& m : methods) {
+    const double q = observed_order(rows, m, metric);
+    os << "| " << m << " | " << (std::isfinite(q) ? csv_number(std::round(q * 100) / 100) : "–")
+       << " |\n";
+  }
+  return os.str() + "\n";
+}
+
 std::string compare_md(const CompareOptions& o, const std::vector<CompareRow>& rows,
                        const std::vector<std::string>& methods, const std::string& metric,
                        const std::string& charts) {
   std::ostringstream os;
-  os << "# contact2d compare: " << o.scene << "\n\n" << verdict(rows, methods, metric) << "\n\n";
+  os << "# contact2d compare: " << o.scene << "\n\n" << verdict(rows, methods, metric) << "\n\n"
+     << orders_md(rows, methods, metric);
   os << "Times are the solve phase (contact iterations included), from each run's summary.json; "
      << "errors are against the scene's [reference].\n\n";
   os << "Fitted p0 and b: the Hertz form p0 √(1 − ((x − x0)/b)²) fitted to the nodal pressures "
@@ -395,10 +439,13 @@ int run_compare(const CompareOptions& o) {
   const std::string chart_error = draw_compare_charts(s, o.levels, charts);
   core::write_file_atomic(s.out + "/compare.md",
                           compare_md(o, s.rows, s.methods, s.metric, charts));
+  if (!s.metric.empty())
+    core::write_file_atomic(s.out + "/orders.csv", orders_csv(s.rows, s.methods, s.metric));
   if (!o.quiet) {
     std::cout << "\n"
-              << verdict(s.rows, s.methods, s.metric) << "\n\nwrote " << s.out
-              << "/compare.csv, compare.md"
+              << verdict(s.rows, s.methods, s.metric) << "\n\n"
+              << orders_md(s.rows, s.methods, s.metric) << "wrote " << s.out
+              << "/compare.csv, compare.md" << (s.metric.empty() ? "" : ", orders.csv")
               << (charts.empty() ? ""
                                  : ", accuracy_time, pressure_profiles, penetration (.png/.svg)")
               << "\n";
