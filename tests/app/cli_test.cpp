@@ -305,6 +305,35 @@ TEST(Cli, NonlinearRunsAndAnImpossibleLoadExitsOneWithItsSteps) {
   EXPECT_TRUE(fs::exists(crush / "step_0001.vtu"));
 }
 
+TEST(Cli, CompareMortarHertzProfileErrorFallsAtLeastAsFastAsH) {
+  // Mortar T6 on a small Hertz cylinder over four levels (3,080 to 162,638 DOFs): the profile's
+  // relative L2 error falls at least as fast as h (measured order 1.17: 0.79, 0.72, 0.22,
+  // 0.079 %; the contact edge's position among the nodes makes single steps jitter, so the
+  // order is the least-squares slope over all four), and compare reports it in orders.csv.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_compare_order";
+  fs::remove_all(out);
+  std::string output;
+  ASSERT_EQ(run("compare " + std::string(C2D_SOURCE_DIR) +
+                    "/tests/app/data/hertz_mortar_ladder.toml --levels 4 --methods lagrange "
+                    "--jobs 2 --quiet --out " + out.string(),
+                &output),
+            0)
+      << output;
+  std::ifstream csv(out / "orders.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "method,metric,order");
+  std::getline(csv, line);
+  ASSERT_EQ(line.rfind("lagrange,profile,", 0), 0u) << line;
+  const double order = std::stod(line.substr(std::string("lagrange,profile,").size()));
+  EXPECT_GE(order, 1.0);
+  EXPECT_LE(order, 3.0);  // the pressure's square-root edge allows no more than about 1.5
+  std::ifstream md(out / "compare.md");
+  std::stringstream text;
+  text << md.rdbuf();
+  EXPECT_NE(text.str().find("Observed order of convergence"), std::string::npos);
+}
+
 TEST(Cli, CompareRunsEveryMethodOnEveryLevel) {
   // hertz_rigid on two coarse levels (mesh_scale 8 and 4): a row per registered method and
   // level, a verdict computed from the table, three charts; the exact methods agree with
