@@ -237,18 +237,19 @@ VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>&
   VecX p = ldlt.solve(f);
   // The projection holds p = 0 on the open nodes, so the last active node's basis function
   // reaches into the open neighbour's edge, where M p = f is not imposed: ∫ p ds would exceed
-  // Σ f by about t h p_last / 6 per contact edge. One multiplier on ∫ p ds = cᵀ p = Σ f (c_i =
-  // ∫ φ_i t ds over all of node i's edges) restores the total: the recovered pressure carries
-  // exactly the force the rows transmit.
-  VecX c = VecX::Zero(ns);
-  for (size_t k = 0; k < edges.size(); ++k)
-    for (int a = 0; a < 2; ++a) {
-      const auto it = index.find(edges[k].nodes[a]);
-      if (it != index.end())
-        c[it->second] += 0.5 * thickness[k] * (x[edges[k].nodes[1]] - x[edges[k].nodes[0]]).norm();
-    }
-  const VecX q = ldlt.solve(c);
-  if (c.dot(q) > 0) p += ((f.sum() - c.dot(p)) / c.dot(q)) * q;
+  // Σ f by t h p_last / 6 per contact edge. That excess is the last active nodes' own, so they
+  // give it back: one common change of their pressures makes ∫ p ds = cᵀ p = Σ f (c_i = ∫ φ_i
+  // t ds over all of node i's edges), and the recovered pressure carries exactly the force the
+  // rows transmit.
+  VecX c = VecX::Zero(ns), last = VecX::Zero(ns);
+  for (size_t k = 0; k < edges.size(); ++k) {
+    const auto a = index.find(edges[k].nodes[0]), b = index.find(edges[k].nodes[1]);
+    const double half = 0.5 * thickness[k] * (x[edges[k].nodes[1]] - x[edges[k].nodes[0]]).norm();
+    if (a != index.end()) c[a->second] += half;
+    if (b != index.end()) c[b->second] += half;
+    if ((a == index.end()) != (b == index.end())) last[(a != index.end() ? a : b)->second] = 1.0;
+  }
+  if (c.dot(last) > 0) p += ((f.sum() - c.dot(p)) / c.dot(last)) * last;
   if (!p.allFinite()) return out;
   for (size_t i = 0; i < nodes.size(); ++i) {
     const auto it = index.find(nodes[i]);
