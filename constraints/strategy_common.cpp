@@ -190,6 +190,30 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
 PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p)
     : p_(p), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()) {}
 
+SolveStatus PenalizedSolver::solve_set(const std::vector<char>& set, const VecX& k_gap,
+                                       const VecX& lambda, const VecX& k_eq, const VecX& rhs_eq,
+                                       VecX& u) {
+  const int m = p_.num_gaps();
+  VecX k_set(m), w(m);
+  for (int i = 0; i < m; ++i) {
+    k_set[i] = set[i] ? k_gap[i] : 0.0;
+    w[i] = set[i] ? lambda[i] - k_gap[i] * p_.gap0[i] : 0.0;
+  }
+  SpMat kp = p_.stiffness;
+  VecX rhs = p_.load;
+  if (m > 0) {
+    kp += SpMat(gt_ * k_set.asDiagonal() * p_.gap_jacobian);
+    rhs += gt_ * w;
+  }
+  if (p_.num_equalities() > 0) {
+    kp += SpMat(at_ * k_eq.asDiagonal() * p_.eq_jacobian);
+    rhs += rhs_eq;
+  }
+  SolveStatus st = solver_.factorize(kp);
+  if (st == SolveStatus::kConverged) st = solver_.solve(rhs, u);
+  return st;
+}
+
 PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& lambda,
                                                 const VecX& k_eq, const VecX& mu,
                                                 int max_iterations, std::vector<char>& active,
@@ -205,20 +229,7 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
   const VecX rhs_eq =
       p_.num_equalities() > 0 ? VecX(at_ * (mu + k_eq.cwiseProduct(p_.eq_rhs))) : VecX();
   for (int it = 1; it <= max_iterations; ++it) {
-    VecX k_active(m);
-    for (int i = 0; i < m; ++i) k_active[i] = active[i] ? k_gap[i] : 0.0;
-    SpMat kp = p_.stiffness;
-    if (m > 0) kp += SpMat(gt_ * k_active.asDiagonal() * p_.gap_jacobian);
-    if (p_.num_equalities() > 0) kp += SpMat(at_ * k_eq.asDiagonal() * p_.eq_jacobian);
-    VecX rhs = p_.load;
-    if (m > 0) {
-      VecX w(m);
-      for (int i = 0; i < m; ++i) w[i] = active[i] ? lambda[i] - k_gap[i] * p_.gap0[i] : 0.0;
-      rhs += gt_ * w;
-    }
-    if (p_.num_equalities() > 0) rhs += rhs_eq;
-    out.status = solver_.factorize(kp);
-    if (out.status == SolveStatus::kConverged) out.status = solver_.solve(rhs, u);
+    out.status = solve_set(active, k_gap, lambda, k_eq, rhs_eq, u);
     out.iterations = it;
     if (out.status != SolveStatus::kConverged) {
       out.message = solver_.report().message;
@@ -250,22 +261,9 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
   ConstraintSolution state;
   state.history.swap(history);
   std::string message;
-  auto solve_set = [&](const std::vector<char>& set, ConstraintSolution& out_set,
+  auto solve_one = [&](const std::vector<char>& set, ConstraintSolution& out_set,
                        std::string& error) {
-    VecX k_set(m);
-    for (int i = 0; i < m; ++i) k_set[i] = set[i] ? k_gap[i] : 0.0;
-    SpMat kp = p_.stiffness;
-    if (m > 0) kp += SpMat(gt_ * k_set.asDiagonal() * p_.gap_jacobian);
-    if (p_.num_equalities() > 0) kp += SpMat(at_ * k_eq.asDiagonal() * p_.eq_jacobian);
-    VecX rhs = p_.load;
-    if (m > 0) {
-      VecX w(m);
-      for (int i = 0; i < m; ++i) w[i] = set[i] ? lambda[i] - k_gap[i] * p_.gap0[i] : 0.0;
-      rhs += gt_ * w;
-    }
-    if (p_.num_equalities() > 0) rhs += rhs_eq;
-    SolveStatus st = solver_.factorize(kp);
-    if (st == SolveStatus::kConverged) st = solver_.solve(rhs, out_set.u);
+    const SolveStatus st = solve_set(set, k_gap, lambda, k_eq, rhs_eq, out_set.u);
     if (st != SolveStatus::kConverged) {
       error = solver_.report().message;
       return st;
@@ -284,7 +282,7 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
   };
   VecX shift = VecX::Zero(m);
   for (int i = 0; i < m; ++i) shift[i] = lambda[i] / k_gap[i];
-  out.status = dual_active_set(p_, solve_set, shift, max_iterations + 2 * m, first - 1, active,
+  out.status = dual_active_set(p_, solve_one, shift, max_iterations + 2 * m, first - 1, active,
                                state, message);
   history.swap(state.history);
   if (state.u.size() == p_.num_unknowns()) u = state.u;

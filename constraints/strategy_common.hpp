@@ -87,6 +87,11 @@ class PenalizedSolver {
   }
 
  private:
+  /// Factorises and solves the penalised system with the rows of `set` closed: K + Gᵀ k G over
+  /// the set (+ Aᵀ k A), right-hand side f + Gᵀ(λ̂ − k g0) over the set (+ the equalities').
+  SolveStatus solve_set(const std::vector<char>& set, const VecX& k_gap, const VecX& lambda,
+                        const VecX& k_eq, const VecX& rhs_eq, VecX& u);
+
   const ConstrainedProblem& p_;
   SpMat gt_, at_;  ///< Gᵀ and Aᵀ
   core::SpdSolver solver_;
