@@ -188,9 +188,10 @@ void add_solid_element(LineReader& r, const ElementLine& e, int nn, ElementBlock
   if (block.state >= 0 && block.state != e.type)
     r.fail("mixed plane stress and plane strain elements");
   block.state = e.type;
-  if (!(e.p1 > 0) || !(e.p2 > 0) || !(e.p3 > -1 && e.p3 < 0.5) || !std::isfinite(e.p1) ||
-      !std::isfinite(e.p2))
-    r.fail("expected finite E > 0, thickness > 0 and -1 < nu < 0.5");
+  // The bounds of a scene's [[material]] (beyond them the stiffness or displacements overflow).
+  if (!(e.p1 >= 1e-30 && e.p1 <= 1e30) || !(e.p2 >= 1e-30 && e.p2 <= 1e30) ||
+      !(e.p3 > -1 && e.p3 < 0.5))
+    r.fail("expected E and thickness in [1e-30, 1e30] and -1 < nu < 0.5");
   std::array<int, 6> conn{-1, -1, -1, -1, -1, -1};
   for (int k = 0; k < e.nodes_per; ++k) {
     conn[k] = as_index(r, e.v[1 + k], nn, "node");

@@ -235,9 +235,16 @@ MaterialSpec parse_material(const TomlView& m, const std::vector<MaterialSpec>& 
   ms.at.where = m.where();
   ms.name = m["name"].string();
   ms.young = m["E"].positive();
+  // Element stiffness ~ E t, displacements ~ load / (E t): beyond these bounds one of them
+  // overflows or underflows double precision in any unit system a scene can mean.
+  if (!(ms.young >= 1e-30 && ms.young <= 1e30))
+    m["E"].fail("a Young's modulus in [1e-30, 1e30] (a stiffer or softer material overflows "
+                "double precision in the assembled stiffness or the displacements)");
   ms.poisson = m["nu"].number();
   if (!(ms.poisson > -1.0 && ms.poisson < 0.5)) m["nu"].fail("a Poisson ratio in (-1, 0.5)");
   ms.thickness = m.has("thickness") ? m["thickness"].positive() : 1.0;
+  if (!(ms.thickness >= 1e-30 && ms.thickness <= 1e30))
+    m["thickness"].fail("a thickness in [1e-30, 1e30]");
   for (const auto& other : earlier)
     if (other.name == ms.name) m["name"].fail("a unique material name");
   return ms;

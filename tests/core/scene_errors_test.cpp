@@ -73,6 +73,15 @@ TEST(SceneErrors, PoissonOutOfRange) {
   expect_error({"nu", t.c_str(), {}, {"bad.toml:4:6", "material[0].nu", "(-1, 0.5)", "found number 0.5"}});
 }
 
+TEST(SceneErrors, ModulusBeyondDoublePrecisionIsRefused) {
+  // E = 1e308 used to assemble an infinite stiffness and end "singular ... missing supports?".
+  const std::string t = "[[material]]\nname = \"steel\"\nE = 1e308\nnu = 0.3\n" + std::string(kBody);
+  expect_error({"E", t.c_str(), {}, {"bad.toml:3:5", "material[0].E", "[1e-30, 1e30]", "found number 1e+308"}});
+  const std::string thin =
+      "[[material]]\nname = \"steel\"\nE = 1.0\nnu = 0.3\nthickness = 1e-300\n" + std::string(kBody);
+  expect_error({"thickness", thin.c_str(), {}, {"material[0].thickness", "[1e-30, 1e30]"}});
+}
+
 TEST(SceneErrors, UnknownMaterialNamesNearest) {
   const std::string t = std::string(kMaterial) +
                         "[[body]]\nname = \"b\"\nmaterial = \"stel\"\n"
