@@ -70,6 +70,14 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     report_.status = SolveStatus::kConverged;
     return report_.status;
   }
+  // Infinite or NaN entries would reach CHOLMOD as "not positive definite" and read as missing
+  // supports; they come from overflowing data (material constants, coordinates, penalties).
+  if (!k.coeffs().allFinite()) {
+    report_.status = SolveStatus::kFailed;
+    report_.message = "the stiffness matrix has non-finite entries (material constants, "
+                      "coordinates or penalties overflow double precision)";
+    return report_.status;
+  }
   const bool same_pattern = m.analysed_rows == k.rows() && m.analysed_nnz == k.nonZeros();
   auto try_backend = [&](Backend b) -> bool {
     Stopwatch clock;
