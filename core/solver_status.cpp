@@ -11,6 +11,7 @@ const char* to_string(SolveStatus s) {
     case SolveStatus::kSingular: return "singular";
     case SolveStatus::kIllConditioned: return "ill_conditioned";
     case SolveStatus::kPenetration: return "penetration";
+    case SolveStatus::kInvertedElement: return "inverted_element";
     case SolveStatus::kFailed: return "failed";
   }
   return "failed";

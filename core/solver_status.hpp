@@ -14,6 +14,8 @@ enum class SolveStatus {
   kIllConditioned,
   /// The final state penetrates more than the method reports (checked on fresh detection).
   kPenetration,
+  /// An element turned inside out (J ≤ 0): a load step too large, or a bad mesh.
+  kInvertedElement,
   kFailed,
 };
 

@@ -54,6 +54,7 @@ class ActiveSetSystem final : public NewtonSystem {
     return base_.assemble_tangent(base_.full(x.head(n_))) && terms_->factorize(base_.matrix());
   }
   bool solve(const VecX& b, VecX& x) override { return terms_->solve(b, x); }
+  std::string evaluation_failure() const override { return base_.evaluation_failure(); }
 
  private:
   StructuralSystem& base_;
@@ -119,7 +120,9 @@ class ConstrainedStep {
     const VecX u_full = system_.full(u_);
     VecX load;
     if (outer == 1 ? !system_.step_predictor(in_.u_prev_full, load) : !linearise(u_full, load)) {
-      fail(SolveStatus::kFailed, where_ + "an element is inverted");
+      const std::string which = system_.evaluation_failure();
+      fail(SolveStatus::kInvertedElement,
+           where_ + (which.empty() ? std::string("an element is inverted") : which));
       return false;
     }
     core::Stopwatch detection;

@@ -18,6 +18,10 @@ void FiniteStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
   u_prescribed_ = u_prescribed;
 }
 
+std::string FiniteStrainSystem::evaluation_failure() const {
+  return inverted_ >= 0 ? "element " + std::to_string(inverted_ + 1) + " is inverted (J <= 0)" : "";
+}
+
 VecX FiniteStrainSystem::full(const VecX& u_free) const {
   return model_.dofs.with_free(u_prescribed_, u_free);
 }
@@ -27,11 +31,14 @@ bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {
   const int nn = mesh.nodes_per_element();
   f = VecX::Zero(mesh.num_dofs());
   LocalVector ue(2 * nn), fe;
+  inverted_ = -1;
   for (int e = 0; e < mesh.num_elements(); ++e) {
     for (int i = 0; i < nn; ++i) ue.segment<2>(2 * i) = u.segment<2>(2 * mesh.elements[e][i]);
     if (!finite_strain_element(mesh.element_coords(e), ue,
-                               model_.materials[mesh.element_material[e]], &fe, nullptr))
+                               model_.materials[mesh.element_material[e]], &fe, nullptr)) {
+      inverted_ = e;
       return false;
+    }
     for (int i = 0; i < nn; ++i) f.segment<2>(2 * mesh.elements[e][i]) += fe.segment<2>(2 * i);
   }
   return true;
@@ -52,6 +59,10 @@ bool FiniteStrainSystem::assemble(const VecX& u, const VecX* du_constrained, Vec
         }
       },
       du_constrained, lift);
+  if (!ok) {  // name the first inverted element (the parallel assembly does not say which)
+    VecX f;
+    internal_force(u, f);
+  }
   return ok;
 }
 

@@ -45,8 +45,11 @@ class FiniteStrainSystem final : public StructuralSystem {
   bool factorize_jacobian_assembled();
   bool solve(const VecX& b, VecX& x) override;
   const core::SpdSolveReport& linear_report() const { return solver_.report(); }
+  /// "element N (1-based) is inverted" after an evaluation that met one; "" otherwise.
+  std::string evaluation_failure() const override;
 
  private:
+  mutable int inverted_ = -1;  ///< the first inverted element of the last evaluation
   const core::Model& model_;
   core::Assembler assembler_;
   core::SpdSolver solver_;

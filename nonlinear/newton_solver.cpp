@@ -161,6 +161,15 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
     report.status = map_flag(flag, report.message);
     if (!bridge.error.empty() && report.status != SolveStatus::kConverged)
       report.message += ": " + bridge.error;
+    // KINSOL stopped because the residual could not be evaluated (its first call, repeated
+    // recoverable failures, or a failed setup): an input or step-size fault, said where.
+    const bool evaluation = flag == KIN_FIRST_SYSFUNC_ERR || flag == KIN_REPTD_SYSFUNC_ERR ||
+                            flag == KIN_SYSFUNC_FAIL || flag == KIN_LSETUP_FAIL;
+    const std::string why = evaluation ? system.evaluation_failure() : std::string();
+    if (!why.empty()) {
+      report.status = SolveStatus::kInvertedElement;
+      report.message = "the residual could not be evaluated: " + why;
+    }
     u = view(x);
     VecX r;
     report.final_residual = system.residual(u, r) ? r.cwiseAbs().maxCoeff() : 0.0;

@@ -22,6 +22,9 @@ class NewtonSystem {
   virtual bool factorize_jacobian(const VecX& u) = 0;
   /// Solves J x = b with the last factorisation.
   virtual bool solve(const VecX& b, VecX& x) = 0;
+  /// Why the last residual or Jacobian could not be evaluated, in words ("" when it could or
+  /// the system does not know), e.g. the first inverted element.
+  virtual std::string evaluation_failure() const { return ""; }
 };
 
 struct NewtonOptions {

@@ -126,7 +126,8 @@ TEST(LegacyReader, NonFiniteAndDegenerateInputIsRefusedAtItsLine) {
   const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
       {"4 1 1\n1 0 0 1 1 0 0\n2 nan 0 0 0 0 0\n3 1 1 0 0 0 0\n4 0 1 1 1 0 0\n1 1 2 3 0 1000 1 0.3\n",
        ":3:", "finite numbers on a node line"},
-      {"4 1 1\n" + nodes + "1 1 2 3 0 inf 1 0.3\n", ":6:", "finite E > 0"},
+      {"4 1 1\n" + nodes + "1 1 2 3 0 inf 1 0.3\n", ":6:", "E and thickness in [1e-30, 1e30]"},
+      {"4 1 1\n" + nodes + "1 1 2 3 0 1e308 1 0.3\n", ":6:", "E and thickness in [1e-30, 1e30]"},
       {"4 1 1\n" + nodes + "1 1 2 2 0 1000 1 0.3\n", ":6:", "found node 2 twice"},
       {"4 1 1\n1 0 0 1 1 0 0\n2 1 0 0 0 0 0\n3 2 0 0 0 0 0\n4 0 1 1 1 0 0\n1 1 2 3 0 1000 1 0.3\n",
        ":6:", "collinear corner nodes 1, 2, 3"},

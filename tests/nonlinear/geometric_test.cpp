@@ -181,3 +181,39 @@ traction = [0.0, -500.0]
   EXPECT_GT(lambda, limit - 0.1 / 256);
   EXPECT_TRUE(r.displacement.allFinite());
 }
+
+TEST(InvertedElement, IsNamedWithItsElementAndStep) {
+  // A unit block whose top is pushed down by 1.5 in one step: every element's Jacobian turns
+  // negative, so no step size can carry it. The run must end `inverted_element`, naming an
+  // element (1-based) and the load step, not a solver's internal flag.
+  const core::Scene scene = core::parse_scene(R"(
+[analysis]
+element = "T3"
+geometric_nonlinearity = true
+steps = 1
+[[material]]
+name = "m"
+E = 100.0
+nu = 0.3
+[[body]]
+name = "b"
+material = "m"
+shape = { type = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }
+mesh = { size = 0.5 }
+[[support]]
+on = { body = "b", edge = "bottom" }
+fix = ["ux", "uy"]
+[[support]]
+on = { body = "b", edge = "top" }
+uy = -1.5
+)", "inverted.toml");
+  const core::Model model = core::build_model(scene);
+  StepperOptions o;
+  o.steps = 1;
+  const core::Results r = solve_geometric_nonlinear(model, scene.analysis, o, nullptr);
+  EXPECT_EQ(r.status, SolveStatus::kInvertedElement) << r.message;
+  EXPECT_NE(r.message.find("load step to"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("is inverted (J <= 0)"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("element "), std::string::npos) << r.message;
+  EXPECT_EQ(r.message.find("KINSOL"), std::string::npos) << r.message;
+}
