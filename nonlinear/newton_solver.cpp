@@ -82,6 +82,17 @@ void error_handler(int, const char*, const char*, char* msg, void* data) {
   static_cast<Bridge*>(data)->error = msg ? msg : "";
 }
 
+/// KINSOL stopped because the residual could not be evaluated (its first call, repeated
+/// recoverable failures, or a failed setup): an input or step-size fault, said where.
+void name_evaluation_failure(int flag, const NewtonSystem& system, NewtonReport& report) {
+  const bool evaluation = flag == KIN_FIRST_SYSFUNC_ERR || flag == KIN_REPTD_SYSFUNC_ERR ||
+                          flag == KIN_SYSFUNC_FAIL || flag == KIN_LSETUP_FAIL;
+  const std::string why = evaluation ? system.evaluation_failure() : std::string();
+  if (why.empty()) return;
+  report.status = SolveStatus::kInvertedElement;
+  report.message = "the residual could not be evaluated: " + why;
+}
+
 SolveStatus map_flag(int flag, std::string& message) {
   switch (flag) {
     case KIN_SUCCESS:
@@ -161,15 +172,7 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
     report.status = map_flag(flag, report.message);
     if (!bridge.error.empty() && report.status != SolveStatus::kConverged)
       report.message += ": " + bridge.error;
-    // KINSOL stopped because the residual could not be evaluated (its first call, repeated
-    // recoverable failures, or a failed setup): an input or step-size fault, said where.
-    const bool evaluation = flag == KIN_FIRST_SYSFUNC_ERR || flag == KIN_REPTD_SYSFUNC_ERR ||
-                            flag == KIN_SYSFUNC_FAIL || flag == KIN_LSETUP_FAIL;
-    const std::string why = evaluation ? system.evaluation_failure() : std::string();
-    if (!why.empty()) {
-      report.status = SolveStatus::kInvertedElement;
-      report.message = "the residual could not be evaluated: " + why;
-    }
+    name_evaluation_failure(flag, system, report);
     u = view(x);
     VecX r;
     report.final_residual = system.residual(u, r) ? r.cwiseAbs().maxCoeff() : 0.0;
