@@ -10,15 +10,26 @@ namespace c2d::constraints {
 
 namespace {
 
+/// Whether two sparse matrices have one non-zero pattern (a factorisation's symbolic analysis
+/// of one serves the other).
+bool same_pattern(const SpMat& a, const SpMat& b) {
+  if (a.rows() != b.rows() || a.cols() != b.cols() || a.nonZeros() != b.nonZeros()) return false;
+  if (!a.isCompressed() || !b.isCompressed()) return false;
+  return std::equal(a.outerIndexPtr(), a.outerIndexPtr() + a.outerSize() + 1, b.outerIndexPtr()) &&
+         std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
+}
+
 class PenaltyTerms final : public ActiveSetTerms {
  public:
   PenaltyTerms(const SpMat& g, const std::vector<char>& active, const VecX& k,
                const VecX& lambda_hat)
-      : active_(active), k_(k), lambda_hat_(lambda_hat) {
-    VecX ka = VecX::Zero(static_cast<int>(active_.size()));
-    for (int i = 0; i < ka.size(); ++i)
-      if (active_[i]) ka[i] = k_[i], k_max_ = std::max(k_max_, k_[i]);
-    penalty_ = SpMat(SpMat(g.transpose()) * ka.asDiagonal() * g);
+      : active_(active), k_(k), lambda_hat_(lambda_hat), ka_(VecX::Zero(k.size())) {
+    for (int i = 0; i < ka_.size(); ++i)
+      if (active_[i]) ka_[i] = k_[i], k_max_ = std::max(k_max_, k_[i]);
+    update_rows(g);
+  }
+  void update_rows(const SpMat& g) override {
+    penalty_ = SpMat(SpMat(g.transpose()) * ka_.asDiagonal() * g);
   }
   int extra_unknowns() const override { return 0; }
   void pack_forces(const VecX&, Eigen::Ref<VecX>) const override {}
@@ -31,6 +42,7 @@ class PenaltyTerms final : public ActiveSetTerms {
   void extra_residual(const VecX&, const Eigen::Ref<const VecX>&, Eigen::Ref<VecX>) const override {}
   bool factorize(const SpMat& k_t) override {
     jacobian_ = k_t + penalty_;  // the solver keeps a reference for its residual check
+    if (!same_pattern(jacobian_, pattern_)) spd_.reset_pattern(), pattern_ = jacobian_;
     return spd_.factorize(jacobian_) == SolveStatus::kConverged;
   }
   bool solve(const VecX& b, VecX& x) override {
@@ -40,9 +52,9 @@ class PenaltyTerms final : public ActiveSetTerms {
 
  private:
   std::vector<char> active_;
-  VecX k_, lambda_hat_;
+  VecX k_, lambda_hat_, ka_;
   double k_max_ = 0.0;
-  SpMat penalty_, jacobian_;
+  SpMat penalty_, jacobian_, pattern_;
   core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
 };
 
@@ -53,12 +65,17 @@ class MultiplierTerms final : public ActiveSetTerms {
     any_active_ = std::find(active_.begin(), active_.end(), 1) != active_.end();
     if (!any_active_) return;
     const int n = static_cast<int>(g.cols());
-    problem_.gap_jacobian = g;
     problem_.gap0 = VecX::Zero(m_);
     problem_.load = VecX::Zero(n);
     problem_.eq_jacobian = SpMat(0, n);
     problem_.eq_rhs = VecX();
+    update_rows(g);
+  }
+  void update_rows(const SpMat& g) override {
+    if (!any_active_) return;
+    problem_.gap_jacobian = g;  // the solver builds its rows from it: a new solver
     saddle_ = std::make_unique<SaddlePointSolver>(problem_, s_);
+    analysed_ = false;
   }
   int extra_unknowns() const override { return any_active_ ? m_ : 0; }
   void pack_forces(const VecX& force, Eigen::Ref<VecX> extra) const override {
@@ -75,10 +92,15 @@ class MultiplierTerms final : public ActiveSetTerms {
     for (int i = 0; i < extra.size(); ++i) r[i] = active_[i] ? -s_ * gap[i] : s_ * extra[i];
   }
   bool factorize(const SpMat& k_t) override {
-    if (!any_active_) return spd_.factorize(k_t) == SolveStatus::kConverged;
+    const bool same = same_pattern(k_t, pattern_);
+    if (!same) pattern_ = k_t;
+    if (!any_active_) {
+      if (!same) spd_.reset_pattern();
+      return spd_.factorize(k_t) == SolveStatus::kConverged;
+    }
     problem_.stiffness = k_t;
     saddle_->stiffness_changed();
-    const bool ok = saddle_->factorize(active_, true, analysed_) == SolveStatus::kConverged;
+    const bool ok = saddle_->factorize(active_, true, analysed_ && same) == SolveStatus::kConverged;
     analysed_ = true;
     return ok;
   }
@@ -93,6 +115,7 @@ class MultiplierTerms final : public ActiveSetTerms {
   int m_;
   bool any_active_ = false;
   ConstrainedProblem problem_;
+  SpMat pattern_;
   std::unique_ptr<SaddlePointSolver> saddle_;
   bool analysed_ = false;
   core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};

@@ -1,7 +1,9 @@
 // What a constraint method adds to a Newton solve once its active set is held fixed.
 //
 // The caller owns the structural equations R_s(u) = f_int(u) − λ f and their tangent K_T; the
-// gap rows are linear in u over the solve, g(u) = c + G u. A method's terms add
+// gap rows are g(u) with gradient G (linear over the solve in small strain, re-evaluated at every
+// iterate in finite strain, where the caller adds the contact's geometric stiffness to K_T).
+// A method's terms add
 //   penalty-type:    the forces λ̂ − k g_A(u) of the active rows, and G_Aᵀ diag(k) G_A to K_T
 //                    (no further unknowns; CHOLMOD);
 //   multiplier-type: the active rows' multipliers z = λ/s as unknowns, with g_A(u) = 0 and
@@ -28,8 +30,11 @@ class ActiveSetTerms {
   /// The extra equations' residual at `gap` and `extra` (nothing for penalty-type terms).
   virtual void extra_residual(const VecX& gap, const Eigen::Ref<const VecX>& extra,
                               Eigen::Ref<VecX> r) const = 0;
+  /// Replaces the rows' gradient G (same rows, same order): finite strain re-evaluates the
+  /// rows at every Newton iterate.
+  virtual void update_rows(const SpMat& g) = 0;
   /// Factorises the Newton matrix built on the structural tangent `k_t` (kept by reference
-  /// until the next call); false when it is singular.
+  /// until the next call; its pattern may change between calls); false when it is singular.
   virtual bool factorize(const SpMat& k_t) = 0;
   /// Solves the last factorised Newton matrix; false on failure.
   virtual bool solve(const VecX& b, VecX& x) = 0;

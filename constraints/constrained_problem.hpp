@@ -35,6 +35,11 @@ struct ConstrainedProblem {
   /// Optional warm start of the row forces λ (empty: none). The augmented Lagrangian starts its
   /// multiplier iteration from it; the other methods ignore it.
   VecX initial_force;
+  /// Optional: each gap row's local stiffness to derive default penalties from (empty: from
+  /// K and G, see row_stiffness). A load step keeps its first outer iteration's values, so its
+  /// penalties do not drift with K_T and an outer iteration that changes no active set
+  /// confirms the step instead of posing a slightly different problem.
+  VecX gap_row_stiffness;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.
@@ -48,6 +53,8 @@ struct ConstrainedProblem {
   /// assembled stiffness of the elements around the slave node (and its master nodes), the
   /// scale FEBio, Kratos and Tribol derive their default penalties from.
   VecX row_stiffness(const SpMat& rows) const;
+  /// The gap rows' local stiffness: gap_row_stiffness when given, else row_stiffness(G).
+  VecX gap_local_stiffness() const;
 };
 
 /// Gap below which a row counts as touching: 1e-12 × the model size.

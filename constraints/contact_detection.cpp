@@ -192,6 +192,7 @@ void MasterSurfaceSearch::treat_vertex(const Vec2& p, SegmentProjection& q) cons
     if (past <= band) {
       const double s = std::max(past, 0.0);
       q.gap = edge_normal.dot(d) + s * s / band;
+      q.branch = SegmentProjection::Branch::kRoundedEnd;
       q.normal = (edge_normal + (2.0 * s / band) * out).normalized();
       return;
     }
@@ -202,7 +203,9 @@ void MasterSurfaceSearch::treat_vertex(const Vec2& p, SegmentProjection& q) cons
   if (outside && d.norm() > 1e-12 * cell_) {
     q.normal = d.normalized();
     q.gap = d.norm();
+    q.branch = SegmentProjection::Branch::kVertexOutside;
   } else {
+    q.branch = SegmentProjection::Branch::kVertexInside;
     q.normal = mean.norm() > 0 ? mean : edge_normal;
     q.gap = q.normal.dot(d);
   }

@@ -51,6 +51,10 @@ struct SegmentProjection {
   /// The closest point is a free end of the master surface and p lies beyond the rounded end
   /// (see MasterSurfaceSearch): p faces no master.
   bool beyond_free_end = false;
+  /// Which function of the positions the gap is (MasterSurfaceSearch): the edge's own, the
+  /// rounded free end, the distance from a vertex, or the vertex normal's projection.
+  enum class Branch { kEdge, kRoundedEnd, kVertexOutside, kVertexInside };
+  Branch branch = Branch::kEdge;
 };
 
 /// Edge shape functions on the parameter xi in [0, 1] (ends 0 and 1, middle node 2), with their
@@ -99,6 +103,8 @@ class MasterSurfaceSearch {
   std::vector<int> edges_near(const Vec2& lo, const Vec2& hi) const;
   /// The unit outward normal at a master node: the mean of its adjacent edges' normals at it.
   Vec2 vertex_normal(int node) const;
+  /// The edges (indices into edges()) that meet at a master node.
+  const std::vector<int>& vertex_edges(int node) const { return vertex_edges_[vertex_slot_[node]]; }
   /// Whether a master node ends the surface (one adjacent edge).
   bool is_free_end(int node) const;
 
@@ -130,6 +136,9 @@ struct GapRow {
   /// Mortar rows: ∫ Φ_j t ds, the share of the slave surface the row stands for, so that the
   /// row's force divided by it is the pressure at its node. 0 for node-based rows.
   double weight = 0.0;
+  /// Finite strain: the Hessian ∂²g/∂x² over the terms' positions (2 per term, in terms
+  /// order), for the contact's geometric stiffness −λ ∂²g in Newton. Empty: g is linear in u.
+  Eigen::MatrixXd curvature;
   double penalty = 0.0;       ///< prescribed penalty (seed gap elements), 0 = method's choice
   int pair = 0;               ///< which [[contact]] entry produced it
   int slot = -1;              ///< stable identity across detections (see ContactSet::num_slots)

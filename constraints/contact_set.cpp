@@ -82,7 +82,7 @@ std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain) const {
   const core::Mesh& mesh = model_.mesh;
   std::vector<Vec2> x(mesh.num_nodes());
   for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
-  const Configuration c{x, mesh.nodes, small_strain};
+  const Configuration c{x, mesh.nodes, small_strain, &u};
   std::vector<GapRow> rows;
   for (size_t p = 0; p < pairs_.size(); ++p) pairs_[p]->detect(c, first_slot_[p], rows);
   return rows;
@@ -121,6 +121,42 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   p.length_scale = length_scale_;
   p.model_size = model_.model_size;
   return p;
+}
+
+SpMat ContactSet::gap_jacobian(const std::vector<GapRow>& rows) const {
+  const core::DofMap& dofs = model_.dofs;
+  std::vector<Eigen::Triplet<double>> t;
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (const auto& [node, coefficient] : rows[i].terms)
+      for (int c = 0; c < 2; ++c) {
+        const int eq = dofs.equation(2 * node + c);
+        if (eq >= 0 && coefficient[c] != 0.0) t.emplace_back(static_cast<int>(i), eq, coefficient[c]);
+      }
+  SpMat g(static_cast<int>(rows.size()), dofs.num_free());
+  g.setFromTriplets(t.begin(), t.end());
+  return g;
+}
+
+SpMat ContactSet::geometric_stiffness(const std::vector<GapRow>& rows, const VecX& force) const {
+  const core::DofMap& dofs = model_.dofs;
+  std::vector<Eigen::Triplet<double>> t;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const GapRow& r = rows[i];
+    const double lambda = force[static_cast<int>(i)];
+    if (lambda == 0.0 || r.curvature.size() == 0) continue;
+    const int n = static_cast<int>(r.terms.size());
+    for (int a = 0; a < 2 * n; ++a) {
+      const int ea = dofs.equation(2 * r.terms[a / 2].first + a % 2);
+      if (ea < 0) continue;
+      for (int b = 0; b < 2 * n; ++b) {
+        const int eb = dofs.equation(2 * r.terms[b / 2].first + b % 2);
+        if (eb >= 0 && r.curvature(a, b) != 0.0) t.emplace_back(ea, eb, -lambda * r.curvature(a, b));
+      }
+    }
+  }
+  SpMat k(dofs.num_free(), dofs.num_free());
+  k.setFromTriplets(t.begin(), t.end());
+  return k;
 }
 
 namespace {

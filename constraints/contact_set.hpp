@@ -73,6 +73,12 @@ class ContactSet {
   ConstrainedProblem problem(const SpMat& k_ff, const VecX& f_ff, const std::vector<GapRow>& rows,
                              const VecX& u_full) const;
 
+  /// The rows' gradients on the free DOFs: G, m × n_free (prescribed DOFs dropped).
+  SpMat gap_jacobian(const std::vector<GapRow>& rows) const;
+  /// The contact's geometric stiffness on the free DOFs, −Σ_i λ_i ∂²g_i/∂u², from the rows'
+  /// curvature and their forces λ (n_free × n_free; zero for rows linear in u).
+  SpMat geometric_stiffness(const std::vector<GapRow>& rows, const VecX& force) const;
+
   /// Fills the per-node results, recovered pressure, p_max, contact length and total force.
   void report(const std::vector<GapRow>& rows, const ConstraintSolution& s, ContactReport& r) const;
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "constraints/contact_detection.hpp"
+#include "constraints/gap_linearisation.hpp"
 #include "constraints/contact_scene.hpp"
 #include "core/model.hpp"
 
@@ -24,6 +25,10 @@ struct Configuration {
   const std::vector<Vec2>& x;          ///< current positions (reference + displacement)
   const std::vector<Vec2>& reference;  ///< the mesh's node positions
   bool small_strain = false;
+  const VecX* u = nullptr;  ///< the displacement (2 per node) x was formed from, when known
+
+  /// The positions for exact gap derivatives (displacement kept apart when known).
+  Positions positions() const { return u ? Positions{reference, u} : Positions{x, nullptr}; }
 };
 
 class ContactDiscretization {

@@ -22,6 +22,10 @@ VecX ConstrainedProblem::row_stiffness(const SpMat& rows) const {
   return out;
 }
 
+VecX ConstrainedProblem::gap_local_stiffness() const {
+  return gap_row_stiffness.size() == num_gaps() ? gap_row_stiffness : row_stiffness(gap_jacobian);
+}
+
 double penetration_tolerance(const StrategyOptions& o, const ConstrainedProblem& p) {
   return o.tolerance > 0 ? o.tolerance : o.relative_tolerance * p.length_scale;
 }

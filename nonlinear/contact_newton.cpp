@@ -16,15 +16,23 @@ using namespace c2d::constraints;
 
 namespace {
 
-/// The nonlinear equations of one outer iteration: the active rows fixed, their gaps linear in
-/// the free displacements, g(u) = c + G u (the linearisation about the detection state), and
-/// the strategy's terms for that set (its forces and stiffness, or its multipliers):
-///   R(x) = [ f_int(u) − λ f − Gᵀ λ(x) ;  r_terms(x) ],   x = [u; the terms' unknowns].
+/// The nonlinear equations of one outer iteration: the active set fixed by slot, and the
+/// strategy's terms for that set (its forces and stiffness, or its multipliers):
+///   R(x) = [ f_int(u) − λ f − G(u)ᵀ λ(x) ;  r_terms(x) ],   x = [u; the terms' unknowns].
+/// Small strain: the rows are linear, g(u) = c + G u (the linearisation about the detection
+/// state). Finite strain: the rows are detected again at every iterate, each slot keeping its
+/// place, with their exact gradients, and the Jacobian carries the contact's geometric
+/// stiffness −Σ λ_i ∂²g_i: gaps, normals and projections follow the iterate, so Newton
+/// converges quadratically while contacts slide and the outer iterations change active sets
+/// only.
 class ActiveSetSystem final : public NewtonSystem {
  public:
-  ActiveSetSystem(StructuralSystem& base, const SpMat& g, const VecX& c,
-                  std::unique_ptr<ActiveSetTerms> terms)
-      : base_(base), g_(g), gt_(g_.transpose()), c_(c), terms_(std::move(terms)),
+  ActiveSetSystem(StructuralSystem& base, const ContactSet& contact,
+                  const std::vector<GapRow>& rows, const SpMat& g, const VecX& c,
+                  std::unique_ptr<ActiveSetTerms> terms, const std::vector<char>& active)
+      : base_(base), contact_(contact), moving_(!base.is_linear()), template_(rows),
+        active_(active), g_(g), gt_(g_.transpose()), g_template_(g), c_(c),
+        terms_(std::move(terms)),
         n_(static_cast<int>(g_.cols())) {}
 
   int size() const { return n_ + terms_->extra_unknowns(); }
@@ -34,7 +42,18 @@ class ActiveSetSystem final : public NewtonSystem {
     terms_->pack_forces(force, x.tail(size() - n_));
     return x;
   }
-  VecX gap(const VecX& x) const { return c_ + g_ * x.head(n_); }
+  /// The rows' gaps at x (false: an active row found no master there).
+  bool gap(const VecX& x, VecX& g) {
+    if (!moving_) {
+      g = c_ + g_ * x.head(n_);
+      return true;
+    }
+    if (!evaluate(x)) return false;
+    g = gap_now_;
+    return true;
+  }
+  /// The rows at x: the detection's in small strain, re-detected in finite strain.
+  const std::vector<GapRow>& rows() const { return moving_ ? rows_now_ : template_; }
   /// Row forces λ ≥ 0 (compressive) at x.
   VecX forces(const VecX& x, const VecX& gap) const {
     return terms_->forces(gap, x.tail(size() - n_));
@@ -42,26 +61,83 @@ class ActiveSetSystem final : public NewtonSystem {
   double row_stiffness() const { return terms_->row_stiffness(); }
 
   bool residual(const VecX& x, VecX& r) override {
-    VecX ru;
-    if (!base_.residual(x.head(n_), ru)) return false;
-    const VecX g = gap(x);
+    VecX ru, g;
+    if (!base_.residual(x.head(n_), ru) || !gap(x, g)) return false;
     r.resize(size());
     r.head(n_) = ru - gt_ * forces(x, g);
     terms_->extra_residual(g, x.tail(size() - n_), r.tail(size() - n_));
     return true;
   }
   bool factorize_jacobian(const VecX& x) override {
-    return base_.assemble_tangent(base_.full(x.head(n_))) && terms_->factorize(base_.matrix());
+    if (!base_.assemble_tangent(base_.full(x.head(n_)))) return false;
+    if (!moving_) return terms_->factorize(base_.matrix());
+    if (!evaluate(x)) return false;
+    terms_->update_rows(g_);
+    // The geometric stiffness of the compressive row forces. Far from the solution a penalty
+    // row's force k·g can be far off, tensile even, where the strategy's linearised step missed
+    // the gap by its curvature: a tensile force's term would turn the contact's stiffness
+    // over, so it is left out (at a solution active rows are compressive: the tangent is
+    // exact there). Should the matrix still not factorise, the iterate steps without the
+    // term, the line search keeping it safe.
+    jacobian_ = base_.matrix() +
+                contact_.geometric_stiffness(rows_now_, forces(x, gap_now_).cwiseMax(0.0));
+    return terms_->factorize(jacobian_) || terms_->factorize(base_.matrix());
   }
   bool solve(const VecX& b, VecX& x) override { return terms_->solve(b, x); }
-  std::string evaluation_failure() const override { return base_.evaluation_failure(); }
+  std::string evaluation_failure() const override {
+    return lost_.empty() ? base_.evaluation_failure() : lost_;
+  }
 
  private:
+  /// Finite strain: the rows, G and the gaps at x (kept for the last x evaluated). A slot
+  /// found no longer keeps its last row when it is open (it carries no force); an active one
+  /// fails the evaluation.
+  bool evaluate(const VecX& x) {
+    if (evaluated_ && x.head(n_) == at_) return lost_.empty();
+    const std::vector<GapRow> fresh = contact_.detect(base_.full(x.head(n_)), false);
+    std::vector<int> by_slot(contact_.num_slots(), -1);
+    for (size_t k = 0; k < fresh.size(); ++k) by_slot[fresh[k].slot] = static_cast<int>(k);
+    const int m = static_cast<int>(template_.size());
+    rows_now_.resize(m);
+    gap_now_.resize(m);
+    const VecX linear = c_ + g_template_ * x.head(n_);
+    lost_.clear();
+    for (int i = 0; i < m; ++i) {
+      const int k = by_slot[template_[i].slot];
+      if (k >= 0) {
+        rows_now_[i] = fresh[k];
+        gap_now_[i] = fresh[k].gap;
+      } else {
+        rows_now_[i] = template_[i];
+        gap_now_[i] = linear[i];
+        if (active_[i])
+          lost_ = "the active contact row of node " + std::to_string(template_[i].slave + 1) +
+                  " found no master";
+      }
+    }
+    g_ = contact_.gap_jacobian(rows_now_);
+    gt_ = g_.transpose();
+    at_ = x.head(n_);
+    evaluated_ = true;
+    return lost_.empty();
+  }
+
   StructuralSystem& base_;
-  SpMat g_, gt_;
+  const ContactSet& contact_;
+  bool moving_;
+  std::vector<GapRow> template_;  ///< the rows of the outer iteration (their slots and order)
+  std::vector<char> active_;
+  SpMat g_, gt_;      ///< G at the last iterate (finite strain) or the detection's
+  SpMat g_template_;  ///< the detection's G: with c, the open rows' linear gaps
   VecX c_;
   std::unique_ptr<ActiveSetTerms> terms_;
   int n_;
+  // Finite strain: the rows at the last iterate evaluated.
+  bool evaluated_ = false;
+  VecX at_, gap_now_;
+  std::vector<GapRow> rows_now_;
+  SpMat jacobian_;
+  std::string lost_;
 };
 
 double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
@@ -81,9 +157,16 @@ class ConstrainedStep {
         previous_(in.memory), force_by_slot_(contact.num_slots(), 0.0) {
     previous_.resize(contact.num_slots(), 0);
     seen_.insert(previous_);
-    for (const Vec2& xn : system.model().mesh.nodes)
-      coordinate_scale_ = std::max(coordinate_scale_, xn.cwiseAbs().maxCoeff());
-    coordinate_scale_ += inf_norm(in.u_free) + contact.model_size();
+    // Small strain: the rows' gaps come from absolute coordinates. Finite strain: from positions
+    // relative to a node of the row, with the displacement kept apart (gap_linearisation.hpp),
+    // so their round-off is that of the local lengths.
+    if (system.is_linear()) {
+      for (const Vec2& xn : system.model().mesh.nodes)
+        coordinate_scale_ = std::max(coordinate_scale_, xn.cwiseAbs().maxCoeff());
+      coordinate_scale_ += inf_norm(in.u_free) + contact.model_size();
+    } else {
+      coordinate_scale_ = contact.length_scale();
+    }
   }
 
   ContactStepResult run() {
@@ -137,6 +220,7 @@ class ConstrainedStep {
     ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full);
     const VecX c = qp.gap0;              // g(u_f) = c + G u_f
     qp.gap0 += qp.gap_jacobian * u_;     // the gaps in terms of the step Δu
+    keep_local_stiffness(qp);
     warm_start(qp);
 
     // 2. The strategy on the linearised problem.
@@ -186,6 +270,19 @@ class ConstrainedStep {
       if (!consistent) return false;
     }
     return true;
+  }
+
+  /// The rows' local stiffness (the base of default penalties) as the step first met each slot.
+  void keep_local_stiffness(ConstrainedProblem& qp) {
+    qp.gap_row_stiffness = qp.row_stiffness(qp.gap_jacobian);
+    local_by_slot_.resize(contact_.num_slots(), 0.0);
+    for (int i = 0; i < qp.num_gaps(); ++i) {
+      double& kept = local_by_slot_[rows_[i].slot];
+      if (kept > 0.0)
+        qp.gap_row_stiffness[i] = kept;
+      else
+        kept = qp.gap_row_stiffness[i];
+    }
   }
 
   /// Warm start: the rows closed at the last state, and rows touching or penetrating now.
@@ -257,11 +354,16 @@ class ConstrainedStep {
     VecX start_force = s.contact_force;  // (terms whose forces follow from u ignore it)
     if (same_set)
       for (int i = 0; i < m; ++i) start_force[i] = force_by_slot_[rows_[i].slot];
-    ActiveSetSystem sys(system_, qp.gap_jacobian, c, strategy_.active_set_terms(qp, s));
+    ActiveSetSystem sys(system_, contact_, rows_, qp.gap_jacobian, c,
+                        strategy_.active_set_terms(qp, s), s.active);
     VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), start_force);
     NewtonOptions newton = in_.newton;
+    // The force scale of the step's residuals: the largest met in the step, so that the state
+    // a solve converged to is judged by the same measure when the next outer iteration checks it.
     newton.residual_scale = std::max({newton.residual_scale, inf_norm(s.contact_force),
-                                      system_.reaction_scale(x.head(u_.size())), in_.floor_scale});
+                                      system_.reaction_scale(x.head(u_.size())), in_.floor_scale,
+                                      step_scale_});
+    step_scale_ = newton.residual_scale;
     if (satisfied(sys, x, newton, it)) {
       if (same_set) out_.status = SolveStatus::kConverged;
     } else {
@@ -302,12 +404,12 @@ class ConstrainedStep {
     return true;
   }
 
-  void keep_state(const ActiveSetSystem& sys, const VecX& x, const ConstraintSolution& s,
+  void keep_state(ActiveSetSystem& sys, const VecX& x, const ConstraintSolution& s,
                   ContactIteration& it) {
     state_ = s;
-    state_rows_ = rows_;
     state_.u = u_;
-    state_.gap = sys.gap(x);
+    sys.gap(x, state_.gap);  // evaluated by the solve's last residual
+    state_rows_ = sys.rows();
     state_.contact_force = sys.forces(x, state_.gap);
     state_.max_penetration = max_penetration(state_.gap);
     std::fill(force_by_slot_.begin(), force_by_slot_.end(), 0.0);
@@ -316,7 +418,7 @@ class ConstrainedStep {
     it.max_penetration = state_.max_penetration;
     it.max_force = inf_norm(state_.contact_force);
     ContactReport report;
-    contact_.report(rows_, state_, report);
+    contact_.report(state_rows_, state_, report);
     it.max_pressure = report.p_max;
   }
 
@@ -347,7 +449,9 @@ class ConstrainedStep {
   ContactMemory previous_;
   std::set<ContactMemory> seen_;
   std::vector<double> force_by_slot_;  ///< the last solve's row forces
-  double coordinate_scale_ = 0.0;      ///< largest |coordinate|, for round-off
+  std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
+  double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
+  double coordinate_scale_ = 0.0;      ///< the lengths a gap is computed from, for round-off
   std::vector<GapRow> rows_, state_rows_;
   ConstraintSolution state_;
   std::string where_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <map>
 
+#include "constraints/gap_linearisation.hpp"
 #include "core/mesh.hpp"
 
 namespace c2d::constraints {
@@ -13,7 +14,14 @@ struct Mortar::Accumulator {
   double weight = 0.0;  ///< ∫ Φ_j t ds
   Vec2 normal = Vec2::Zero();
   std::vector<std::pair<int, Vec2>> terms;
+  /// Finite strain: ∫ Φ_j g t ds and ∫ Φ_j t ds as functions of the positions (exact
+  /// derivatives; the row is their quotient).
+  LocalGap exact_gap, exact_weight;
 
+  void add_exact(double scale, const LocalGap& measure, const LocalGap& weighted) {
+    exact_gap.add(scale, weighted);
+    exact_weight.add(scale, measure);
+  }
   void add(int node, const Vec2& c) {
     for (auto& [n, value] : terms)
       if (n == node) {
@@ -139,6 +147,13 @@ void Mortar::integrate_obstacle(const Configuration& c, const SlaveEdge& se,
     const double phi[2] = {1.0 - xi, xi};
     for (int a = 0; a < 2; ++a)
       acc[se.row[a]].add_point(w * phi[a], g, n, se.edge, now.shape, nullptr, {});
+    if (!c.small_strain) {
+      LocalGap measure[2], weighted[2];
+      mortar_point(se.edge, {0.0}, {1.0}, xi, nullptr, 0.0, obstacle_, c.positions(), measure,
+                   weighted);
+      for (int a = 0; a < 2; ++a)
+        acc[se.row[a]].add_exact(kGaussWeight[q] * se.thickness, measure[a], weighted[a]);
+    }
   }
 }
 
@@ -155,15 +170,17 @@ void Mortar::integrate_master(const Configuration& c, const MasterSurfaceSearch&
     if (!shares_node(e, master_edges_[id])) candidates.push_back(id);
   if (candidates.empty()) return;
   // Cut the slave edge where the slave normal passes a master vertex.
-  std::vector<double> cuts = {0.0, 1.0};
+  std::vector<SegmentEnd> cuts = {{0.0, -1}, {1.0, -1}};
   for (int id : candidates)
     for (int end = 0; end < 2; ++end) {
-      const double xi = project_on_edge(e, geo, geo[master_edges_[id].nodes[end]]).xi;
-      if (xi > 0.0 && xi < 1.0) cuts.push_back(xi);
+      const int vertex = master_edges_[id].nodes[end];
+      const double xi = project_on_edge(e, geo, geo[vertex]).xi;
+      if (xi > 0.0 && xi < 1.0) cuts.push_back({xi, vertex});
     }
-  std::sort(cuts.begin(), cuts.end());
+  std::sort(cuts.begin(), cuts.end(),
+            [](const SegmentEnd& p, const SegmentEnd& q) { return p.xi < q.xi; });
   for (size_t k = 0; k + 1 < cuts.size(); ++k) {
-    const double a = cuts[k], b = cuts[k + 1];
+    const double a = cuts[k].xi, b = cuts[k + 1].xi;
     if (b - a < 1e-12) continue;
     const MasterEdge* master = facing_edge(geo, e, 0.5 * (a + b), candidates);
     if (!master) continue;  // past a free end of the master surface: nothing to touch
@@ -179,6 +196,13 @@ void Mortar::integrate_master(const Configuration& c, const MasterSurfaceSearch&
       const double phi[2] = {1.0 - xi, xi};
       for (int r = 0; r < 2; ++r)
         acc[se.row[r]].add_point(w * phi[r], g, n, e, slave.shape, master, on_master.shape);
+      if (!c.small_strain) {
+        LocalGap measure[2], weighted[2];
+        mortar_point(e, cuts[k], cuts[k + 1], kGaussPoint[q], master, eta, nullptr,
+                     c.positions(), measure, weighted);
+        for (int r = 0; r < 2; ++r)
+          acc[se.row[r]].add_exact(kGaussWeight[q] * se.thickness, measure[r], weighted[r]);
+      }
     }
   }
 }
@@ -219,6 +243,7 @@ void Mortar::detect(const Configuration& c, int first_slot, std::vector<GapRow>&
     r.normal = a.normal.norm() > 0 ? Vec2(a.normal.normalized()) : Vec2(Vec2::UnitY());
     r.terms = a.terms;
     for (auto& t : r.terms) t.second /= a.weight;
+    if (!c.small_strain) set_row_derivatives(quotient(a.exact_gap, a.exact_weight), r);
     r.pair = index_;
     r.slot = first_slot + static_cast<int>(j);
     rows.push_back(std::move(r));

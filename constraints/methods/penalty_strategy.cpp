@@ -9,7 +9,7 @@ namespace c2d::constraints {
 
 void default_penalties(const ConstrainedProblem& p, double absolute_k, double factor, VecX& k_gap,
                        VecX& k_eq) {
-  const VecX local_gap = p.row_stiffness(p.gap_jacobian);
+  const VecX local_gap = p.gap_local_stiffness();
   const VecX local_eq = p.row_stiffness(p.eq_jacobian);
   auto pick = [&](const VecX& local, int i) {
     return absolute_k > 0 ? absolute_k : factor * (local[i] > 0 ? local[i] : 1.0);
@@ -44,7 +44,7 @@ namespace {
 // Largest ratio of a row's penalty to its local stiffness: how many digits the penalty costs.
 double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX& k_eq) {
   double r = 0.0;
-  const VecX lg = p.row_stiffness(p.gap_jacobian), le = p.row_stiffness(p.eq_jacobian);
+  const VecX lg = p.gap_local_stiffness(), le = p.row_stiffness(p.eq_jacobian);
   for (int i = 0; i < k_gap.size(); ++i) r = std::max(r, k_gap[i] / std::max(lg[i], 1e-300));
   for (int j = 0; j < k_eq.size(); ++j) r = std::max(r, k_eq[j] / std::max(le[j], 1e-300));
   return r;
