@@ -57,6 +57,9 @@ struct ConstrainedProblem {
   VecX gap_local_stiffness() const;
 };
 
+/// The rows of `top` followed by those of `bottom` (same column count).
+SpMat stack_rows(const SpMat& top, const SpMat& bottom);
+
 /// Gap below which a row counts as touching: 1e-12 × the model size.
 double touch_tolerance(const ConstrainedProblem& p);
 /// max(0, −g): the deepest penetration of a gap vector (0 when empty).
@@ -81,6 +84,8 @@ struct ConstraintSolution {
   VecX gap;                   ///< m: g0 + G u
   VecX contact_force;         ///< m: λ ≥ 0
   VecX eq_multiplier;         ///< m_eq: μ
+  VecX eq_residual;           ///< m_eq: A u − b where the caller measured it (else empty)
+  VecX eq_penalty;            ///< m_eq: penalty stiffness per equality row (penalty-type methods)
   VecX penalty;               ///< m: penalty stiffness used per row (penalty-type methods)
   std::vector<char> active;   ///< m: 1 where the row carries force
   int iterations = 0;

@@ -37,18 +37,38 @@ std::unique_ptr<ConstraintStrategy> ConstraintStrategy::create(const StrategyOpt
   return find_method(o.method)->create(o);
 }
 
+namespace {
+
+std::vector<char> held_active(const ConstrainedProblem& p, const ConstraintSolution& s) {
+  std::vector<char> active = s.active;
+  active.resize(p.num_gaps() + p.num_equalities(), 1);
+  return active;
+}
+
+}  // namespace
+
 std::unique_ptr<ActiveSetTerms> RegularisedStrategy::active_set_terms(
     const ConstrainedProblem& p, const ConstraintSolution& s) const {
-  // The reported force λ = λ̂ − k g at the solution's gaps fixes λ̂ for the solve.
-  VecX lambda_hat = VecX::Zero(p.num_gaps());
-  for (int i = 0; i < p.num_gaps(); ++i)
+  // The reported force λ = λ̂ − k g at the solution's gaps fixes λ̂ for the solve; an equality
+  // row's force μ = μ̂ − k (A u − b) likewise.
+  const int m = p.num_gaps(), me = p.num_equalities();
+  VecX lambda_hat = VecX::Zero(m + me), k(m + me);
+  for (int i = 0; i < m; ++i)
     if (s.active[i]) lambda_hat[i] = s.contact_force[i] + s.penalty[i] * s.gap[i];
-  return make_penalty_terms(p.gap_jacobian, s.active, s.penalty, lambda_hat);
+  k.head(m) = s.penalty;
+  if (me > 0) {
+    const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
+    k.tail(me) = s.eq_penalty;
+    lambda_hat.tail(me) = s.eq_multiplier + s.eq_penalty.cwiseProduct(h);
+  }
+  return make_penalty_terms(stack_rows(p.gap_jacobian, p.eq_jacobian), held_active(p, s), k,
+                            lambda_hat);
 }
 
 std::unique_ptr<ActiveSetTerms> ExactStrategy::active_set_terms(
     const ConstrainedProblem& p, const ConstraintSolution& s) const {
-  return make_multiplier_terms(p.gap_jacobian, s.active, saddle_point_scale(p));
+  return make_multiplier_terms(stack_rows(p.gap_jacobian, p.eq_jacobian), held_active(p, s),
+                               saddle_point_scale(p));
 }
 
 }  // namespace c2d::constraints

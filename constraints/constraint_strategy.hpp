@@ -50,6 +50,7 @@ class ConstraintStrategy {
   ConstraintSolution solve(const ConstrainedProblem& problem);
   /// The terms a Newton solve adds to hold the active set of `solution` (which this strategy
   /// returned for `problem`) fixed: the method's forces and stiffness, or its multipliers.
+  /// Their rows are the gap rows followed by the equality rows, which are always held.
   virtual std::unique_ptr<ActiveSetTerms> active_set_terms(
       const ConstrainedProblem& problem, const ConstraintSolution& solution) const = 0;
   /// Hooks of a load-stepped analysis: the step just solved was accepted, or is being cut back

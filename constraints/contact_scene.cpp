@@ -1,5 +1,7 @@
 #include "constraints/contact_scene.hpp"
 
+#include <cmath>
+
 #include "constraints/discretization.hpp"
 #include "constraints/method_registry.hpp"
 #include "core/errors.hpp"
@@ -66,6 +68,46 @@ void parse_options(const TomlView& v, StrategyOptions& o) {
   }
 }
 
+int parse_dof(const TomlView& v) { return v.choice({"ux", "uy"}) == "ux" ? 0 : 1; }
+
+EqualitySpec parse_equality(const TomlView& v, int index) {
+  EqualitySpec e;
+  e.where = v.where();
+  e.name = v["name"].string_or("constraint" + std::to_string(index + 1));
+  const std::string type = v["type"].choice({"linear", "equal", "tie"});
+#define C2D_OPTION_KEYS "name", "type", "method", "penalty", "auglag", "ipopt", "tolerance", \
+                        "relative_tolerance", "max_iterations"
+  if (type == "linear") {
+    v.check_keys({C2D_OPTION_KEYS, "terms", "value"});
+    e.type = EqualitySpec::Type::kLinear;
+    for (const auto& t : v["terms"].tables()) {
+      t.check_keys({"on", "dof", "coefficient"});
+      EqualityTermSpec term;
+      term.on = core::parse_selection(t["on"]);
+      term.dof = parse_dof(t["dof"]);
+      term.coefficient = t["coefficient"].number();
+      if (!std::isfinite(term.coefficient) || term.coefficient == 0.0)
+        t["coefficient"].fail("a finite non-zero coefficient");
+      e.terms.push_back(term);
+    }
+    if (e.terms.empty()) v["terms"].fail("at least one term { on, dof, coefficient }");
+    e.value = v["value"].number_or(0.0);
+    if (!std::isfinite(e.value)) v["value"].fail("a finite value");
+  } else if (type == "equal") {
+    v.check_keys({C2D_OPTION_KEYS, "on", "dof"});
+    e.type = EqualitySpec::Type::kEqual;
+    e.on = core::parse_selection(v["on"]);
+    e.dof = parse_dof(v["dof"]);
+  } else {
+    v.check_keys({C2D_OPTION_KEYS, "slave", "master"});
+    e.type = EqualitySpec::Type::kTie;
+    e.slave = core::parse_selection(v["slave"]);
+    e.master = core::parse_selection(v["master"]);
+  }
+#undef C2D_OPTION_KEYS
+  return e;
+}
+
 }  // namespace
 
 ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string& method) {
@@ -81,7 +123,20 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
         if (other.name == o.name) v["name"].fail("a unique obstacle name");
       spec.obstacles.push_back(o);
     }
+    // One solve enforces every contact and constraint the same way: the first table that
+    // sets the method's options sets them for all, a later one may only repeat its method.
     bool first = true;
+    std::string first_kind;
+    auto adopt_options = [&](const TomlView& v, const std::string& table) {
+      StrategyOptions o = spec.options;
+      parse_options(v, o);
+      if (!first && v.has("method") && o.method != spec.options.method)
+        v["method"].fail("the same method as the first " + first_kind + " ('" +
+                         spec.options.method +
+                         "'): one solve enforces every contact and constraint alike");
+      if (first) spec.options = o, first_kind = table;
+      first = false;
+    };
     for (const auto& v : root["contact"].tables()) {
       v.check_keys({"name", "slave", "master", "detection", "direction", "search_distance",
                     "method", "penalty", "auglag", "ipopt", "tolerance", "relative_tolerance",
@@ -116,14 +171,15 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
         c.direction->normalize();
       }
       if (v.has("search_distance")) c.search_distance = v["search_distance"].positive();
-      StrategyOptions o = spec.options;
-      parse_options(v, o);
-      if (!first && o.method != spec.options.method)
-        v["method"].fail("the same method as the first [[contact]] ('" + spec.options.method +
-                         "'): one solve enforces every contact the same way");
-      if (first) spec.options = o;
-      first = false;
+      adopt_options(v, "[[contact]]");
       spec.pairs.push_back(c);
+    }
+    for (const auto& v : root["constraint"].tables()) {
+      EqualitySpec e = parse_equality(v, static_cast<int>(spec.equalities.size()));
+      for (const auto& other : spec.equalities)
+        if (other.name == e.name) v["name"].fail("a unique [[constraint]] name");
+      adopt_options(v, "[[constraint]]");
+      spec.equalities.push_back(e);
     }
   }
   if (!method.empty()) spec.options.method = method;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 
+#include "constraints/discretizations/mortar.hpp"
 #include "constraints/discretizations/node_to_node.hpp"
 #include "core/errors.hpp"
 
@@ -30,6 +31,7 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
     pairs_.push_back(info->create({model, cs, spec_.obstacles, static_cast<int>(c)}));
   }
   if (scene.explicit_model) add_gap_elements(*scene.explicit_model);
+  add_equalities();
   std::vector<int> slaves;
   for (const auto& p : pairs_) {
     first_slot_.push_back(num_slots_);
@@ -58,6 +60,59 @@ void ContactSet::add_slave_edges(const ContactPairSpec& cs, bool required) {
     slave_edge_thickness_.push_back(
         model_.materials[mesh.element_material[mesh.boundary_edges[id].element]].thickness);
   }
+}
+
+void ContactSet::add_equalities() {
+  for (size_t c = 0; c < spec_.equalities.size(); ++c) {
+    const EqualitySpec& e = spec_.equalities[c];
+    const int owner = static_cast<int>(c);
+    if (e.type == EqualitySpec::Type::kLinear) {
+      EqualityRow row;
+      row.owner = owner;
+      row.rhs = e.value;
+      for (const EqualityTermSpec& t : e.terms) {
+        const std::vector<int> nodes = core::select_nodes(model_, t.on);
+        if (nodes.size() != 1)
+          throw InputError(e.where + ": each term's `on` must select one node, it selects " +
+                           std::to_string(nodes.size()));
+        row.terms.emplace_back(2 * nodes[0] + t.dof, t.coefficient);
+      }
+      equality_rows_.push_back(row);
+    } else if (e.type == EqualitySpec::Type::kEqual) {
+      const std::vector<int> nodes = core::select_nodes(model_, e.on);
+      if (nodes.size() < 2)
+        throw InputError(e.where + ": `on` must select at least two nodes to share u" +
+                         (e.dof == 0 ? "x" : "y") + ", it selects " + std::to_string(nodes.size()));
+      for (size_t k = 1; k < nodes.size(); ++k)
+        equality_rows_.push_back(
+            {{{2 * nodes[k] + e.dof, 1.0}, {2 * nodes[0] + e.dof, -1.0}}, 0.0, owner});
+    } else {
+      add_tie(e, owner);
+    }
+  }
+}
+
+void ContactSet::add_tie(const EqualitySpec& e, int owner) {
+  // Mortar tying in the reference configuration: per slave corner node j and component d,
+  // Σ_k D_jk u_k,d = Σ_l M_jl u_l,d. The coefficients are fixed (a tie glues material points),
+  // so the rows are linear in u, in small and finite strain alike.
+  ContactPairSpec pair;
+  pair.name = e.name;
+  pair.slave = e.slave;
+  pair.master = e.master;
+  pair.detection = "mortar";
+  pair.where = e.where;
+  const Mortar mortar({model_, pair, spec_.obstacles, -1});
+  const auto rows = mortar.coupling(model_.mesh.nodes);
+  if (rows.empty())
+    throw InputError(e.where + ": no part of the tie's slave surface faces its master surface");
+  for (const auto& coefficients : rows)
+    for (int d = 0; d < 2; ++d) {
+      EqualityRow row;
+      row.owner = owner;
+      for (const auto& [node, a] : coefficients) row.terms.emplace_back(2 * node + d, a);
+      equality_rows_.push_back(row);
+    }
 }
 
 void ContactSet::add_gap_elements(const core::ExplicitModel& legacy) {
@@ -94,8 +149,6 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   ConstrainedProblem p;
   p.stiffness = k_ff;
   p.load = f_ff;
-  p.eq_jacobian = SpMat(0, dofs.num_free());
-  p.eq_rhs = VecX();
   const int m = static_cast<int>(rows.size());
   std::vector<Eigen::Triplet<double>> t;
   p.gap0 = VecX(m);
@@ -118,6 +171,23 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   }
   p.gap_jacobian = SpMat(m, dofs.num_free());
   p.gap_jacobian.setFromTriplets(t.begin(), t.end());
+  // The [[constraint]] rows: A u_f = b − (their prescribed DOFs' part).
+  const int me = static_cast<int>(equality_rows_.size());
+  std::vector<Eigen::Triplet<double>> te;
+  p.eq_rhs = VecX(me);
+  for (int j = 0; j < me; ++j) {
+    double rhs = equality_rows_[j].rhs;
+    for (const auto& [dof, a] : equality_rows_[j].terms) {
+      const int eq = dofs.equation(dof);
+      if (eq >= 0)
+        te.emplace_back(j, eq, a);
+      else
+        rhs -= a * u_full[dof];
+    }
+    p.eq_rhs[j] = rhs;
+  }
+  p.eq_jacobian = SpMat(me, dofs.num_free());
+  p.eq_jacobian.setFromTriplets(te.begin(), te.end());
   p.length_scale = length_scale_;
   p.model_size = model_.model_size;
   return p;
@@ -325,6 +395,25 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
   }
   assign_pressure(slot, mortar_weight, mortar_edge, r);
   r.has_surface = !slave_edges_.empty();
+  r.equalities.clear();
+  r.equality_names.clear();
+  r.equality_types.clear();
+  for (const EqualitySpec& e : spec_.equalities) {
+    r.equality_names.push_back(e.name);
+    r.equality_types.push_back(e.type == EqualitySpec::Type::kLinear  ? "linear"
+                               : e.type == EqualitySpec::Type::kEqual ? "equal"
+                                                                      : "tie");
+  }
+  r.max_equality_violation = 0.0;
+  for (size_t j = 0; j < equality_rows_.size(); ++j) {
+    const int k = static_cast<int>(j);
+    EqualityRowResult e;
+    e.owner = equality_rows_[j].owner;
+    e.multiplier = s.eq_multiplier.size() > k ? s.eq_multiplier[k] : 0.0;
+    e.residual = s.eq_residual.size() > k ? s.eq_residual[k] : 0.0;
+    r.max_equality_violation = std::max(r.max_equality_violation, std::abs(e.residual));
+    r.equalities.push_back(e);
+  }
   r.active_nodes = 0;
   r.total_force = 0.0;
   r.p_max = 0.0;

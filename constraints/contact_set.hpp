@@ -28,6 +28,20 @@ struct ContactNodeResult {
   bool active = false;
 };
 
+/// One row of a multipoint constraint: Σ a_k u_k = rhs over full DOF indices k.
+struct EqualityRow {
+  std::vector<std::pair<int, double>> terms;
+  double rhs = 0.0;
+  int owner = -1;  ///< index of its [[constraint]]
+};
+
+/// Per equality row after a solve: the force its multiplier exerts and what is left of it.
+struct EqualityRowResult {
+  int owner = -1;
+  double multiplier = 0.0;  ///< μ: the row's force on the structure is Aᵀμ
+  double residual = 0.0;    ///< A u − b
+};
+
 struct ContactReport {
   std::string method;
   SolveStatus status = SolveStatus::kFailed;
@@ -50,6 +64,9 @@ struct ContactReport {
   double pivot_ratio = std::numeric_limits<double>::quiet_NaN();  ///< of the last solve
   double stiffness_max = std::numeric_limits<double>::quiet_NaN(); ///< max |K_ij| (linear runs)
   bool has_surface = false;     ///< pressures recovered on slave edges
+  std::vector<EqualityRowResult> equalities;  ///< the [[constraint]] rows
+  std::vector<std::string> equality_names, equality_types;  ///< per [[constraint]]
+  double max_equality_violation = 0.0;        ///< max |A u − b| over them
   std::vector<IterationRecord> history;
   std::vector<double> penalty_history;
 };
@@ -60,7 +77,10 @@ class ContactSet {
   /// and adds the seed's gap elements of a legacy scene.
   ContactSet(const core::Model& model, const ContactSceneSpec& spec, const core::Scene& scene);
 
-  bool empty() const { return pairs_.empty(); }
+  bool empty() const { return pairs_.empty() && equality_rows_.empty(); }
+  /// The rows of the scene's [[constraint]] tables (linear in u) and their specs.
+  const std::vector<EqualityRow>& equality_rows() const { return equality_rows_; }
+  const std::vector<EqualitySpec>& equalities() const { return spec_.equalities; }
   const StrategyOptions& options() const { return spec_.options; }
   int num_slave_nodes() const { return static_cast<int>(slave_nodes_.size()); }
 
@@ -95,6 +115,9 @@ class ContactSet {
   /// The slave surface of one [[contact]] (for pressure recovery); a selection without boundary
   /// edges is refused when `required` (the discretization recovers pressure on the surface).
   void add_slave_edges(const ContactPairSpec& cs, bool required);
+  /// The rows of the scene's [[constraint]] tables.
+  void add_equalities();
+  void add_tie(const EqualitySpec& e, int owner);
   /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
   void add_gap_elements(const core::ExplicitModel& legacy);
   /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
@@ -109,6 +132,7 @@ class ContactSet {
   ContactSceneSpec spec_;
   std::vector<std::unique_ptr<ContactDiscretization>> pairs_;  ///< one per [[contact]] (+ gaps)
   std::vector<int> first_slot_;              ///< per pair: the slot of its first row
+  std::vector<EqualityRow> equality_rows_;
   std::vector<int> slave_nodes_;             ///< unique, sorted
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;

@@ -22,6 +22,19 @@ VecX ConstrainedProblem::row_stiffness(const SpMat& rows) const {
   return out;
 }
 
+SpMat stack_rows(const SpMat& top, const SpMat& bottom) {
+  std::vector<Triplet> t;
+  t.reserve(top.nonZeros() + bottom.nonZeros());
+  for (int c = 0; c < top.outerSize(); ++c)
+    for (SpMat::InnerIterator it(top, c); it; ++it) t.emplace_back(it.row(), c, it.value());
+  for (int c = 0; c < bottom.outerSize(); ++c)
+    for (SpMat::InnerIterator it(bottom, c); it; ++it)
+      t.emplace_back(top.rows() + it.row(), c, it.value());
+  SpMat out(top.rows() + bottom.rows(), std::max(top.cols(), bottom.cols()));
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
+}
+
 VecX ConstrainedProblem::gap_local_stiffness() const {
   return gap_row_stiffness.size() == num_gaps() ? gap_row_stiffness : row_stiffness(gap_jacobian);
 }
@@ -64,6 +77,7 @@ void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
   if (s.eq_multiplier.size() != p.num_equalities())
     s.eq_multiplier = VecX::Zero(p.num_equalities());
   if (s.penalty.size() != m) s.penalty = VecX::Zero(m);
+  if (s.eq_penalty.size() != p.num_equalities()) s.eq_penalty = VecX::Zero(p.num_equalities());
   if (static_cast<int>(s.active.size()) != m) s.active.assign(m, 0);
   const bool finite = s.u.allFinite() && s.contact_force.allFinite() &&
                       s.eq_multiplier.allFinite() && s.penalty.allFinite();

@@ -18,7 +18,7 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   scene.path = file;
   const TomlView root(&root_table, "", &scene.path);
   root.check_keys({"title", "units", "analysis", "material", "body", "support", "load", "probe",
-                   "contact", "obstacle", "reference", "output", "adapt"});
+                   "contact", "obstacle", "constraint", "reference", "output", "adapt"});
   scene.title = root["title"].string_or("");
   scene.units = root["units"].string_or("");
   parse_analysis(root["analysis"], scene.analysis);

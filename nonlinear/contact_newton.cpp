@@ -27,6 +27,8 @@ namespace {
 /// only.
 class ActiveSetSystem final : public NewtonSystem {
  public:
+  /// `g`, `c`: the gap rows linearised at the detection state (g(u) = c + G u), then the
+  /// equality rows A u + c_eq = 0; `active`: the gap rows' set followed by the equality rows.
   ActiveSetSystem(StructuralSystem& base, const ContactSet& contact,
                   const std::vector<GapRow>& rows, const SpMat& g, const VecX& c,
                   std::unique_ptr<ActiveSetTerms> terms, const std::vector<char>& active)
@@ -34,6 +36,7 @@ class ActiveSetSystem final : public NewtonSystem {
         active_(active), g_(g), gt_(g_.transpose()), g_template_(g), c_(c),
         terms_(std::move(terms)),
         n_(static_cast<int>(g_.cols())) {}
+  int num_gaps() const { return static_cast<int>(template_.size()); }
 
   int size() const { return n_ + terms_->extra_unknowns(); }
   VecX pack(const VecX& u, const VecX& force) const {
@@ -79,8 +82,8 @@ class ActiveSetSystem final : public NewtonSystem {
     // over, so it is left out (at a solution active rows are compressive: the tangent is
     // exact there). Should the matrix still not factorise, the iterate steps without the
     // term, the line search keeping it safe.
-    jacobian_ = base_.matrix() +
-                contact_.geometric_stiffness(rows_now_, forces(x, gap_now_).cwiseMax(0.0));
+    jacobian_ = base_.matrix() + contact_.geometric_stiffness(
+                                     rows_now_, forces(x, gap_now_).head(num_gaps()).cwiseMax(0.0));
     return terms_->factorize(jacobian_) || terms_->factorize(base_.matrix());
   }
   bool solve(const VecX& b, VecX& x) override { return terms_->solve(b, x); }
@@ -97,10 +100,10 @@ class ActiveSetSystem final : public NewtonSystem {
     const std::vector<GapRow> fresh = contact_.detect(base_.full(x.head(n_)), false);
     std::vector<int> by_slot(contact_.num_slots(), -1);
     for (size_t k = 0; k < fresh.size(); ++k) by_slot[fresh[k].slot] = static_cast<int>(k);
-    const int m = static_cast<int>(template_.size());
+    const int m = num_gaps(), me = static_cast<int>(c_.size()) - m;
     rows_now_.resize(m);
-    gap_now_.resize(m);
     const VecX linear = c_ + g_template_ * x.head(n_);
+    gap_now_ = linear;  // the equality rows stay linear
     lost_.clear();
     for (int i = 0; i < m; ++i) {
       const int k = by_slot[template_[i].slot];
@@ -115,7 +118,7 @@ class ActiveSetSystem final : public NewtonSystem {
                   " found no master";
       }
     }
-    g_ = contact_.gap_jacobian(rows_now_);
+    g_ = stack_rows(contact_.gap_jacobian(rows_now_), g_template_.bottomRows(me));
     gt_ = g_.transpose();
     at_ = x.head(n_);
     evaluated_ = true;
@@ -218,8 +221,10 @@ class ConstrainedStep {
       return true;
     }
     ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full);
-    const VecX c = qp.gap0;              // g(u_f) = c + G u_f
-    qp.gap0 += qp.gap_jacobian * u_;     // the gaps in terms of the step Δu
+    VecX c(qp.num_gaps() + qp.num_equalities());  // g(u_f) = c + G u_f, then A u_f − b
+    c << qp.gap0, -qp.eq_rhs;
+    qp.gap0 += qp.gap_jacobian * u_;     // the gaps and equalities in terms of the step Δu
+    qp.eq_rhs -= qp.eq_jacobian * u_;
     keep_local_stiffness(qp);
     warm_start(qp);
 
@@ -342,7 +347,7 @@ class ConstrainedStep {
     out_.rows = rows_;
     out_.state = s;
     out_.state.u = out_.u_free;
-    out_.state.gap = c + qp.gap_jacobian * out_.u_free;
+    out_.state.gap = c.head(qp.num_gaps()) + qp.gap_jacobian * out_.u_free;
   }
 
   /// KINSOL with the set fixed, from the strategy's step when the set changed, from the state
@@ -350,17 +355,24 @@ class ConstrainedStep {
   /// already satisfies the equations. False when Newton failed.
   bool hold_set(const ConstrainedProblem& qp, const VecX& c, const ConstraintSolution& s,
                 bool same_set, ContactIteration& it) {
-    const int m = qp.num_gaps();
-    VecX start_force = s.contact_force;  // (terms whose forces follow from u ignore it)
-    if (same_set)
+    const int m = qp.num_gaps(), me = qp.num_equalities();
+    // The held rows: the gap rows, then the equality rows (their forces: the multipliers μ).
+    VecX start_force(m + me);  // (terms whose forces follow from u ignore it)
+    start_force << s.contact_force, s.eq_multiplier;
+    if (same_set) {
       for (int i = 0; i < m; ++i) start_force[i] = force_by_slot_[rows_[i].slot];
-    ActiveSetSystem sys(system_, contact_, rows_, qp.gap_jacobian, c,
-                        strategy_.active_set_terms(qp, s), s.active);
+      if (state_.eq_multiplier.size() == me) start_force.tail(me) = state_.eq_multiplier;
+    }
+    std::vector<char> held = s.active;
+    held.resize(m + me, 1);
+    ActiveSetSystem sys(system_, contact_, rows_, stack_rows(qp.gap_jacobian, qp.eq_jacobian), c,
+                        strategy_.active_set_terms(qp, s), held);
     VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), start_force);
     NewtonOptions newton = in_.newton;
     // The force scale of the step's residuals: the largest met in the step, so that the state
     // a solve converged to is judged by the same measure when the next outer iteration checks it.
     newton.residual_scale = std::max({newton.residual_scale, inf_norm(s.contact_force),
+                                      inf_norm(s.eq_multiplier),
                                       system_.reaction_scale(x.head(u_.size())), in_.floor_scale,
                                       step_scale_});
     step_scale_ = newton.residual_scale;
@@ -408,9 +420,16 @@ class ConstrainedStep {
                   ContactIteration& it) {
     state_ = s;
     state_.u = u_;
-    sys.gap(x, state_.gap);  // evaluated by the solve's last residual
+    VecX held_gap;
+    sys.gap(x, held_gap);  // evaluated by the solve's last residual
+    const VecX held_force = sys.forces(x, held_gap);
+    const int m = sys.num_gaps(), me = static_cast<int>(held_gap.size()) - m;
     state_rows_ = sys.rows();
-    state_.contact_force = sys.forces(x, state_.gap);
+    state_.gap = held_gap.head(m);
+    state_.contact_force = held_force.head(m);
+    state_.eq_residual = held_gap.tail(me);
+    state_.eq_multiplier = held_force.tail(me);
+    state_.max_eq_violation = inf_norm(state_.eq_residual);
     state_.max_penetration = max_penetration(state_.gap);
     std::fill(force_by_slot_.begin(), force_by_slot_.end(), 0.0);
     for (size_t i = 0; i < rows_.size(); ++i)

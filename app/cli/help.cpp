@@ -39,6 +39,7 @@ const char* kRunHelp =
     "  deformed.png   deformed mesh coloured by von Mises (and .svg)\n"
     "  run.log        what was printed\n"
     "  contact.csv    gap, force and recovered pressure per slave node (contact scenes)\n"
+    "  constraints.csv  per [[constraint]] row: its constraint, multiplier (force), residual\n"
     "  trace.csv      one row per Newton / active-set iteration of every load step: residual,\n"
     "                 active set, entering, leaving, penetration, pressure, status\n"
     "  contact_steps.csv  per load step and slave node: gap, force, pressure, active\n"

@@ -74,6 +74,17 @@ std::string contact_csv(const constraints::ContactReport& c) {
   return os.str();
 }
 
+std::string constraints_csv(const constraints::ContactReport& c) {
+  std::ostringstream os;
+  os << std::setprecision(12) << "row,constraint,type,multiplier,residual\n";
+  for (size_t i = 0; i < c.equalities.size(); ++i) {
+    const auto& e = c.equalities[i];
+    os << i + 1 << ',' << c.equality_names[e.owner] << ',' << c.equality_types[e.owner] << ','
+       << e.multiplier << ',' << e.residual << '\n';
+  }
+  return os.str();
+}
+
 std::string trace_csv(const constraints::ContactReport& c) {
   std::ostringstream os;
   os << std::setprecision(10) << kTraceHeader;

@@ -11,6 +11,8 @@ namespace c2d::app {
 
 /// One row per slave node: node, x, y, gap, force, pressure, active, penalty.
 std::string contact_csv(const constraints::ContactReport& contact);
+/// The [[constraint]] rows: constraint name and type, multiplier (the row's force), residual.
+std::string constraints_csv(const constraints::ContactReport& contact);
 
 /// trace.csv of a linear analysis: one row per contact backend iteration (DESIGN §4 columns;
 /// one load step).

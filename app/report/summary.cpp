@@ -45,6 +45,27 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
   return c;
 }
 
+/// The [[constraint]] tables: per table its rows, largest multiplier (force) and residual.
+nlohmann::json constraints_section(const constraints::ContactReport& contact) {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t k = 0; k < contact.equality_names.size(); ++k) {
+    int rows = 0;
+    double force = 0.0, residual = 0.0;
+    for (const auto& e : contact.equalities)
+      if (e.owner == static_cast<int>(k)) {
+        ++rows;
+        force = std::max(force, std::abs(e.multiplier));
+        residual = std::max(residual, std::abs(e.residual));
+      }
+    list.push_back({{"name", contact.equality_names[k]},
+                    {"type", contact.equality_types[k]},
+                    {"rows", rows},
+                    {"max_force", number(force)},
+                    {"max_residual", number(residual)}});
+  }
+  return list;
+}
+
 nlohmann::json mesh_section(const core::Model& model) {
   nlohmann::json m = {{"nodes", model.mesh.num_nodes()},
                       {"elements", model.mesh.num_elements()},
@@ -144,6 +165,8 @@ nlohmann::json make_summary(const SummaryParts& p) {
   j["steps"] = 1;
   j["newton_iterations"] = 0;
   j["contact"] = p.contact ? contact_section(*p.contact) : nlohmann::json();
+  if (p.contact && !p.contact->equality_names.empty())
+    j["constraints"] = constraints_section(*p.contact);
   if (p.model) j["mesh"] = mesh_section(*p.model);
   if (p.results)
     add_results(j, *p.results);
@@ -182,7 +205,12 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
     os << "steps      " << s["steps"] << " load steps converged (load factor "
        << s["load_factor"].get<double>() << "), " << s["newton_iterations"]
        << " Newton iterations\n";
-  if (s.contains("contact") && !s["contact"].is_null()) {
+  if (s.contains("constraints"))
+    for (const auto& e : s["constraints"])
+      os << "constraint " << e["name"].get<std::string>() << " (" << e["type"].get<std::string>()
+         << ", " << s["method"].get<std::string>() << "): " << e["rows"] << " rows, largest force "
+         << e["max_force"].dump() << ", largest residual " << e["max_residual"].dump() << "\n";
+  if (s.contains("contact") && !s["contact"].is_null() && s["contact"]["slave_nodes"] != 0) {
     const auto& c = s["contact"];
     os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
        << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "

@@ -129,6 +129,8 @@ void RunOutput::write_tables(const SceneRun& run) {
     core::write_file_atomic(dir_ + "/nodes.csv", core::nodes_csv(run.model, results));
   const bool stepped = !run.steps.empty();
   if (run.contact) core::write_file_atomic(dir_ + "/contact.csv", contact_csv(run.contact_report));
+  if (run.contact && !run.contact_report.equality_names.empty())
+    core::write_file_atomic(dir_ + "/constraints.csv", constraints_csv(run.contact_report));
   if (stepped)
     core::write_file_atomic(dir_ + "/trace.csv", newton_trace_csv(run.steps));
   else if (run.contact)

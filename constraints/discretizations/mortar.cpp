@@ -17,6 +17,9 @@ struct Mortar::Accumulator {
   /// Finite strain: ∫ Φ_j g t ds and ∫ Φ_j t ds as functions of the positions (exact
   /// derivatives; the row is their quotient).
   LocalGap exact_gap, exact_weight;
+  /// A tie's coupling (Mortar::coupling): the coefficients ∫ Φ_j N ds themselves, stored as
+  /// their x component, instead of their products with the normal.
+  bool scalar = false;
 
   void add_exact(double scale, const LocalGap& measure, const LocalGap& weighted) {
     exact_gap.add(scale, weighted);
@@ -38,9 +41,10 @@ struct Mortar::Accumulator {
     gap += w * g;
     weight += w;
     normal += w * n;
-    for (int k = 0; k < slave.count; ++k) add(slave.nodes[k], w * ns[k] * n);
+    const Vec2 along = scalar ? Vec2(Vec2::UnitX()) : n;
+    for (int k = 0; k < slave.count; ++k) add(slave.nodes[k], w * ns[k] * along);
     if (master)
-      for (int l = 0; l < master->count; ++l) add(master->nodes[l], -w * nm[l] * n);
+      for (int l = 0; l < master->count; ++l) add(master->nodes[l], -w * nm[l] * along);
   }
 };
 
@@ -223,6 +227,24 @@ const MasterEdge* Mortar::facing_edge(const std::vector<Vec2>& geo, const Master
     if (std::abs(alpha) < best) best = std::abs(alpha), master = &m;
   }
   return master;
+}
+
+std::vector<std::vector<std::pair<int, double>>> Mortar::coupling(
+    const std::vector<Vec2>& reference) const {
+  std::vector<Accumulator> acc(corners_.size());
+  for (Accumulator& a : acc) a.scalar = true;
+  const Configuration c{reference, reference, true};
+  const MasterSurfaceSearch search(master_edges_, reference, search_);
+  for (const SlaveEdge& se : slave_edges_) integrate_master(c, search, se, acc);
+  std::vector<std::vector<std::pair<int, double>>> out;
+  for (const Accumulator& a : acc) {
+    if (!(a.weight > 0.0)) continue;
+    std::vector<std::pair<int, double>> row;
+    for (const auto& [node, value] : a.terms)
+      if (value.x() != 0.0) row.emplace_back(node, value.x() / a.weight);
+    out.push_back(std::move(row));
+  }
+  return out;
 }
 
 void Mortar::detect(const Configuration& c, int first_slot, std::vector<GapRow>& rows) const {

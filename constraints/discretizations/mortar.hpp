@@ -35,6 +35,12 @@ class Mortar final : public ContactDiscretization {
   /// Every node of the slave surface (the corner nodes own the rows).
   const std::vector<int>& slave_nodes() const override { return nodes_; }
   void detect(const Configuration& c, int first_slot, std::vector<GapRow>& rows) const override;
+  /// A tie's rows in the reference configuration (a deformable master): per slave corner j,
+  /// Σ_k D_jk u_k − Σ_l M_jl u_l = 0 with D_jk = ∫ Φ_j N_k ds / w_j over the slave nodes and
+  /// M_jl = ∫ Φ_j N_l ds / w_j over the master's, as (node, coefficient) lists. A uniform
+  /// traction crosses it exactly on non-matching meshes (Σ_j Φ_j = 1), as for contact.
+  std::vector<std::vector<std::pair<int, double>>> coupling(
+      const std::vector<Vec2>& reference) const;
 
   struct SlaveEdge {
     MasterEdge edge;

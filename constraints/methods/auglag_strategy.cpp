@@ -63,6 +63,7 @@ ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
   s.active.assign(p.num_gaps(), 0);
   for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = lambda[i] > 0;
   s.penalty = k_gap;
+  s.eq_penalty = k_eq;
   return s;
 }
 

@@ -38,6 +38,7 @@ void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& 
                         ? VecX(mu - k_eq.cwiseProduct(p.eq_jacobian * s.u - p.eq_rhs))
                         : VecX();
   s.penalty = k_gap;
+  s.eq_penalty = k_eq;
 }
 
 namespace {

@@ -797,3 +797,32 @@ TEST(Cli, SigintEndsARunAsInterruptedWithExit130) {
   EXPECT_TRUE(fs::exists(dir / "out" / "run.log"));
   fs::remove_all(dir);
 }
+
+TEST(Cli, TiedBlocksReportTheirConstraints) {
+  // examples/tied_blocks.toml: a mortar tie across non-matching meshes and an `equal` top under
+  // a corner force carry the exact uniaxial stress σ_y = −F/w = −5, the top moving by
+  // −F (H1 + H2) / (E w) = −7.5e-3; summary.json and constraints.csv list the rows.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_tied_blocks";
+  fs::remove_all(out);
+  ASSERT_EQ(run("run " + example("tied_blocks.toml") + " --out " + out.string() + " --quiet"), 0);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"], "converged");
+  EXPECT_NEAR(s["probes"]["top_uy"].get<double>(), -7.5e-3, 1e-12);
+  EXPECT_NEAR(s["probes"]["sy_center"].get<double>(), -5.0, 1e-9);
+  ASSERT_EQ(s["constraints"].size(), 2u);
+  int rows = 0;
+  for (const auto& c : s["constraints"]) {
+    EXPECT_LT(c["max_residual"].get<double>(), 1e-12) << c["name"];
+    rows += c["rows"].get<int>();
+  }
+  EXPECT_EQ(s["constraints"][0]["name"], "glue");
+  EXPECT_EQ(s["constraints"][1]["type"], "equal");
+  std::ifstream csv(out / "constraints.csv");
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "row,constraint,type,multiplier,residual");
+  int lines = 0;
+  while (std::getline(csv, line)) ++lines;
+  EXPECT_EQ(lines, rows);
+}

@@ -91,3 +91,38 @@ TEST(ContactScene, MasterBodyTypoAndDuplicateNamesAreRefused) {
   EXPECT_NE(m.find("contact[1].name"), std::string::npos) << m;
   EXPECT_NE(m.find("a unique [[contact]] name"), std::string::npos) << m;
 }
+
+// [[constraint]] mistakes (issue 17): the same one-line, located refusals.
+TEST(ContactScene, ConstraintMistakesAreLocated) {
+  std::string m = contact_error(
+      "[[constraint]]\ntype = \"equal\"\non = { body = \"b\", edge = \"top\" }\ndof = \"uz\"\n");
+  EXPECT_NE(m.find("constraint[0].dof"), std::string::npos) << m;
+  EXPECT_NE(m.find("found string \"uz\""), std::string::npos) << m;
+  m = contact_error("[[constraint]]\ntype = \"glue\"\n");
+  EXPECT_NE(m.find("constraint[0].type"), std::string::npos) << m;
+  m = contact_error("[[constraint]]\ntype = \"linear\"\nterms = [ { on = { nearest = [0.0, 0.0] }, "
+                    "dof = \"ux\", coefficient = 0.0 } ]\n");
+  EXPECT_NE(m.find("coefficient"), std::string::npos) << m;
+  EXPECT_NE(m.find("non-zero"), std::string::npos) << m;
+  m = contact_error("[[constraint]]\ntype = \"equal\"\non = { body = \"b\", edge = \"top\" }\n"
+                    "dof = \"ux\"\nmethod = \"penalty\"\n[[contact]]\n"
+                    "slave = { body = \"b\", edge = \"bottom\" }\nmaster = { obstacle = \"floor\" }\n"
+                    "method = \"lagrange\"\n");
+  // (contacts are read first, whatever the order in the file)
+  EXPECT_NE(m.find("constraint[0].method"), std::string::npos) << m;
+  EXPECT_NE(m.find("the same method as the first [[contact]]"), std::string::npos) << m;
+  // A linear term must select exactly one node: refused when the set is built.
+  const core::Scene s = core::parse_scene(
+      std::string(kBase) + "[[constraint]]\ntype = \"linear\"\nterms = [ { on = { body = \"b\", "
+                           "edge = \"top\" }, dof = \"uy\", coefficient = 1.0 } ]\n",
+      "terms.toml");
+  const core::Model model = core::build_model(s);
+  try {
+    const ContactSet set(model, parse_contact_scene(s), s);
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("terms.toml:"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("must select one node"), std::string::npos) << msg;
+  }
+}
