@@ -4,6 +4,7 @@
 #include "core/elasticity_kernels.hpp"
 #include "core/error_estimator.hpp"
 #include "core/spd_solver.hpp"
+#include "core/springs.hpp"
 #include "core/stopwatch.hpp"
 #include "core/stress_recovery.hpp"
 
@@ -39,12 +40,18 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
         ke = element_stiffness(mesh.element_coords(e), model.materials[mesh.element_material[e]]);
       },
       &u_prescribed, &lift);
+  // Springs: their stiffness joins K (and their coupling to prescribed DOFs the lift).
+  SpMat with_springs;
+  if (!model.springs.empty())
+    with_springs = assembler.matrix() + spring_stiffness(model, VecX::Zero(mesh.num_dofs()), false,
+                                                         &u_prescribed, &lift);
+  const SpMat& k_ff = model.springs.empty() ? assembler.matrix() : with_springs;
   const VecX rhs = dofs.restrict(model.external_force) - lift;
   r.time.assemble = clock.lap();
 
   VecX u_free;
-  if (solve) solve(assembler.matrix(), rhs, u_prescribed, u_free, r);
-  else solve_plain(analysis, assembler.matrix(), rhs, u_free, r);
+  if (solve) solve(k_ff, rhs, u_prescribed, u_free, r);
+  else solve_plain(analysis, k_ff, rhs, u_free, r);
   r.time.solve = clock.lap();
   // A contact method that stopped at its iteration limit or on a cycle still has a displacement
   // worth reporting; any other failure has none.
@@ -83,8 +90,10 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
         if (dofs.is_constrained(dof)) r.reaction[dof] += fe[2 * i + c];
       }
   }
+  VecX spring_force = VecX::Zero(mesh.num_dofs());
+  add_spring_forces(model, r.displacement, false, spring_force);
   for (int dof = 0; dof < mesh.num_dofs(); ++dof)
-    if (dofs.is_constrained(dof)) r.reaction[dof] -= model.external_force[dof];
+    if (dofs.is_constrained(dof)) r.reaction[dof] += spring_force[dof] - model.external_force[dof];
 
   r.element_stresses = compute_element_stresses(mesh, model.materials, r.displacement);
   r.nodal_stress = smooth_stresses(mesh, model.materials, r.element_stresses, analysis.smoothing);

@@ -330,6 +330,28 @@ void apply_loads(const Scene& scene, Model& model) {
 
 }  // namespace
 
+namespace {
+
+/// The scene's springs on the model's nodes.
+void add_springs(const Scene& scene, Model& model) {
+  for (const SpringSpec& sp : scene.springs) {
+    if (sp.to_ground) {
+      for (int n : select_nodes(model, sp.on)) model.springs.push_back({sp.name, n, -1, sp.k_ground, 0.0});
+      continue;
+    }
+    const std::vector<int> a = select_nodes(model, sp.a), b = select_nodes(model, sp.b);
+    if (a.size() != 1 || b.size() != 1)
+      throw InputError(sp.at.where + ": between: each selection must select one node, they select " +
+                       std::to_string(a.size()) + " and " + std::to_string(b.size()));
+    if ((model.mesh.nodes[a[0]] - model.mesh.nodes[b[0]]).norm() <= 1e-12 * model.model_size)
+      throw InputError(sp.at.where + ": between: the two nodes coincide (an axial spring needs a "
+                       "length); use a spring to ground or a [[constraint]]");
+    model.springs.push_back({sp.name, a[0], b[0], Vec2::Zero(), sp.k});
+  }
+}
+
+}  // namespace
+
 Model build_model(const Scene& scene) {
   Model model;
   const auto t0 = std::chrono::steady_clock::now();
@@ -344,6 +366,7 @@ Model build_model(const Scene& scene) {
 
   apply_supports(scene, model);
   apply_loads(scene, model);
+  add_springs(scene, model);
   return model;
 }
 

@@ -18,6 +18,15 @@ struct PrescribedRotation {
   double angle = 0.0;  ///< at load factor 1
 };
 
+/// A spring of the model: node a to ground (b < 0; stiffness k_ground along x and y) or node a
+/// to node b (axial stiffness k along the line between them).
+struct Spring {
+  std::string name;
+  int a = -1, b = -1;
+  Vec2 k_ground = Vec2::Zero();
+  double k = 0.0;
+};
+
 struct Model {
   Mesh mesh;
   std::vector<Material> materials;
@@ -28,6 +37,7 @@ struct Model {
   double model_size = 1.0;  ///< bounding-box diagonal
   double mesh_seconds = 0.0;
   std::vector<PrescribedRotation> rotations;
+  std::vector<Spring> springs;
 };
 
 /// The full vector of prescribed displacements at load factor λ (zero on free DOFs): λ × the

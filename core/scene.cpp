@@ -18,7 +18,8 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   scene.path = file;
   const TomlView root(&root_table, "", &scene.path);
   root.check_keys({"title", "units", "analysis", "material", "body", "support", "load", "probe",
-                   "contact", "obstacle", "constraint", "reference", "output", "adapt"});
+                   "contact", "obstacle", "constraint", "spring", "reference", "output",
+                   "adapt"});
   scene.title = root["title"].string_or("");
   scene.units = root["units"].string_or("");
   parse_analysis(root["analysis"], scene.analysis);
@@ -41,6 +42,12 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   for (const auto& s : root["support"].tables()) {
     scene.supports.push_back(parse_support(s));
     check_body(scene.supports.back().on, s);
+  }
+  for (const auto& sp : root["spring"].tables()) {
+    scene.springs.push_back(parse_spring(sp, static_cast<int>(scene.springs.size())));
+    const SpringSpec& added = scene.springs.back();
+    if (added.to_ground) check_body(added.on, sp);
+    else check_body(added.a, sp), check_body(added.b, sp);
   }
   for (const auto& l : root["load"].tables()) {
     scene.loads.push_back(parse_load(l));

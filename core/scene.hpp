@@ -83,6 +83,18 @@ struct SupportSpec {
   SourceRef at;
 };
 
+/// A [[spring]]: to ground on every node of `on` (stiffness k_ground along x and y), or
+/// between the single nodes of `a` and `b` (axial stiffness k).
+struct SpringSpec {
+  std::string name;
+  bool to_ground = true;
+  SelectionSpec on;            ///< to ground
+  Vec2 k_ground = Vec2::Zero();
+  SelectionSpec a, b;          ///< node to node
+  double k = 0.0;
+  SourceRef at;
+};
+
 struct LoadSpec {
   enum class Kind { kNodalForce, kTotalForce, kTraction, kPressure, kBodyForce };
   Kind kind = Kind::kNodalForce;
@@ -147,6 +159,7 @@ struct Scene {
   std::vector<BodySpec> bodies;
   std::vector<SupportSpec> supports;
   std::vector<LoadSpec> loads;
+  std::vector<SpringSpec> springs;
   std::vector<ProbeSpec> probes;
   std::string reference_kind;
   std::map<std::string, double> reference;

@@ -327,6 +327,32 @@ BodySpec parse_body(const TomlView& b, const Scene& scene) {
   return bs;
 }
 
+SpringSpec parse_spring(const TomlView& s, int index) {
+  s.check_keys({"name", "on", "between", "k"});
+  SpringSpec sp;
+  sp.at.where = s.where();
+  sp.name = s["name"].string_or("spring" + std::to_string(index + 1));
+  if (s.has("on") == s.has("between"))
+    s.fail("either 'on' (springs to ground) or 'between = [selection, selection]'");
+  if (s.has("on")) {
+    sp.to_ground = true;
+    sp.on = parse_selection(s["on"]);
+    sp.k_ground = s["k"].vec2();
+    if (!sp.k_ground.allFinite() || sp.k_ground.minCoeff() < 0 || sp.k_ground.maxCoeff() <= 0 ||
+        sp.k_ground.maxCoeff() > 1e30)
+      s["k"].fail("[kx, ky], finite, >= 0 and not both 0 (at most 1e30)");
+    return sp;
+  }
+  sp.to_ground = false;
+  const std::vector<TomlView> ends = s["between"].items();
+  if (ends.size() != 2) s["between"].fail("two selections [ { ... }, { ... } ], one node each");
+  sp.a = parse_selection(ends[0]);
+  sp.b = parse_selection(ends[1]);
+  sp.k = s["k"].positive();
+  if (sp.k > 1e30) s["k"].fail("a stiffness of at most 1e30");
+  return sp;
+}
+
 SupportSpec parse_support(const TomlView& s) {
   s.check_keys({"on", "fix", "ux", "uy", "rotate"});
   SupportSpec ss;

@@ -21,6 +21,7 @@ MaterialSpec parse_material(const TomlView& m, const std::vector<MaterialSpec>& 
 /// A [[body]] of `scene` (its materials, earlier bodies and mesh scale already read).
 BodySpec parse_body(const TomlView& b, const Scene& scene);
 SupportSpec parse_support(const TomlView& s);
+SpringSpec parse_spring(const TomlView& s, int index);
 LoadSpec parse_load(const TomlView& l);
 /// [reference] and [output].
 void parse_reference_and_output(const TomlView& root, Scene& scene);

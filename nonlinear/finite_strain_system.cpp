@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/finite_strain_kernels.hpp"
+#include "core/springs.hpp"
 
 namespace c2d::nonlinear {
 
@@ -41,6 +42,7 @@ bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {
     }
     for (int i = 0; i < nn; ++i) f.segment<2>(2 * mesh.elements[e][i]) += fe.segment<2>(2 * i);
   }
+  add_spring_forces(model_, u, true, f);
   return true;
 }
 
@@ -59,6 +61,8 @@ bool FiniteStrainSystem::assemble(const VecX& u, const VecX* du_constrained, Vec
         }
       },
       du_constrained, lift);
+  if (!model_.springs.empty())
+    with_springs_ = assembler_.matrix() + spring_stiffness(model_, u, true, du_constrained, lift);
   if (!ok) {  // name the first inverted element (the parallel assembly does not say which)
     VecX f;
     internal_force(u, f);

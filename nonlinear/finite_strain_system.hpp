@@ -30,7 +30,10 @@ class FiniteStrainSystem final : public StructuralSystem {
   /// Largest support reaction |f_int| on the prescribed DOFs at the free values u_free (0 if an
   /// element is inverted): the force scale of supports that carry the load.
   double reaction_scale(const VecX& u_free) const override;
-  const SpMat& matrix() const override { return assembler_.matrix(); }
+  /// K_T,ff: the elements' (and the springs', when the model has any).
+  const SpMat& matrix() const override {
+    return model_.springs.empty() ? assembler_.matrix() : with_springs_;
+  }
   /// The load step's linearisation about the converged full state u0 (with its own prescribed
   /// values): assembles K_T(u0) into matrix() and returns the out-of-balance force at the
   /// current load factor, the prescribed increment carried as a lift:
@@ -52,6 +55,7 @@ class FiniteStrainSystem final : public StructuralSystem {
   mutable int inverted_ = -1;  ///< the first inverted element of the last evaluation
   const core::Model& model_;
   core::Assembler assembler_;
+  SpMat with_springs_;  ///< the assembled K_T plus the springs' stiffness
   core::SpdSolver solver_;
   VecX f_ext_free_, u_prescribed_;
   double lambda_ = 0.0;

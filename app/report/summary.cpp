@@ -9,6 +9,7 @@
 
 #include "app/report/hertz.hpp"
 #include "app/report/pressure_profile.hpp"
+#include "core/springs.hpp"
 
 namespace c2d::app {
 
@@ -62,6 +63,23 @@ nlohmann::json constraints_section(const constraints::ContactReport& contact) {
                     {"rows", rows},
                     {"max_force", number(force)},
                     {"max_residual", number(residual)}});
+  }
+  return list;
+}
+
+/// Per [[spring]]: how many springs it made and the largest axial force (tension positive;
+/// to ground: the force's size) at the final state.
+nlohmann::json springs_section(const core::Model& model, const core::Results& r, bool finite) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const core::Spring& s : model.springs) {
+    if (list.empty() || list.back()["name"] != s.name)
+      list.push_back({{"name", s.name}, {"count", 0}, {"max_force", 0.0}});
+    nlohmann::json& e = list.back();
+    e["count"] = e["count"].get<int>() + 1;
+    const double f = r.displacement.size() == model.mesh.num_dofs()
+                         ? core::spring_force(model, s, r.displacement, finite)
+                         : 0.0;
+    if (std::abs(f) > std::abs(e["max_force"].get<double>())) e["max_force"] = f;
   }
   return list;
 }
@@ -168,6 +186,8 @@ nlohmann::json make_summary(const SummaryParts& p) {
   if (p.contact && !p.contact->equality_names.empty())
     j["constraints"] = constraints_section(*p.contact);
   if (p.model) j["mesh"] = mesh_section(*p.model);
+  if (p.model && p.results && !p.model->springs.empty())
+    j["springs"] = springs_section(*p.model, *p.results, p.scene.analysis.geometric_nonlinearity);
   if (p.results)
     add_results(j, *p.results);
   else
