@@ -11,6 +11,7 @@
 
 #include "core/errors.hpp"
 #include "core/mesh_budget.hpp"
+#include "core/msh_check.hpp"
 
 namespace c2d::core {
 
@@ -333,6 +334,7 @@ namespace {
 /// Opens a .msh file: its physical curves as named curves, with the element order converted if
 /// the file's differs from the scene's.
 std::vector<NamedCurve> open_msh_file(const std::string& file, int order) {
+  check_msh_file(file);  // gmsh's reader crashes on malformed files instead of reporting them
   gmsh::open(file);
   std::vector<NamedCurve> named;
   gmsh::vectorpair groups;
