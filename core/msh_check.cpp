@@ -226,10 +226,7 @@ class MshCheck {
         for (const std::string& v : r_.line(values, "node coordinates")) r_.real(v, "a coordinate");
       seen += n;
     }
-    if (seen != total)
-      r_.fail("blocks holding the declared " + std::to_string(total) + " nodes",
-              std::to_string(seen));
-    r_.expect_marker("$EndNodes");
+    end_blocks(seen, total, "nodes", "$EndNodes");
     seen_nodes_ = true;
   }
 
@@ -273,10 +270,7 @@ class MshCheck {
       }
       seen += n;
     }
-    if (seen != total)
-      r_.fail("blocks holding the declared " + std::to_string(total) + " elements",
-              std::to_string(seen));
-    r_.expect_marker("$EndElements");
+    end_blocks(seen, total, "elements", "$EndElements");
     seen_elements_ = true;
   }
 
@@ -297,6 +291,15 @@ class MshCheck {
     }
     r_.expect_marker("$EndElements");
     seen_elements_ = true;
+  }
+
+  /// The blocks of a 4.1 section read: they must hold the total its header declared.
+  void end_blocks(long long seen, long long total, const std::string& what,
+                  const std::string& marker) {
+    if (seen != total)
+      r_.fail("blocks holding the declared " + std::to_string(total) + " " + what,
+              std::to_string(seen));
+    r_.expect_marker(marker);
   }
 
   int element_nodes(const std::string& token) {

@@ -123,8 +123,10 @@ std::string vtu_document(const Model& model, const Results& r) {
              mesh.num_nodes());
   data_array(os, "s2_smoothed", 1, [&](int i, int) { return nodal_quantity(model, r, "s2", i); },
              mesh.num_nodes());
-  for (const auto& [name, field] : r.point_fields)
-    data_array(os, name, 1, [&](int i, int) { return field[i]; }, mesh.num_nodes());
+  for (const auto& entry : r.point_fields) {  // (a structured binding: clang 14 cannot capture it)
+    const VecX& field = entry.second;
+    data_array(os, entry.first, 1, [&](int i, int) { return field[i]; }, mesh.num_nodes());
+  }
   os << "      </PointData>\n      <CellData>\n";
   auto element_mean = [&](int e) -> Voigt { return r.element_stresses.at_points[e].rowwise().mean(); };
   data_array(os, "stress_element", 3, [&](int e, int c) { return element_mean(e)[c]; },

@@ -1,0 +1,7 @@
+// libFuzzer entry for the scene reader (scripts/fuzz.sh).
+#include "fuzz_targets.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  c2d::fuzz::scene(data, size);
+  return 0;
+}
