@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "constraints/saddle_point_solver.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
@@ -256,6 +257,20 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   for (int i = 0; i < p.num_gaps(); ++i) {
     s.active[i] = s.contact_force[i] > 1e-6 * fmax && gap[i] <= touch;
     if (!s.active[i]) s.contact_force[i] = 0.0;
+  }
+  // An interior-point method returns some minimiser even when the problem has a line of
+  // them: a body pulled off its only support moves by an arbitrary rigid motion. The rows that
+  // hold the solution (touching ones included) must leave the system nonsingular, as the
+  // multiplier methods require of their active sets.
+  if (s.status == SolveStatus::kConverged) {
+    std::vector<char> holding(p.num_gaps(), 0);
+    for (int i = 0; i < p.num_gaps(); ++i) holding[i] = s.active[i] || gap[i] <= touch;
+    SaddlePointSolver check(p, saddle_point_scale(p));
+    if (check.factorize(holding, false, false) == SolveStatus::kSingular) {
+      s.status = SolveStatus::kSingular;
+      s.message = "the minimiser is not unique: with the rows that hold it the structure is "
+                  "free to move (a body pulled off its supports, or unsupported)";
+    }
   }
   IterationRecord rec;
   rec.iteration = iterations;

@@ -311,3 +311,43 @@ master = { body = "base", edge = "top" }
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, HonestStatus, ::testing::ValuesIn(method_names()));
+
+// Issue 16, finding 8: a block resting on a rigid floor and pulled up by 1e-12 has no
+// equilibrium (it lifts off and nothing holds it). Every method must say so; ipopt used to
+// return "converged" with an arbitrary rigid motion.
+TEST(PullOff, EveryMethodNamesTheLostSupport) {
+  const std::string text = R"(
+[analysis]
+kind = "plane_strain"
+[[material]]
+name = "m"
+E = 1000.0
+nu = 0.3
+[[body]]
+name = "b"
+material = "m"
+shape = { type = "rectangle", min = [0.0, 0.0], max = [1.0, 1.0] }
+mesh = { size = 0.3 }
+[[support]]
+on = { nearest = [0.0, 0.0] }
+fix = ["ux"]
+[[obstacle]]
+name = "floor"
+type = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+[[contact]]
+slave = { body = "b", edge = "bottom" }
+master = { obstacle = "floor" }
+[[load]]
+on = { body = "b", edge = "top" }
+total_force = [0.0, 1e-12]
+)";
+  const core::Scene scene = core::parse_scene(text, "pull.toml");
+  const core::Model model = core::build_model(scene);
+  for (const std::string& method : method_names()) {
+    const ContactSet contact(model, parse_contact_scene(scene, method), scene);
+    const core::Results r = nonlinear::solve_linear_static(model, scene.analysis, &contact);
+    EXPECT_EQ(r.status, SolveStatus::kSingular) << method << ": " << r.message;
+  }
+}
