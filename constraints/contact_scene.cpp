@@ -1,6 +1,5 @@
 #include "constraints/contact_scene.hpp"
 
-#include <cmath>
 
 #include "constraints/discretization.hpp"
 #include "constraints/method_registry.hpp"
@@ -68,43 +67,18 @@ void parse_options(const TomlView& v, StrategyOptions& o) {
   }
 }
 
-int parse_dof(const TomlView& v) { return v.choice({"ux", "uy"}) == "ux" ? 0 : 1; }
-
 EqualitySpec parse_equality(const TomlView& v, int index) {
   EqualitySpec e;
   e.where = v.where();
   e.name = v["name"].string_or("constraint" + std::to_string(index + 1));
-  const std::string type = v["type"].choice({"linear", "equal", "tie"});
-#define C2D_OPTION_KEYS "name", "type", "method", "penalty", "auglag", "ipopt", "tolerance", \
-                        "relative_tolerance", "max_iterations"
-  if (type == "linear") {
-    v.check_keys({C2D_OPTION_KEYS, "terms", "value"});
-    e.type = EqualitySpec::Type::kLinear;
-    for (const auto& t : v["terms"].tables()) {
-      t.check_keys({"on", "dof", "coefficient"});
-      EqualityTermSpec term;
-      term.on = core::parse_selection(t["on"]);
-      term.dof = parse_dof(t["dof"]);
-      term.coefficient = t["coefficient"].number();
-      if (!std::isfinite(term.coefficient) || term.coefficient == 0.0)
-        t["coefficient"].fail("a finite non-zero coefficient");
-      e.terms.push_back(term);
-    }
-    if (e.terms.empty()) v["terms"].fail("at least one term { on, dof, coefficient }");
-    e.value = v["value"].number_or(0.0);
-    if (!std::isfinite(e.value)) v["value"].fail("a finite value");
-  } else if (type == "equal") {
-    v.check_keys({C2D_OPTION_KEYS, "on", "dof"});
-    e.type = EqualitySpec::Type::kEqual;
-    e.on = core::parse_selection(v["on"]);
-    e.dof = parse_dof(v["dof"]);
-  } else {
-    v.check_keys({C2D_OPTION_KEYS, "slave", "master"});
-    e.type = EqualitySpec::Type::kTie;
-    e.slave = core::parse_selection(v["slave"]);
-    e.master = core::parse_selection(v["master"]);
-  }
-#undef C2D_OPTION_KEYS
+  e.type = v["type"].choice(equality_names());
+  const EqualityInfo* info = find_equality(e.type);
+  std::vector<std::string> keys = {"name",      "type",      "method",
+                                   "penalty",   "auglag",    "ipopt",
+                                   "tolerance", "relative_tolerance", "max_iterations"};
+  keys.insert(keys.end(), info->key_names.begin(), info->key_names.end());
+  v.check_keys(keys);
+  e.constraint = info->parse(v);
   return e;
 }
 

@@ -2,12 +2,14 @@
 // constraints module from the scene's TOML so that core/ knows nothing about constraints.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_detection.hpp"
+#include "constraints/equality.hpp"
 #include "core/scene.hpp"
 
 namespace c2d::constraints {
@@ -23,25 +25,13 @@ struct ContactPairSpec {
   std::string where;
 };
 
-/// One term a_i u_{n_i, d_i} of a linear multipoint constraint: `on` selects one node.
-struct EqualityTermSpec {
-  core::SelectionSpec on;
-  int dof = 0;  ///< 0: ux, 1: uy
-  double coefficient = 1.0;
-};
-
 /// A [[constraint]] (docs/scene.md): equality rows on displacements, enforced by the run's
-/// constraint method like the contacts.
+/// constraint method like the contacts; its type's class (equality.hpp) makes the rows.
 struct EqualitySpec {
-  enum class Type { kLinear, kEqual, kTie };
-  Type type = Type::kLinear;
   std::string name;
+  std::string type;
   std::string where;
-  std::vector<EqualityTermSpec> terms;  ///< linear: Σ a_i u_{n_i, d_i} = value
-  double value = 0.0;
-  core::SelectionSpec on;               ///< equal: every node of `on` shares u_dof
-  int dof = 0;
-  core::SelectionSpec slave, master;    ///< tie: slave nodes move with the master edges
+  std::shared_ptr<const EqualityConstraint> constraint;
 };
 
 struct ContactSceneSpec {

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <map>
 
-#include "constraints/discretizations/mortar.hpp"
 #include "constraints/discretizations/node_to_node.hpp"
 #include "core/errors.hpp"
 
@@ -65,54 +64,9 @@ void ContactSet::add_slave_edges(const ContactPairSpec& cs, bool required) {
 void ContactSet::add_equalities() {
   for (size_t c = 0; c < spec_.equalities.size(); ++c) {
     const EqualitySpec& e = spec_.equalities[c];
-    const int owner = static_cast<int>(c);
-    if (e.type == EqualitySpec::Type::kLinear) {
-      EqualityRow row;
-      row.owner = owner;
-      row.rhs = e.value;
-      for (const EqualityTermSpec& t : e.terms) {
-        const std::vector<int> nodes = core::select_nodes(model_, t.on);
-        if (nodes.size() != 1)
-          throw InputError(e.where + ": each term's `on` must select one node, it selects " +
-                           std::to_string(nodes.size()));
-        row.terms.emplace_back(2 * nodes[0] + t.dof, t.coefficient);
-      }
-      equality_rows_.push_back(row);
-    } else if (e.type == EqualitySpec::Type::kEqual) {
-      const std::vector<int> nodes = core::select_nodes(model_, e.on);
-      if (nodes.size() < 2)
-        throw InputError(e.where + ": `on` must select at least two nodes to share u" +
-                         (e.dof == 0 ? "x" : "y") + ", it selects " + std::to_string(nodes.size()));
-      for (size_t k = 1; k < nodes.size(); ++k)
-        equality_rows_.push_back(
-            {{{2 * nodes[k] + e.dof, 1.0}, {2 * nodes[0] + e.dof, -1.0}}, 0.0, owner});
-    } else {
-      add_tie(e, owner);
-    }
+    for (EqualityRow& row : e.constraint->rows(model_, static_cast<int>(c), e.where))
+      equality_rows_.push_back(std::move(row));
   }
-}
-
-void ContactSet::add_tie(const EqualitySpec& e, int owner) {
-  // Mortar tying in the reference configuration: per slave corner node j and component d,
-  // Σ_k D_jk u_k,d = Σ_l M_jl u_l,d. The coefficients are fixed (a tie glues material points),
-  // so the rows are linear in u, in small and finite strain alike.
-  ContactPairSpec pair;
-  pair.name = e.name;
-  pair.slave = e.slave;
-  pair.master = e.master;
-  pair.detection = "mortar";
-  pair.where = e.where;
-  const Mortar mortar({model_, pair, spec_.obstacles, -1});
-  const auto rows = mortar.coupling(model_.mesh.nodes);
-  if (rows.empty())
-    throw InputError(e.where + ": no part of the tie's slave surface faces its master surface");
-  for (const auto& coefficients : rows)
-    for (int d = 0; d < 2; ++d) {
-      EqualityRow row;
-      row.owner = owner;
-      for (const auto& [node, a] : coefficients) row.terms.emplace_back(2 * node + d, a);
-      equality_rows_.push_back(row);
-    }
 }
 
 void ContactSet::add_gap_elements(const core::ExplicitModel& legacy) {
@@ -400,9 +354,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
   r.equality_types.clear();
   for (const EqualitySpec& e : spec_.equalities) {
     r.equality_names.push_back(e.name);
-    r.equality_types.push_back(e.type == EqualitySpec::Type::kLinear  ? "linear"
-                               : e.type == EqualitySpec::Type::kEqual ? "equal"
-                                                                      : "tie");
+    r.equality_types.push_back(e.type);
   }
   r.max_equality_violation = 0.0;
   for (size_t j = 0; j < equality_rows_.size(); ++j) {

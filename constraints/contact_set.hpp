@@ -28,13 +28,6 @@ struct ContactNodeResult {
   bool active = false;
 };
 
-/// One row of a multipoint constraint: Σ a_k u_k = rhs over full DOF indices k.
-struct EqualityRow {
-  std::vector<std::pair<int, double>> terms;
-  double rhs = 0.0;
-  int owner = -1;  ///< index of its [[constraint]]
-};
-
 /// Per equality row after a solve: the force its multiplier exerts and what is left of it.
 struct EqualityRowResult {
   int owner = -1;
@@ -117,7 +110,6 @@ class ContactSet {
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
-  void add_tie(const EqualitySpec& e, int owner);
   /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
   void add_gap_elements(const core::ExplicitModel& legacy);
   /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered

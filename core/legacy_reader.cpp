@@ -19,7 +19,11 @@ class LineReader {
  public:
   explicit LineReader(const std::string& path) : path_(path), in_(path) {
     if (!in_) throw InputError(path + ": cannot open the data file");
+    std::ifstream count(path);
+    for (std::string line; std::getline(count, line);) ++lines_;
   }
+  /// Lines in the file: no count in it may exceed them (nothing is sized beyond the file).
+  long long lines() const { return lines_; }
   // Next non-empty line, split into numbers.
   std::vector<double> next(const std::string& what) {
     std::string line;
@@ -51,6 +55,7 @@ class LineReader {
   std::string path_;
   std::ifstream in_;
   int line_no_ = 0;
+  long long lines_ = 0;
 };
 
 int as_index(LineReader& r, double v, int count, const char* what) {
@@ -66,9 +71,17 @@ std::pair<int, int> read_counts(LineReader& r) {
   if (head.size() < 2 || head.size() > 3)
     r.fail("expected 'NN NE ITER' (node count, element count, iteration count), found " +
            std::to_string(head.size()) + " numbers");
+  // Range first: converting a double outside int's range is undefined behaviour.
+  const auto integral = [](double v) { return v >= 1 && v <= 1e9 && v == std::floor(v); };
+  if (!integral(head[0]) || !integral(head[1]))
+    r.fail("expected positive integer node and element counts, found " +
+           std::to_string(head[0]) + " and " + std::to_string(head[1]));
   const int nn = static_cast<int>(head[0]), ne = static_cast<int>(head[1]);
-  if (nn < 3 || ne < 1 || head[0] != nn || head[1] != ne)
-    r.fail("expected positive integer node and element counts");
+  if (nn < 3) r.fail("expected at least 3 nodes, found " + std::to_string(nn));
+  // (Generous: a short file gets its own located message at the line that is missing.)
+  if (static_cast<long long>(nn) + ne > 2 * r.lines() + 16)
+    r.fail("expected node and element counts that the file's " + std::to_string(r.lines()) +
+           " lines can hold, found " + std::to_string(nn) + " and " + std::to_string(ne));
   return {nn, ne};
 }
 
@@ -148,7 +161,11 @@ ElementLine read_element_line(LineReader& r) {
   else
     r.fail("expected 8 (T3) or 11 (T6) numbers on an element line, found " +
            std::to_string(v.size()));
-  e.type = static_cast<int>(v[1 + e.nodes_per]);
+  const double type = v[1 + e.nodes_per];
+  if (type != 0 && type != 1 && type != 2)
+    r.fail("expected element type 0 (plane stress), 1 (gap) or 2 (plane strain), found " +
+           std::to_string(type));
+  e.type = static_cast<int>(type);
   e.p1 = v[2 + e.nodes_per], e.p2 = v[3 + e.nodes_per], e.p3 = v[4 + e.nodes_per];
   return e;
 }

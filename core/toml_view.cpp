@@ -61,8 +61,11 @@ void TomlView::require_table() const {
 }
 
 void TomlView::check_keys(std::initializer_list<const char*> allowed) const {
+  check_keys(std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void TomlView::check_keys(const std::vector<std::string>& names) const {
   if (!is_table()) return;
-  std::vector<std::string> names(allowed.begin(), allowed.end());
   for (const auto& [key, value] : *node_->as_table()) {
     const std::string k(key.str());
     if (std::find(names.begin(), names.end(), k) != names.end()) continue;

@@ -36,6 +36,7 @@ class TomlView {
   bool is_array() const { return node_ && node_->is_array(); }
   /// Rejects keys not in `allowed`, naming the nearest allowed one.
   void check_keys(std::initializer_list<const char*> allowed) const;
+  void check_keys(const std::vector<std::string>& allowed) const;
   void require_table() const;
 
   double number() const;                        ///< any integer or float

@@ -7,7 +7,7 @@
 #include <map>
 #include <sstream>
 
-#include "constraints/saddle_point_solver.hpp"
+#include "core/spd_solver.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
@@ -198,6 +198,21 @@ SolveStatus map_status(Ipopt::ApplicationReturnStatus s, std::string& message) {
   return SolveStatus::kFailed;
 }
 
+/// Whether K + Σ_rows ρ_r c_r c_rᵀ (the held gap rows and every equality row, ρ_r their local
+/// stiffness) is positive definite: no rigid motion is left free.
+bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<char>& held) {
+  const VecX rho_gap = p.row_stiffness(p.gap_jacobian), rho_eq = p.row_stiffness(p.eq_jacobian);
+  VecX w_gap = VecX::Zero(p.num_gaps());
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (held[i]) w_gap[i] = rho_gap[i] > 0 ? rho_gap[i] : 1.0;
+  const SpMat gt = p.gap_jacobian.transpose(), at = p.eq_jacobian.transpose();
+  SpMat k = p.stiffness + SpMat(gt * w_gap.asDiagonal() * p.gap_jacobian);
+  if (p.num_equalities() > 0)
+    k += SpMat(at * rho_eq.cwiseMax(1e-300).asDiagonal() * p.eq_jacobian);
+  core::SpdSolver spd(core::SpdSolver::Backend::kCholmod, true);
+  return spd.factorize(k) == SolveStatus::kConverged;
+}
+
 }  // namespace
 
 ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
@@ -262,11 +277,12 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   // them: a body pulled off its only support moves by an arbitrary rigid motion. The rows that
   // hold the solution (touching ones included) must leave the system nonsingular, as the
   // multiplier methods require of their active sets.
+  // The check: K + Σ ρ c cᵀ over those rows (ρ their local stiffness) must be positive
+  // definite; redundant rows (a duplicate Ipopt dropped) do not make it singular.
   if (s.status == SolveStatus::kConverged) {
     std::vector<char> holding(p.num_gaps(), 0);
     for (int i = 0; i < p.num_gaps(); ++i) holding[i] = s.active[i] || gap[i] <= touch;
-    SaddlePointSolver check(p, saddle_point_scale(p));
-    if (check.factorize(holding, false, false) == SolveStatus::kSingular) {
+    if (!holds_every_rigid_motion(p, holding)) {
       s.status = SolveStatus::kSingular;
       s.message = "the minimiser is not unique: with the rows that hold it the structure is "
                   "free to move (a body pulled off its supports, or unsupported)";

@@ -560,7 +560,7 @@ TEST(Cli, StressSuiteEndsEveryMethodWithANamedStatus) {
        0.0},
       {"unsupported_body",
        {{"penalty", singular}, {"adaptive_penalty", singular}, {"lagrange", singular}, {"auglag", singular},
-        {"ipopt", ok}, {"ssn", singular}},
+        {"ipopt", singular}, {"ssn", singular}},
        0.0},
       {"big_step",
        {{"penalty", ok}, {"adaptive_penalty", ok}, {"lagrange", ok}, {"auglag", ok}, {"ipopt", ok}, {"ssn", ok}},
