@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/stopwatch.hpp"
+#include "nonlinear/active_set_system.hpp"
 
 
 namespace c2d::nonlinear {
@@ -15,133 +16,6 @@ namespace c2d::nonlinear {
 using namespace c2d::constraints;
 
 namespace {
-
-/// The nonlinear equations of one outer iteration: the active set fixed by slot, and the
-/// strategy's terms for that set (its forces and stiffness, or its multipliers):
-///   R(x) = [ f_int(u) − λ f − G(u)ᵀ λ(x) ;  r_terms(x) ],   x = [u; the terms' unknowns].
-/// Small strain: the rows are linear, g(u) = c + G u (the linearisation about the detection
-/// state). Finite strain: the rows are detected again at every iterate, each slot keeping its
-/// place, with their exact gradients, and the Jacobian carries the contact's geometric
-/// stiffness −Σ λ_i ∂²g_i: gaps, normals and projections follow the iterate, so Newton
-/// converges quadratically while contacts slide and the outer iterations change active sets
-/// only.
-class ActiveSetSystem final : public NewtonSystem {
- public:
-  /// `g`, `c`: the gap rows linearised at the detection state (g(u) = c + G u), then the
-  /// equality rows A u + c_eq = 0; `active`: the gap rows' set followed by the equality rows.
-  ActiveSetSystem(StructuralSystem& base, const ContactSet& contact,
-                  const std::vector<GapRow>& rows, const SpMat& g, const VecX& c,
-                  std::unique_ptr<ActiveSetTerms> terms, const std::vector<char>& active)
-      : base_(base), contact_(contact), moving_(!base.is_linear()), template_(rows),
-        active_(active), g_(g), gt_(g_.transpose()), g_template_(g), c_(c),
-        terms_(std::move(terms)),
-        n_(static_cast<int>(g_.cols())) {}
-  int num_gaps() const { return static_cast<int>(template_.size()); }
-
-  int size() const { return n_ + terms_->extra_unknowns(); }
-  VecX pack(const VecX& u, const VecX& force) const {
-    VecX x(size());
-    x.head(n_) = u;
-    terms_->pack_forces(force, x.tail(size() - n_));
-    return x;
-  }
-  /// The rows' gaps at x (false: an active row found no master there).
-  bool gap(const VecX& x, VecX& g) {
-    if (!moving_) {
-      g = c_ + g_ * x.head(n_);
-      return true;
-    }
-    if (!evaluate(x)) return false;
-    g = gap_now_;
-    return true;
-  }
-  /// The rows at x: the detection's in small strain, re-detected in finite strain.
-  const std::vector<GapRow>& rows() const { return moving_ ? rows_now_ : template_; }
-  /// Row forces λ ≥ 0 (compressive) at x.
-  VecX forces(const VecX& x, const VecX& gap) const {
-    return terms_->forces(gap, x.tail(size() - n_));
-  }
-  double row_stiffness() const { return terms_->row_stiffness(); }
-
-  bool residual(const VecX& x, VecX& r) override {
-    VecX ru, g;
-    if (!base_.residual(x.head(n_), ru) || !gap(x, g)) return false;
-    r.resize(size());
-    r.head(n_) = ru - gt_ * forces(x, g);
-    terms_->extra_residual(g, x.tail(size() - n_), r.tail(size() - n_));
-    return true;
-  }
-  bool factorize_jacobian(const VecX& x) override {
-    if (!base_.assemble_tangent(base_.full(x.head(n_)))) return false;
-    if (!moving_) return terms_->factorize(base_.matrix());
-    if (!evaluate(x)) return false;
-    terms_->update_rows(g_);
-    // The geometric stiffness of the compressive row forces. Far from the solution a penalty
-    // row's force k·g can be far off, tensile even, where the strategy's linearised step missed
-    // the gap by its curvature: a tensile force's term would turn the contact's stiffness
-    // over, so it is left out (at a solution active rows are compressive: the tangent is
-    // exact there). Should the matrix still not factorise, the iterate steps without the
-    // term, the line search keeping it safe.
-    jacobian_ = base_.matrix() + contact_.geometric_stiffness(
-                                     rows_now_, forces(x, gap_now_).head(num_gaps()).cwiseMax(0.0));
-    return terms_->factorize(jacobian_) || terms_->factorize(base_.matrix());
-  }
-  bool solve(const VecX& b, VecX& x) override { return terms_->solve(b, x); }
-  std::string evaluation_failure() const override {
-    return lost_.empty() ? base_.evaluation_failure() : lost_;
-  }
-
- private:
-  /// Finite strain: the rows, G and the gaps at x (kept for the last x evaluated). A slot
-  /// found no longer keeps its last row when it is open (it carries no force); an active one
-  /// fails the evaluation.
-  bool evaluate(const VecX& x) {
-    if (evaluated_ && x.head(n_) == at_) return lost_.empty();
-    const std::vector<GapRow> fresh = contact_.detect(base_.full(x.head(n_)), false);
-    std::vector<int> by_slot(contact_.num_slots(), -1);
-    for (size_t k = 0; k < fresh.size(); ++k) by_slot[fresh[k].slot] = static_cast<int>(k);
-    const int m = num_gaps(), me = static_cast<int>(c_.size()) - m;
-    rows_now_.resize(m);
-    const VecX linear = c_ + g_template_ * x.head(n_);
-    gap_now_ = linear;  // the equality rows stay linear
-    lost_.clear();
-    for (int i = 0; i < m; ++i) {
-      const int k = by_slot[template_[i].slot];
-      if (k >= 0) {
-        rows_now_[i] = fresh[k];
-        gap_now_[i] = fresh[k].gap;
-      } else {
-        rows_now_[i] = template_[i];
-        gap_now_[i] = linear[i];
-        if (active_[i])
-          lost_ = "the active contact row of node " + std::to_string(template_[i].slave + 1) +
-                  " found no master";
-      }
-    }
-    g_ = stack_rows(contact_.gap_jacobian(rows_now_), g_template_.bottomRows(me));
-    gt_ = g_.transpose();
-    at_ = x.head(n_);
-    evaluated_ = true;
-    return lost_.empty();
-  }
-
-  StructuralSystem& base_;
-  const ContactSet& contact_;
-  bool moving_;
-  std::vector<GapRow> template_;  ///< the rows of the outer iteration (their slots and order)
-  std::vector<char> active_;
-  SpMat g_, gt_;      ///< G at the last iterate (finite strain) or the detection's
-  SpMat g_template_;  ///< the detection's G: with c, the open rows' linear gaps
-  VecX c_;
-  std::unique_ptr<ActiveSetTerms> terms_;
-  int n_;
-  // Finite strain: the rows at the last iterate evaluated.
-  bool evaluated_ = false;
-  VecX at_, gap_now_;
-  std::vector<GapRow> rows_now_;
-  SpMat jacobian_;
-  std::string lost_;
-};
 
 double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 

@@ -213,6 +213,31 @@ bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<cha
   return spd.factorize(k) == SolveStatus::kConverged;
 }
 
+/// Interior-point iterates leave O(mu / gap) forces on open rows: not contact. A row is active
+/// when it carries force and touches (gap within the penetration tolerance); the others are
+/// open and their residual forces are dropped. An interior-point method returns some minimiser
+/// even when the problem has a line of them (a body pulled off its only support moves by an
+/// arbitrary rigid motion): the rows that hold the solution (touching ones included) must leave
+/// no rigid motion free, as the multiplier methods require of their active sets.
+void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
+                       ConstraintSolution& s) {
+  s.active.assign(p.num_gaps(), 0);
+  const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
+  const VecX gap = p.gap0 + p.gap_jacobian * s.u;
+  const double touch = penetration_tolerance(o, p);
+  std::vector<char> holding(p.num_gaps(), 0);
+  for (int i = 0; i < p.num_gaps(); ++i) {
+    s.active[i] = s.contact_force[i] > 1e-6 * fmax && gap[i] <= touch;
+    if (!s.active[i]) s.contact_force[i] = 0.0;
+    holding[i] = s.active[i] || gap[i] <= touch;
+  }
+  if (s.status == SolveStatus::kConverged && !holds_every_rigid_motion(p, holding)) {
+    s.status = SolveStatus::kSingular;
+    s.message = "the minimiser is not unique: with the rows that hold it the structure is "
+                "free to move (a body pulled off its supports, or unsupported)";
+  }
+}
+
 }  // namespace
 
 ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
@@ -262,32 +287,7 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
       else s.contact_force[k.source] = std::max(0.0, force);
     }
   }
-  s.active.assign(p.num_gaps(), 0);
-  const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
-  // Interior-point iterates leave O(mu / gap) forces on open rows: not contact. A row is active
-  // when it carries force and touches (gap within the penetration tolerance); the others are
-  // open and their residual forces are dropped.
-  const VecX gap = p.gap0 + p.gap_jacobian * s.u;
-  const double touch = penetration_tolerance(options_, p);
-  for (int i = 0; i < p.num_gaps(); ++i) {
-    s.active[i] = s.contact_force[i] > 1e-6 * fmax && gap[i] <= touch;
-    if (!s.active[i]) s.contact_force[i] = 0.0;
-  }
-  // An interior-point method returns some minimiser even when the problem has a line of
-  // them: a body pulled off its only support moves by an arbitrary rigid motion. The rows that
-  // hold the solution (touching ones included) must leave the system nonsingular, as the
-  // multiplier methods require of their active sets.
-  // The check: K + Σ ρ c cᵀ over those rows (ρ their local stiffness) must be positive
-  // definite; redundant rows (a duplicate Ipopt dropped) do not make it singular.
-  if (s.status == SolveStatus::kConverged) {
-    std::vector<char> holding(p.num_gaps(), 0);
-    for (int i = 0; i < p.num_gaps(); ++i) holding[i] = s.active[i] || gap[i] <= touch;
-    if (!holds_every_rigid_motion(p, holding)) {
-      s.status = SolveStatus::kSingular;
-      s.message = "the minimiser is not unique: with the rows that hold it the structure is "
-                  "free to move (a body pulled off its supports, or unsupported)";
-    }
-  }
+  settle_active_set(p, options_, s);
   IterationRecord rec;
   rec.iteration = iterations;
   rec.active = count_active(s.active);
