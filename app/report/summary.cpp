@@ -179,6 +179,7 @@ nlohmann::json make_summary(const SummaryParts& p) {
   j["status"] = p.status;
   j["scene"] = p.scene.path;
   j["title"] = p.scene.title;
+  if (!p.scene.units.empty()) j["units"] = p.scene.units;
   j["method"] = p.contact ? nlohmann::json(p.contact->method) : nlohmann::json();
   j["steps"] = 1;
   j["newton_iterations"] = 0;
@@ -204,53 +205,98 @@ nlohmann::json make_summary(const SummaryParts& p) {
   return j;
 }
 
+namespace {
+
+/// The force, length and stress units named in a scene's free-text `units` ("N, mm, MPa"):
+/// each token is recognised by its form; what is not recognised stays unnamed.
+struct Units {
+  std::string force, length, stress;
+};
+
+Units parse_units(const std::string& text) {
+  Units u;
+  std::string token;
+  std::istringstream in(text);
+  while (std::getline(in, token, ',')) {
+    std::istringstream t(token);
+    std::string word;
+    if (!(t >> word)) continue;
+    const auto ends_with = [&](const std::string& tail) {
+      return word.size() >= tail.size() && word.compare(word.size() - tail.size(), tail.size(), tail) == 0;
+    };
+    if (ends_with("Pa") || word == "psi" || word == "ksi" || word.find("/m") != std::string::npos)
+      u.stress = word;
+    else if (word == "m" || word == "mm" || word == "cm" || word == "km" || word == "um" ||
+             word == "in" || word == "ft")
+      u.length = word;
+    else if (ends_with("N") || word == "lbf" || word == "kip" || word == "t" || word == "kgf")
+      u.force = word;
+  }
+  return u;
+}
+
+/// v to `digits` significant figures (a null json value as "null").
+std::string sig(const nlohmann::json& v, int digits) {
+  if (!v.is_number()) return v.is_null() ? "null" : v.dump();
+  std::ostringstream os;
+  os << std::setprecision(digits) << v.get<double>();
+  return os.str();
+}
+
+/// " unit" or nothing.
+std::string unit(const std::string& u) { return u.empty() ? "" : " " + u; }
+
+void contact_lines(const nlohmann::json& s, const Units& u, std::ostringstream& os) {
+  const auto& c = s["contact"];
+  os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
+     << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "
+     << c["slave_nodes"] << " slave nodes active\n"
+     << "           p_max " << sig(c["p_max"], 5) << unit(u.stress) << ", length "
+     << sig(c["length"], 5) << unit(u.length) << ", total force " << sig(c["total_force"], 5)
+     << unit(u.force) << ", max penetration " << sig(c["max_penetration"], 3) << unit(u.length)
+     << " (measured at the final positions: " << sig(c["measured_penetration"], 3) << ")\n";
+  if (!s.contains("reference") || !s["reference"].contains("relative_error")) return;
+  for (const auto& [key, e] : s["reference"]["relative_error"].items())
+    if (!e.is_null()) {
+      os << "reference  " << key;  // a derived measure (the profile's L2 error) has no value
+      if (s["reference"].contains(key) && s["reference"][key].is_number())
+        os << " " << sig(s["reference"][key], 6);
+      const double percent = 100.0 * e.get<double>();
+      os << ": error " << (percent >= 0 ? "+" : "") << sig(percent, 3) << " %\n";
+    }
+}
+
+}  // namespace
+
 std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir,
                              const std::string& files_dir) {
   std::ostringstream os;
-  os << std::setprecision(6);
+  const Units u = parse_units(s.value("units", std::string()));
   os << "status     " << s["status"].get<std::string>() << '\n';
   if (s.contains("mesh"))
     os << "mesh       " << s["mesh"]["element"].get<std::string>() << ", " << s["mesh"]["nodes"]
        << " nodes, " << s["mesh"]["elements"] << " elements, " << s["mesh"]["dofs"] << " DOFs\n";
   if (s.contains("time_s"))
-    os << "time       mesh " << s["time_s"]["mesh"].get<double>() << " s, assemble "
-       << s["time_s"]["assemble"].get<double>() << " s, solve "
-       << s["time_s"]["solve"].get<double>() << " s, total " << s["time_s"]["total"].get<double>()
-       << " s\n";
+    os << "time       mesh " << sig(s["time_s"]["mesh"], 3) << " s, assemble "
+       << sig(s["time_s"]["assemble"], 3) << " s, solve " << sig(s["time_s"]["solve"], 3)
+       << " s, total " << sig(s["time_s"]["total"], 3) << " s\n";
   if (s["status"] == "converged" && s.contains("error") && !s["error"]["relative_error"].is_null())
-    os << "ZZ error   " << 100.0 * s["error"]["relative_error"].get<double>()
-       << " % (global parameter " << s["error"]["global_parameter"].get<double>() << " for target "
-       << 100.0 * s["error"]["target"].get<double>() << " %)\n";
+    os << "ZZ error   " << sig(100.0 * s["error"]["relative_error"].get<double>(), 3)
+       << " % (global parameter " << sig(s["error"]["global_parameter"], 3) << " for target "
+       << sig(100.0 * s["error"]["target"].get<double>(), 3) << " %)\n";
   if (s.contains("load_factor"))
     os << "steps      " << s["steps"] << " load steps converged (load factor "
-       << s["load_factor"].get<double>() << "), " << s["newton_iterations"]
-       << " Newton iterations\n";
+       << sig(s["load_factor"], 6) << "), " << s["newton_iterations"] << " Newton iterations\n";
   if (s.contains("constraints"))
     for (const auto& e : s["constraints"])
       os << "constraint " << e["name"].get<std::string>() << " (" << e["type"].get<std::string>()
          << ", " << s["method"].get<std::string>() << "): " << e["rows"] << " rows, largest force "
-         << e["max_force"].dump() << ", largest residual " << e["max_residual"].dump() << "\n";
-  if (s.contains("contact") && !s["contact"].is_null() && s["contact"]["slave_nodes"] != 0) {
-    const auto& c = s["contact"];
-    os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
-       << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "
-       << c["slave_nodes"] << " slave nodes active\n"
-       << "           p_max " << c["p_max"].dump() << ", length " << c["length"].dump()
-       << ", total force " << c["total_force"].get<double>() << ", max penetration "
-       << c["max_penetration"].get<double>() << " (measured at the final positions: "
-       << c["measured_penetration"].dump() << ")\n";
-    if (s.contains("reference") && s["reference"].contains("relative_error"))
-      for (const auto& [key, e] : s["reference"]["relative_error"].items())
-        if (!e.is_null()) {
-          os << "reference  " << key;  // a derived measure (the profile's L2 error) has no value
-          if (s["reference"].contains(key) && s["reference"][key].is_number())
-            os << " " << s["reference"][key].get<double>();
-          os << ": error " << std::showpos << 100.0 * e.get<double>() << std::noshowpos << " %\n";
-        }
-  }
+         << sig(e["max_force"], 5) << unit(u.force) << ", largest residual "
+         << sig(e["max_residual"], 3) << unit(u.length) << "\n";
+  if (s.contains("contact") && !s["contact"].is_null() && s["contact"]["slave_nodes"] != 0)
+    contact_lines(s, u, os);
   for (const auto& [name, value] : s["probes"].items())
-    os << "probe      " << name << " = " << (value.is_null() ? std::string("null") : value.dump())
-       << '\n';
+    os << "probe      " << name << " = " << sig(value, 6) << '\n';
   std::string files;  // what this run wrote ([output] may leave fields or charts out)
   for (const char* f : {"summary.json", "results.pvd", "nodes.csv", "contact.csv", "deformed.png"})
     if (std::filesystem::exists((files_dir.empty() ? out_dir : files_dir) + "/" + f))

@@ -1,6 +1,7 @@
 // End to end through the executable: exit codes, summary.json, VTU consistency.
 #include <gtest/gtest.h>
 
+#include "app/report/summary.hpp"
 #include "app/report/field_plot.hpp"
 #include "app/process.hpp"
 #include "app/report/hertz.hpp"
@@ -825,4 +826,26 @@ TEST(Cli, TiedBlocksReportTheirConstraints) {
   int lines = 0;
   while (std::getline(csv, line)) ++lines;
   EXPECT_EQ(lines, rows);
+}
+
+// Issue 20, item 4: the terminal summary rounds (times to 3 significant figures, pressures and
+// forces to 5) and names the scene's units; summary.json keeps full precision.
+TEST(Cli, TerminalSummaryRoundsAndNamesUnits) {
+  const nlohmann::json s = {
+      {"status", "converged"},
+      {"units", "N, mm, MPa"},
+      {"method", "lagrange"},
+      {"time_s", {{"mesh", 0.0123456}, {"assemble", 1.23456e-3}, {"solve", 0.5312}, {"total", 1.17049}}},
+      {"contact",
+       {{"status", "converged"}, {"iterations", 10}, {"active_nodes", 68}, {"slave_nodes", 148},
+        {"p_max", 383.3211234}, {"length", 1.675473}, {"total_force", 500.0000001},
+        {"max_penetration", 2.61e-18}, {"measured_penetration", 2.61e-18}}},
+      {"probes", {{"half_width", 1.675473211}}}};
+  const std::string text = c2d::app::terminal_summary(s, "/tmp/x", "/nonexistent");
+  EXPECT_NE(text.find("total 1.17 s"), std::string::npos) << text;
+  EXPECT_NE(text.find("assemble 0.00123 s"), std::string::npos) << text;
+  EXPECT_NE(text.find("p_max 383.32 MPa"), std::string::npos) << text;
+  EXPECT_NE(text.find("length 1.6755 mm"), std::string::npos) << text;
+  EXPECT_NE(text.find("total force 500 N"), std::string::npos) << text;
+  EXPECT_NE(text.find("half_width = 1.67547\n"), std::string::npos) << text;
 }
