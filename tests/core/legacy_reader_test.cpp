@@ -144,3 +144,25 @@ TEST(LegacyReader, NonFiniteAndDegenerateInputIsRefusedAtItsLine) {
     }
   }
 }
+
+// Issue 16 (findings 4 and 8, and a UBSan finding of the fuzzer): counts beyond int, or beyond
+// what the file can hold, and element types that are not 0, 1 or 2 are refused at their line
+// before anything is converted or sized by them.
+TEST(LegacyReader, HugeCountsAndTypesAreRefusedBeforeUse) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"1e115 1 1\n1 0 0 1 1 0 0\n", "c2d_huge1.dat:1: expected positive integer node and element counts"},
+      {"200000000 1 1\n1 0 0 1 1 0 0\n", "c2d_huge2.dat:1: expected node and element counts that"},
+      {"3 1 1\n1 0 0 1 1 0 0\n2 1 0 0 0 0 0\n3 0 1 0 0 0 0\n1 1 2 3 7e300 1 1 0.3\n",
+       "c2d_huge3.dat:5: expected element type 0 (plane stress), 1 (gap) or 2 (plane strain)"},
+  };
+  int k = 0;
+  for (const auto& [text, expect] : cases) {
+    const std::string path = write_temp("c2d_huge" + std::to_string(++k) + ".dat", text);
+    try {
+      load_scene(path);
+      ADD_FAILURE() << "expected an InputError for " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expect), std::string::npos) << e.what();
+    }
+  }
+}
