@@ -1,7 +1,7 @@
 # The install test: installs the build tree into a fresh prefix, then configures, builds and
 # runs tests/install/consumer against it. Any step that fails fails the test.
 #   cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX_COMPILER=...
-#         -DBUILD_TYPE=... -P install_test.cmake
+#         -DBUILD_TYPE=... [-DEXTRA_FLAGS=...] -P install_test.cmake
 foreach(var BUILD_DIR SOURCE_DIR WORK_DIR GENERATOR CXX_COMPILER BUILD_TYPE)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "install_test.cmake: -D${var}=... is required")
@@ -36,7 +36,8 @@ endforeach()
 step("run the installed contact2d program" "${prefix}/bin/contact2d" --help)
 step("configure the consumer" "${CMAKE_COMMAND}" -S "${SOURCE_DIR}/tests/install/consumer"
      -B "${consumer_build}" -G "${GENERATOR}" "-DCMAKE_CXX_COMPILER=${CXX_COMPILER}"
-     "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}" "-DCMAKE_PREFIX_PATH=${prefix}")
+     "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}" "-DCMAKE_PREFIX_PATH=${prefix}"
+     "-DCMAKE_CXX_FLAGS=${EXTRA_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${EXTRA_FLAGS}")
 step("build the consumer" "${CMAKE_COMMAND}" --build "${consumer_build}")
 step("run the consumer" "${consumer_build}/plate_tension")
 message(STATUS "${step_output}")
