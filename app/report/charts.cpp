@@ -7,6 +7,7 @@
 #include "app/report/gnuplot.hpp"
 #include "app/report/hertz.hpp"
 #include "app/report/pressure_profile.hpp"
+#include "app/report/units.hpp"
 #include "core/probes.hpp"
 #include "core/writers.hpp"
 
@@ -15,6 +16,7 @@ namespace c2d::app {
 std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
                                    const core::Scene& scene) {
   // Abscissa: the reference coordinate along which the slave nodes spread most.
+  const Units units = parse_units(scene.units);
   int axis = 0;
   const auto pts = pressure_profile(c, &axis);
   std::ostringstream data;
@@ -24,8 +26,9 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   std::ostringstream cmd;
   cmd << std::setprecision(10) << "set title "
       << gp_text("Contact pressure (" + c.method + ", recovered from nodal forces)")
-      << "\nset xlabel '" << (axis ? "y" : "x")
-      << "'\nset ylabel 'pressure'\nset grid\nset key top left\n";
+      << "\nset xlabel " << gp_text(axis_label(axis ? "y" : "x", units.length))
+      << "\nset ylabel " << gp_text(axis_label("pressure", units.stress))
+      << "\nset grid\nset key top left\n";
   const auto hertz = hertz_reference(scene);
   // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
   if (hertz) write_hertz_window(cmd, *hertz, pts.front().first, pts.back().first);
@@ -41,7 +44,7 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
 }
 
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
-                                const core::Results& r) {
+                                const core::Results& r, const std::string& units) {
   const core::Mesh& mesh = model.mesh;
   const double umax = r.displacement.size() ? r.displacement.cwiseAbs().maxCoeff() : 0.0;
   const double scale = umax > 0 ? 0.08 * model.model_size / umax : 0.0;
@@ -70,6 +73,9 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
       "set size ratio -1\nset title 'Deformed mesh (displacements x " + scale_text.str() +
       "), coloured by von Mises (smoothed)'\n"
       "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
+      "set xlabel " + gp_text(axis_label("x", parse_units(units).length)) + "\nset ylabel " +
+      gp_text(axis_label("y", parse_units(units).length)) + "\nset cblabel " +
+      gp_text(axis_label("von Mises", parse_units(units).stress)) + "\n"
       "plot " +
       gp_file(data_path) +
       " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"

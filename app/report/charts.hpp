@@ -16,8 +16,9 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
                                    const core::Scene& scene);
 
 /// Deformed mesh (scaled) over the undeformed outline, coloured by smoothed von Mises.
+/// Axes labelled with the length and stress units the scene's `units` names (empty: none).
 /// Writes DIR/deformed.png and DIR/deformed.svg; returns "" or the failure reason.
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
-                                const core::Results& results);
+                                const core::Results& results, const std::string& units = "");
 
 }  // namespace c2d::app

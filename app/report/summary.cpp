@@ -9,6 +9,7 @@
 
 #include "app/report/hertz.hpp"
 #include "app/report/pressure_profile.hpp"
+#include "app/report/units.hpp"
 #include "core/springs.hpp"
 
 namespace c2d::app {
@@ -207,34 +208,6 @@ nlohmann::json make_summary(const SummaryParts& p) {
 
 namespace {
 
-/// The force, length and stress units named in a scene's free-text `units` ("N, mm, MPa"):
-/// each token is recognised by its form; what is not recognised stays unnamed.
-struct Units {
-  std::string force, length, stress;
-};
-
-Units parse_units(const std::string& text) {
-  Units u;
-  std::string token;
-  std::istringstream in(text);
-  while (std::getline(in, token, ',')) {
-    std::istringstream t(token);
-    std::string word;
-    if (!(t >> word)) continue;
-    const auto ends_with = [&](const std::string& tail) {
-      return word.size() >= tail.size() && word.compare(word.size() - tail.size(), tail.size(), tail) == 0;
-    };
-    if (ends_with("Pa") || word == "psi" || word == "ksi" || word.find("/m") != std::string::npos)
-      u.stress = word;
-    else if (word == "m" || word == "mm" || word == "cm" || word == "km" || word == "um" ||
-             word == "in" || word == "ft")
-      u.length = word;
-    else if (ends_with("N") || word == "lbf" || word == "kip" || word == "t" || word == "kgf")
-      u.force = word;
-  }
-  return u;
-}
-
 /// v to `digits` significant figures (a null json value as "null").
 std::string sig(const nlohmann::json& v, int digits) {
   if (!v.is_number()) return v.is_null() ? "null" : v.dump();
@@ -243,17 +216,14 @@ std::string sig(const nlohmann::json& v, int digits) {
   return os.str();
 }
 
-/// " unit" or nothing.
-std::string unit(const std::string& u) { return u.empty() ? "" : " " + u; }
-
 void contact_lines(const nlohmann::json& s, const Units& u, std::ostringstream& os) {
   const auto& c = s["contact"];
   os << "contact    " << s["method"].get<std::string>() << ": " << c["status"].get<std::string>()
      << " in " << c["iterations"] << " iterations, " << c["active_nodes"] << " of "
      << c["slave_nodes"] << " slave nodes active\n"
-     << "           p_max " << sig(c["p_max"], 5) << unit(u.stress) << ", length "
-     << sig(c["length"], 5) << unit(u.length) << ", total force " << sig(c["total_force"], 5)
-     << unit(u.force) << ", max penetration " << sig(c["max_penetration"], 3) << unit(u.length)
+     << "           p_max " << sig(c["p_max"], 5) << unit_suffix(u.stress) << ", length "
+     << sig(c["length"], 5) << unit_suffix(u.length) << ", total force " << sig(c["total_force"], 5)
+     << unit_suffix(u.force) << ", max penetration " << sig(c["max_penetration"], 3) << unit_suffix(u.length)
      << " (measured at the final positions: " << sig(c["measured_penetration"], 3) << ")\n";
   if (!s.contains("reference") || !s["reference"].contains("relative_error")) return;
   for (const auto& [key, e] : s["reference"]["relative_error"].items())
@@ -291,8 +261,8 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
     for (const auto& e : s["constraints"])
       os << "constraint " << e["name"].get<std::string>() << " (" << e["type"].get<std::string>()
          << ", " << s["method"].get<std::string>() << "): " << e["rows"] << " rows, largest force "
-         << sig(e["max_force"], 5) << unit(u.force) << ", largest residual "
-         << sig(e["max_residual"], 3) << unit(u.length) << "\n";
+         << sig(e["max_force"], 5) << unit_suffix(u.force) << ", largest residual "
+         << sig(e["max_residual"], 3) << unit_suffix(u.length) << "\n";
   if (s.contains("contact") && !s["contact"].is_null() && s["contact"]["slave_nodes"] != 0)
     contact_lines(s, u, os);
   for (const auto& [name, value] : s["probes"].items())

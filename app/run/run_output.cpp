@@ -144,7 +144,7 @@ void RunOutput::write_tables(const SceneRun& run) {
 
 std::string RunOutput::write_charts(const SceneRun& run) {
   if (run.results.status != SolveStatus::kConverged || !scene_.output_charts) return "";
-  std::string error = chart_deformed_mesh(dir_, run.model, run.results);
+  std::string error = chart_deformed_mesh(dir_, run.model, run.results, scene_.units);
   if (run.contact && run.contact_report.has_surface && error.empty())
     error = chart_contact_pressure(dir_, run.contact_report, scene_);
   return error;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "app/report/summary.hpp"
+#include "app/report/units.hpp"
 #include "app/report/field_plot.hpp"
 #include "app/process.hpp"
 #include "app/report/hertz.hpp"
@@ -848,4 +849,29 @@ TEST(Cli, TerminalSummaryRoundsAndNamesUnits) {
   EXPECT_NE(text.find("length 1.6755 mm"), std::string::npos) << text;
   EXPECT_NE(text.find("total force 500 N"), std::string::npos) << text;
   EXPECT_NE(text.find("half_width = 1.67547\n"), std::string::npos) << text;
+}
+
+// Issue 20, item 3 (in part): the run charts label their axes with the scene's units.
+TEST(Cli, RunChartsLabelAxesWithTheSceneUnits) {
+  const c2d::app::Units u = c2d::app::parse_units("N, mm, MPa");
+  EXPECT_EQ(u.force, "N");
+  EXPECT_EQ(u.length, "mm");
+  EXPECT_EQ(u.stress, "MPa");
+  EXPECT_EQ(c2d::app::parse_units("t, m, t/m2").stress, "t/m2");
+  EXPECT_EQ(c2d::app::axis_label("x", ""), "x");
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_units";
+  fs::remove_all(out);
+  ASSERT_EQ(run("run " + example("hertz_rigid_fast.toml") + " --out " + out.string() + " --quiet"),
+            0);
+  auto text = [&](const char* file) {
+    std::ifstream in(out / file);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  const std::string pressure = text("pressure.svg"), deformed = text("deformed.svg");
+  EXPECT_NE(pressure.find("pressure [MPa]"), std::string::npos);
+  EXPECT_NE(pressure.find("x [mm]"), std::string::npos);
+  EXPECT_NE(deformed.find("y [mm]"), std::string::npos);
+  EXPECT_NE(deformed.find("von Mises [MPa]"), std::string::npos);
 }
