@@ -31,6 +31,7 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
   }
   if (scene.explicit_model) add_gap_elements(*scene.explicit_model);
   add_equalities();
+  check_plate_rows();
   std::vector<int> slaves;
   for (const auto& p : pairs_) {
     first_slot_.push_back(num_slots_);
@@ -98,7 +99,8 @@ std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain) const {
 }
 
 ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
-                                       const std::vector<GapRow>& rows, const VecX& u_full) const {
+                                       const std::vector<GapRow>& rows, const VecX& u_full,
+                                       bool small_strain) const {
   const core::DofMap& dofs = model_.dofs;
   ConstrainedProblem p;
   p.stiffness = k_ff;
@@ -125,13 +127,14 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   }
   p.gap_jacobian = SpMat(m, dofs.num_free());
   p.gap_jacobian.setFromTriplets(t.begin(), t.end());
-  // The [[constraint]] rows: A u_f = b − (their prescribed DOFs' part).
-  const int me = static_cast<int>(equality_rows_.size());
+  // The equality rows: A u_f = b − (their prescribed DOFs' part).
+  const std::vector<EqualityRow> equalities = equality_rows_at(u_full, small_strain);
+  const int me = static_cast<int>(equalities.size());
   std::vector<Eigen::Triplet<double>> te;
   p.eq_rhs = VecX(me);
   for (int j = 0; j < me; ++j) {
-    double rhs = equality_rows_[j].rhs;
-    for (const auto& [dof, a] : equality_rows_[j].terms) {
+    double rhs = equalities[j].rhs;
+    for (const auto& [dof, a] : equalities[j].terms) {
       const int eq = dofs.equation(dof);
       if (eq >= 0)
         te.emplace_back(j, eq, a);
@@ -357,7 +360,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     r.equality_types.push_back(e.type);
   }
   r.max_equality_violation = 0.0;
-  for (size_t j = 0; j < equality_rows_.size(); ++j) {
+  for (size_t j = 0; j < equality_rows_.size(); ++j) {  // the [[plate]] rows follow these
     const int k = static_cast<int>(j);
     EqualityRowResult e;
     e.owner = equality_rows_[j].owner;

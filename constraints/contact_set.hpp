@@ -35,6 +35,15 @@ struct EqualityRowResult {
   double residual = 0.0;    ///< A u − b
 };
 
+/// A rigid plate after a solve: its motion and the force it transmits to the structure.
+struct PlateResult {
+  std::string name;
+  Vec2 u = Vec2::Zero();      ///< translation of the reference point
+  double rotation = 0.0;      ///< θ, radians
+  Vec2 force = Vec2::Zero();  ///< resultant the plate exerts on the structure
+  double moment = 0.0;        ///< its moment about the reference point
+};
+
 struct ContactReport {
   std::string method;
   SolveStatus status = SolveStatus::kFailed;
@@ -60,6 +69,7 @@ struct ContactReport {
   std::vector<EqualityRowResult> equalities;  ///< the [[constraint]] rows
   std::vector<std::string> equality_names, equality_types;  ///< per [[constraint]]
   double max_equality_violation = 0.0;        ///< max |A u − b| over them
+  std::vector<PlateResult> plates;            ///< the [[plate]]s
   std::vector<IterationRecord> history;
   std::vector<double> penalty_history;
 };
@@ -70,9 +80,23 @@ class ContactSet {
   /// and adds the seed's gap elements of a legacy scene.
   ContactSet(const core::Model& model, const ContactSceneSpec& spec, const core::Scene& scene);
 
-  bool empty() const { return pairs_.empty() && equality_rows_.empty(); }
+  bool empty() const { return pairs_.empty() && equality_rows_.empty() && model_.plates.empty(); }
   /// The rows of the scene's [[constraint]] tables (linear in u) and their specs.
   const std::vector<EqualityRow>& equality_rows() const { return equality_rows_; }
+  /// Every equality row at the full displacement u: the [[constraint]] rows, then the rows of
+  /// the [[plate]]s (contact_set_equalities.cpp), linearised at u unless `small_strain`.
+  std::vector<EqualityRow> equality_rows_at(const VecX& u_full, bool small_strain) const;
+  /// Whether some equality row is nonlinear in u in a load-stepped run (a plate turns).
+  bool has_nonlinear_equalities() const { return !model_.plates.empty(); }
+  /// The rows' gradients on the free DOFs (m_eq × n_free).
+  SpMat equality_jacobian(const std::vector<EqualityRow>& rows) const;
+  /// Each row's value c(u) = Σ a u − rhs at the full displacement the rows were taken at.
+  VecX equality_values(const std::vector<EqualityRow>& rows, const VecX& u_full) const;
+  /// −Σ μ_j ∂²c_j/∂u² on the free DOFs (zero for rows linear in u).
+  SpMat equality_geometric_stiffness(const std::vector<EqualityRow>& rows, const VecX& mu) const;
+  /// The plates' motion and transmitted force at u_full with the equality multipliers μ.
+  void report_plates(const VecX& u_full, const VecX& mu, bool small_strain,
+                     ContactReport& r) const;
   const std::vector<EqualitySpec>& equalities() const { return spec_.equalities; }
   const StrategyOptions& options() const { return spec_.options; }
   int num_slave_nodes() const { return static_cast<int>(slave_nodes_.size()); }
@@ -84,7 +108,7 @@ class ContactSet {
   /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
   /// configuration), with prescribed DOFs moved into g0.
   ConstrainedProblem problem(const SpMat& k_ff, const VecX& f_ff, const std::vector<GapRow>& rows,
-                             const VecX& u_full) const;
+                             const VecX& u_full, bool small_strain = true) const;
 
   /// The rows' gradients on the free DOFs: G, m × n_free (prescribed DOFs dropped).
   SpMat gap_jacobian(const std::vector<GapRow>& rows) const;
@@ -110,6 +134,9 @@ class ContactSet {
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
+  /// Marks the plates' rows that hold a free DOF; a row on prescribed DOFs only must agree with
+  /// them (else InputError) and is left out.
+  void check_plate_rows();
   /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
   void add_gap_elements(const core::ExplicitModel& legacy);
   /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
@@ -125,6 +152,7 @@ class ContactSet {
   std::vector<std::unique_ptr<ContactDiscretization>> pairs_;  ///< one per [[contact]] (+ gaps)
   std::vector<int> first_slot_;              ///< per pair: the slot of its first row
   std::vector<EqualityRow> equality_rows_;
+  std::vector<char> plate_row_kept_;         ///< per row rigid_plate_rows makes, in order
   std::vector<int> slave_nodes_;             ///< unique, sorted
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;

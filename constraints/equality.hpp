@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -16,10 +17,14 @@
 namespace c2d::constraints {
 
 /// One row of a multipoint constraint: Σ a_k u_k = rhs over full DOF indices k.
+/// A row nonlinear in u (a rigid plate's in a load-stepped run) is its linearisation at a state
+/// u*: terms = ∇c(u*), rhs = ∇c·u* − c(u*), and its second derivatives in `curvature`.
 struct EqualityRow {
   std::vector<std::pair<int, double>> terms;
   double rhs = 0.0;
-  int owner = -1;  ///< index of its [[constraint]]
+  int owner = -1;  ///< index of its [[constraint]]; -1 − p for the rows of [[plate]] p
+  /// ∂²c/∂u_a∂u_b as (a, b, value), both orders listed; empty for a row linear in u.
+  std::vector<std::tuple<int, int, double>> curvature;
 };
 
 /// A parsed [[constraint]] of one type.

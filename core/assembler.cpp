@@ -40,7 +40,8 @@ void Assembler::build_pattern() {
   std::vector<int> first, around;
   elements_around_nodes(mesh_, first, around);
   const int n = dofs_.num_free();
-  std::vector<int> col_start(n + 1, 0), row_index;
+  std::vector<int> col_start(n + 1, -1), row_index;
+  col_start[0] = 0;
   row_index.reserve(static_cast<size_t>(n) * (nn == 3 ? 14 : 26));
   std::vector<int> neighbours;
   for (int v = 0; v < nv; ++v) {
@@ -58,6 +59,9 @@ void Assembler::build_pattern() {
       col_start[j + 1] = static_cast<int>(row_index.size());
     }
   }
+  // Free DOFs on no element (a rigid plate's) have empty columns.
+  for (int j = 0; j < n; ++j)
+    if (col_start[j + 1] < 0) col_start[j + 1] = col_start[j];
   k_ff_.resize(n, n);
   k_ff_.resizeNonZeros(static_cast<Eigen::Index>(row_index.size()));
   std::copy(col_start.begin(), col_start.end(), k_ff_.outerIndexPtr());

@@ -43,7 +43,7 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
   // Springs: their stiffness joins K (and their coupling to prescribed DOFs the lift).
   SpMat with_springs;
   if (!model.springs.empty())
-    with_springs = assembler.matrix() + spring_stiffness(model, VecX::Zero(mesh.num_dofs()), false,
+    with_springs = assembler.matrix() + spring_stiffness(model, VecX::Zero(dofs.num_dofs()), false,
                                                          &u_prescribed, &lift);
   const SpMat& k_ff = model.springs.empty() ? assembler.matrix() : with_springs;
   const VecX rhs = dofs.restrict(model.external_force) - lift;
@@ -71,7 +71,7 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
 
   clock.lap();
   // Reactions: internal force minus external load on the constrained DOFs.
-  r.reaction = VecX::Zero(mesh.num_dofs());
+  r.reaction = VecX::Zero(dofs.num_dofs());
   const int nn = mesh.nodes_per_element();
   LocalVector ue(2 * nn);
   for (int e = 0; e < mesh.num_elements(); ++e) {
@@ -90,9 +90,9 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
         if (dofs.is_constrained(dof)) r.reaction[dof] += fe[2 * i + c];
       }
   }
-  VecX spring_force = VecX::Zero(mesh.num_dofs());
+  VecX spring_force = VecX::Zero(dofs.num_dofs());
   add_spring_forces(model, r.displacement, false, spring_force);
-  for (int dof = 0; dof < mesh.num_dofs(); ++dof)
+  for (int dof = 0; dof < dofs.num_dofs(); ++dof)
     if (dofs.is_constrained(dof)) r.reaction[dof] += spring_force[dof] - model.external_force[dof];
 
   r.element_stresses = compute_element_stresses(mesh, model.materials, r.displacement);

@@ -9,6 +9,7 @@
 #include "core/elasticity_kernels.hpp"
 #include "core/errors.hpp"
 #include "core/mesher.hpp"
+#include "core/rigid_plate.hpp"
 #include "core/toml_view.hpp"
 
 namespace c2d::core {
@@ -244,7 +245,7 @@ void mesh_bodies(const Scene& scene, Model& model) {
 
 /// Prescribes the supports' displacements (a rotation's per node) in the DOF map.
 void apply_supports(const Scene& scene, Model& model) {
-  model.dofs = DofMap(model.mesh.num_dofs());
+  model.dofs = DofMap(model.mesh.num_dofs() + 3 * static_cast<int>(model.plates.size()));
   for (const auto& s : scene.supports) {
     const std::vector<int> nodes = select_nodes(model, s.on);
     if (s.rotate) model.rotations.push_back({nodes, s.rotate->center, s.rotate->angle});
@@ -260,6 +261,7 @@ void apply_supports(const Scene& scene, Model& model) {
       }
     }
   }
+  prescribe_plates(scene, model);
   model.dofs.finalize();
 }
 
@@ -314,8 +316,9 @@ void add_edge_load(const Model& model, const LoadSpec& l, VecX& f) {
 
 /// The external force vector: every load, in the scene's order.
 void apply_loads(const Scene& scene, Model& model) {
-  model.external_force = VecX::Zero(model.mesh.num_dofs());
+  model.external_force = VecX::Zero(model.dofs.num_dofs());
   VecX& f = model.external_force;
+  add_plate_loads(scene, model, f);
   for (const auto& l : scene.loads) {
     using K = LoadSpec::Kind;
     if (l.kind == K::kNodalForce) {
@@ -364,6 +367,7 @@ Model build_model(const Scene& scene) {
   const Eigen::Vector4d box = model.mesh.bounding_box();
   model.model_size = std::hypot(box[2] - box[0], box[3] - box[1]);
 
+  add_plates(scene, model);
   apply_supports(scene, model);
   apply_loads(scene, model);
   add_springs(scene, model);

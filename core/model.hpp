@@ -27,17 +27,32 @@ struct Spring {
   double k = 0.0;
 };
 
+/// A rigid plate of the model ([[plate]]): its three DOFs u_x, u_y, θ follow the nodes' DOFs in
+/// the full vector (dof, dof + 1, dof + 2); its rows tie the attached nodes to its motion
+/// (constraints/equalities/rigid_plate.hpp).
+struct RigidPlate {
+  std::string name;
+  Vec2 reference = Vec2::Zero();
+  int dof = -1;
+  std::vector<int> nodes;     ///< attached nodes, sorted
+  bool normal_only = false;
+  Vec2 normal = Vec2::Zero(); ///< unit outward normal of the attached (straight) edge
+  std::string where;          ///< its table in the scene, for messages
+};
+
 struct Model {
   Mesh mesh;
   std::vector<Material> materials;
   std::vector<std::string> body_names;
+  /// Full DOF numbering: 2 per node (2 n + component), then 3 per rigid plate.
   DofMap dofs;
-  VecX external_force;  ///< full vector, 2 per node
+  VecX external_force;  ///< full vector
   std::vector<int> node_material;  ///< material of (one of) the elements at each node
   double model_size = 1.0;  ///< bounding-box diagonal
   double mesh_seconds = 0.0;
   std::vector<PrescribedRotation> rotations;
   std::vector<Spring> springs;
+  std::vector<RigidPlate> plates;
 };
 
 /// The full vector of prescribed displacements at load factor λ (zero on free DOFs): λ × the

@@ -36,7 +36,11 @@ std::map<std::string, double> evaluate_probes(const Scene& scene, const Model& m
   std::unique_ptr<PointLocator> locator;
   for (const auto& p : scene.probes) {
     double value = 0.0;
-    if (!p.point && !p.on) {
+    if (!p.plate.empty()) {
+      // A plate's motion or transmitted force, kept by the constrained solve.
+      const auto it = results.globals.find(p.quantity + "/" + p.plate);
+      value = it != results.globals.end() ? it->second : 0.0;
+    } else if (!p.point && !p.on) {
       // A global quantity of the analysis (contact_pressure_max, ...): 0 when absent.
       const auto it = results.globals.find(p.quantity);
       value = it != results.globals.end() ? it->second : 0.0;

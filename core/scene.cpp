@@ -1,11 +1,13 @@
 #include "core/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "core/legacy_reader.hpp"
+#include "core/rigid_plate.hpp"
 #include "core/scene_sections.hpp"
 #include "core/toml_view.hpp"
 
@@ -18,7 +20,7 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   scene.path = file;
   const TomlView root(&root_table, "", &scene.path);
   root.check_keys({"title", "units", "analysis", "material", "body", "support", "load", "probe",
-                   "contact", "obstacle", "constraint", "spring", "reference", "output",
+                   "contact", "obstacle", "constraint", "spring", "plate", "reference", "output",
                    "adapt"});
   scene.title = root["title"].string_or("");
   scene.units = root["units"].string_or("");
@@ -49,6 +51,13 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
     if (added.to_ground) check_body(added.on, sp);
     else check_body(added.a, sp), check_body(added.b, sp);
   }
+  for (const auto& pl : root["plate"].tables()) {
+    PlateSpec ps = parse_plate(pl, static_cast<int>(scene.plates.size()));
+    for (const auto& other : scene.plates)
+      if (other.name == ps.name) pl["name"].fail("a unique plate name");
+    check_body(ps.on, pl);
+    scene.plates.push_back(ps);
+  }
   for (const auto& l : root["load"].tables()) {
     scene.loads.push_back(parse_load(l));
     check_body(scene.loads.back().on, l);
@@ -58,6 +67,12 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
     for (const auto& other : scene.probes)
       if (other.name == ps.name) p["name"].fail("a unique probe name");
     if (ps.on) check_body(*ps.on, p);
+    if (!ps.plate.empty()) {
+      std::vector<std::string> names;
+      for (const auto& pl : scene.plates) names.push_back(pl.name);
+      if (std::find(names.begin(), names.end(), ps.plate) == names.end())
+        p["plate"].fail("the name of a [[plate]]" + did_you_mean(ps.plate, names));
+    }
     scene.probes.push_back(ps);
   }
   // [[contact]] and [[obstacle]] belong to the constraints module, which parses them from

@@ -95,6 +95,20 @@ struct SpringSpec {
   SourceRef at;
 };
 
+/// A [[plate]] (docs/scene.md): a rigid body with three DOFs, u_x, u_y and θ about `reference`,
+/// attached to the boundary edges of `on` wholly (glued) or by their normal component only
+/// (frictionless, a flat edge). Each DOF is free (loaded by `force`, `moment`) or prescribed.
+struct PlateSpec {
+  std::string name;
+  SelectionSpec on;
+  std::optional<Vec2> reference;  ///< default: the centroid of the attached nodes
+  bool normal_only = false;
+  Vec2 force = Vec2::Zero();
+  double moment = 0.0;
+  std::optional<double> ux, uy, rotation;  ///< prescribed (rotation in radians); absent: free
+  SourceRef at;
+};
+
 struct LoadSpec {
   enum class Kind { kNodalForce, kTotalForce, kTraction, kPressure, kBodyForce };
   Kind kind = Kind::kNodalForce;
@@ -109,6 +123,7 @@ struct ProbeSpec {
   std::optional<Vec2> point;
   std::optional<SelectionSpec> on;
   std::string reduce;  ///< value | max | min | maxabs | sum | mean
+  std::string plate;   ///< a [[plate]]'s name, for the plate_* quantities
   SourceRef at;
 };
 
@@ -160,6 +175,7 @@ struct Scene {
   std::vector<SupportSpec> supports;
   std::vector<LoadSpec> loads;
   std::vector<SpringSpec> springs;
+  std::vector<PlateSpec> plates;
   std::vector<ProbeSpec> probes;
   std::string reference_kind;
   std::map<std::string, double> reference;

@@ -205,13 +205,22 @@ void parse_adapt(const TomlView& v, AdaptSpec& a) {
 }
 
 ProbeSpec parse_probe(const TomlView& v) {
-  v.check_keys({"name", "quantity", "at", "on", "reduce"});
+  v.check_keys({"name", "quantity", "at", "on", "reduce", "plate"});
   ProbeSpec p;
   p.at.where = v.where();
   p.name = v["name"].string();
   p.quantity = v["quantity"].choice({"ux", "uy", "umag", "sx", "sy", "sxy", "vm", "s1", "s2",
                                      "reaction_x", "reaction_y", "contact_pressure_max",
-                                     "contact_length", "contact_force", "contact_penetration"});
+                                     "contact_length", "contact_force", "contact_penetration",
+                                     "plate_ux", "plate_uy", "plate_rotation", "plate_fx",
+                                     "plate_fy", "plate_moment"});
+  if (p.quantity.rfind("plate_", 0) == 0) {
+    if (v.has("at") || v.has("on") || v.has("reduce"))
+      v.fail_message("a plate probe names its plate: give 'plate = NAME' and no 'at', 'on' or 'reduce'");
+    p.plate = v["plate"].string();
+    return p;
+  }
+  if (v.has("plate")) v["plate"].fail_message("'plate' belongs to the plate_* quantities only");
   if (p.quantity.rfind("contact_", 0) == 0) {
     if (v.has("at") || v.has("on") || v.has("reduce"))
       v.fail_message("a contact probe is a global quantity: give no 'at', 'on' or 'reduce'");

@@ -55,8 +55,11 @@ bool ActiveSetSystem::factorize_jacobian(const VecX& x) {
   // so it is left out (at a solution active rows are compressive: the tangent is exact there).
   // Should the matrix still not factorise, the iterate steps without the term, the line search
   // keeping it safe.
-  jacobian_ = base_.matrix() + contact_.geometric_stiffness(
-                                   rows_now_, forces(x, gap_now_).head(num_gaps()).cwiseMax(0.0));
+  const VecX force = forces(x, gap_now_);
+  jacobian_ = base_.matrix() +
+              contact_.geometric_stiffness(rows_now_, force.head(num_gaps()).cwiseMax(0.0));
+  if (!eq_now_.empty())
+    jacobian_ += contact_.equality_geometric_stiffness(eq_now_, force.tail(force.size() - num_gaps()));
   return terms_->factorize(jacobian_) || terms_->factorize(base_.matrix());
 }
 
@@ -66,7 +69,8 @@ std::string ActiveSetSystem::evaluation_failure() const {
 
 bool ActiveSetSystem::evaluate(const VecX& x) {
   if (evaluated_ && x.head(n_) == at_) return lost_.empty();
-  const std::vector<GapRow> fresh = contact_.detect(base_.full(x.head(n_)), false);
+  const VecX full = base_.full(x.head(n_));
+  const std::vector<GapRow> fresh = contact_.detect(full, false);
   std::vector<int> by_slot(contact_.num_slots(), -1);
   for (size_t k = 0; k < fresh.size(); ++k) by_slot[fresh[k].slot] = static_cast<int>(k);
   const int m = num_gaps(), me = static_cast<int>(c_.size()) - m;
@@ -86,7 +90,13 @@ bool ActiveSetSystem::evaluate(const VecX& x) {
                 " found no master";
     }
   }
-  g_ = stack_rows(contact_.gap_jacobian(rows_now_), g_template_.bottomRows(me));
+  if (me > 0 && contact_.has_nonlinear_equalities()) {
+    eq_now_ = contact_.equality_rows_at(full, false);
+    gap_now_.tail(me) = contact_.equality_values(eq_now_, full);
+    g_ = stack_rows(contact_.gap_jacobian(rows_now_), contact_.equality_jacobian(eq_now_));
+  } else {
+    g_ = stack_rows(contact_.gap_jacobian(rows_now_), g_template_.bottomRows(me));
+  }
   gt_ = g_.transpose();
   at_ = x.head(n_);
   evaluated_ = true;

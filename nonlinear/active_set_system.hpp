@@ -7,7 +7,8 @@
 // place, with their exact gradients, and the Jacobian carries the contact's geometric
 // stiffness −Σ λ_i ∂²g_i: gaps, normals and projections follow the iterate, so Newton
 // converges quadratically while contacts slide and the outer iterations change active sets
-// only. The equality rows ([[constraint]]) follow the gap rows, always held, linear in u.
+// only. The equality rows ([[constraint]], [[plate]]) follow the gap rows, always held; a
+// plate's rows turn with it in finite strain, evaluated at every iterate with their curvature.
 #pragma once
 
 #include <memory>
@@ -68,6 +69,7 @@ class ActiveSetSystem final : public NewtonSystem {
   bool evaluated_ = false;
   VecX at_, gap_now_;
   std::vector<constraints::GapRow> rows_now_;
+  std::vector<constraints::EqualityRow> eq_now_;  ///< nonlinear equality rows at the iterate
   SpMat jacobian_;
   std::string lost_;
 };

@@ -94,7 +94,7 @@ class ConstrainedStep {
       out_.status = SolveStatus::kConverged;
       return true;
     }
-    ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full);
+    ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full, system_.is_linear());
     VecX c(qp.num_gaps() + qp.num_equalities());  // g(u_f) = c + G u_f, then A u_f − b
     c << qp.gap0, -qp.eq_rhs;
     qp.gap0 += qp.gap_jacobian * u_;     // the gaps and equalities in terms of the step Δu
@@ -392,6 +392,14 @@ void store_contact_results(const ContactReport& report, int nn, core::Results& r
     gap[cn.node] = cn.gap;
     pressure[cn.node] = cn.pressure;
     force[cn.node] = cn.force;
+  }
+  for (const auto& p : report.plates) {
+    r.globals["plate_ux/" + p.name] = p.u.x();
+    r.globals["plate_uy/" + p.name] = p.u.y();
+    r.globals["plate_rotation/" + p.name] = p.rotation;
+    r.globals["plate_fx/" + p.name] = p.force.x();
+    r.globals["plate_fy/" + p.name] = p.force.y();
+    r.globals["plate_moment/" + p.name] = p.moment;
   }
   r.point_fields["contact_gap"] = gap;
   r.point_fields["contact_pressure"] = pressure;

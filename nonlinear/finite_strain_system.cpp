@@ -30,7 +30,7 @@ VecX FiniteStrainSystem::full(const VecX& u_free) const {
 bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {
   const Mesh& mesh = model_.mesh;
   const int nn = mesh.nodes_per_element();
-  f = VecX::Zero(mesh.num_dofs());
+  f = VecX::Zero(model_.dofs.num_dofs());
   LocalVector ue(2 * nn), fe;
   inverted_ = -1;
   for (int e = 0; e < mesh.num_elements(); ++e) {

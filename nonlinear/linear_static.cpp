@@ -24,7 +24,7 @@ void solve_with_contact_step(const constraints::ContactSet& contact, const Model
   SmallStrainSystem system(model, k_ff, rhs, u_prescribed);
   ContactStepInput in;
   in.u_free = VecX::Zero(model.dofs.num_free());
-  in.u_prev_full = VecX::Zero(model.mesh.num_dofs());
+  in.u_prev_full = VecX::Zero(model.dofs.num_dofs());
   in.newton.residual_scale = rhs.size() ? rhs.cwiseAbs().maxCoeff() : 0.0;
   in.floor_scale = residual_floor_scale(model);
   ContactStepResult step = solve_contact_step(system, contact, *strategy, in);
@@ -43,6 +43,8 @@ void solve_with_contact_step(const constraints::ContactSet& contact, const Model
   report.stiffness_max = k_ff.nonZeros() ? k_ff.coeffs().cwiseAbs().maxCoeff() : 0.0;
   if (step.state.gap.size() == static_cast<int>(step.rows.size()))
     contact.report(step.rows, step.state, report);
+  if (step.u_free.size() == model.dofs.num_free())
+    contact.report_plates(model.dofs.expand(step.u_free), step.state.eq_multiplier, true, report);
   report.measured_penetration = step.measured_penetration;
   report.penetration_tolerance = step.penetration_tolerance;
   r.status = step.status;

@@ -43,7 +43,7 @@ class LoadStepper {
  private:
   /// Prescribed displacements at load factor λ (full vector).
   VecX prescribe(double lambda) const {
-    VecX u = VecX::Zero(model_.mesh.num_dofs());
+    VecX u = VecX::Zero(model_.dofs.num_dofs());
     if (options_.prescribe) options_.prescribe(lambda, u);
     else u = prescribed_displacement(model_, lambda);
     return u;
@@ -124,6 +124,7 @@ class LoadStepper {
       memory_ = cstep.memory;
       last_contact_.status = SolveStatus::kConverged;
       contact_->report(cstep.rows, cstep.state, last_contact_);
+      contact_->report_plates(u_prev_full_, cstep.state.eq_multiplier, false, last_contact_);
       last_contact_.measured_penetration = cstep.measured_penetration;
       last_contact_.penetration_tolerance = cstep.penetration_tolerance;
       rec.contact_state = last_contact_;
@@ -164,8 +165,8 @@ class LoadStepper {
     out.displacement = u_full;
     VecX f_int;
     system_.internal_force(out.displacement, f_int);
-    out.reaction = VecX::Zero(mesh.num_dofs());
-    for (int dof = 0; dof < mesh.num_dofs(); ++dof)
+    out.reaction = VecX::Zero(model_.dofs.num_dofs());
+    for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
       if (model_.dofs.is_constrained(dof))
         out.reaction[dof] = f_int[dof] - lam * model_.external_force[dof];
     out.element_stresses = compute_element_stresses(mesh, model_.materials, out.displacement, true);

@@ -47,6 +47,19 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
   return c;
 }
 
+/// The [[plate]]s: motion of the reference point and the force and moment each transmits.
+nlohmann::json plates_section(const constraints::ContactReport& contact) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& pl : contact.plates)
+    list.push_back({{"name", pl.name},
+                    {"ux", number(pl.u.x())},
+                    {"uy", number(pl.u.y())},
+                    {"rotation", number(pl.rotation)},
+                    {"force", {number(pl.force.x()), number(pl.force.y())}},
+                    {"moment", number(pl.moment)}});
+  return list;
+}
+
 /// The [[constraint]] tables: per table its rows, largest multiplier (force) and residual.
 nlohmann::json constraints_section(const constraints::ContactReport& contact) {
   nlohmann::json list = nlohmann::json::array();
@@ -77,7 +90,7 @@ nlohmann::json springs_section(const core::Model& model, const core::Results& r,
       list.push_back({{"name", s.name}, {"count", 0}, {"max_force", 0.0}});
     nlohmann::json& e = list.back();
     e["count"] = e["count"].get<int>() + 1;
-    const double f = r.displacement.size() == model.mesh.num_dofs()
+    const double f = r.displacement.size() == model.dofs.num_dofs()
                          ? core::spring_force(model, s, r.displacement, finite)
                          : 0.0;
     if (std::abs(f) > std::abs(e["max_force"].get<double>())) e["max_force"] = f;
@@ -187,6 +200,7 @@ nlohmann::json make_summary(const SummaryParts& p) {
   j["contact"] = p.contact ? contact_section(*p.contact) : nlohmann::json();
   if (p.contact && !p.contact->equality_names.empty())
     j["constraints"] = constraints_section(*p.contact);
+  if (p.contact && !p.contact->plates.empty()) j["plates"] = plates_section(*p.contact);
   if (p.model) j["mesh"] = mesh_section(*p.model);
   if (p.model && p.results && !p.model->springs.empty())
     j["springs"] = springs_section(*p.model, *p.results, p.scene.analysis.geometric_nonlinearity);

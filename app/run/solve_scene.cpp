@@ -20,7 +20,8 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
   run->contact_spec = constraints::parse_contact_scene(scene, method);
   run->model = core::build_model(scene);
   const core::Model& model = run->model;
-  if (!run->contact_spec.empty() || (scene.explicit_model && !scene.explicit_model->gaps.empty()))
+  if (!run->contact_spec.empty() || !model.plates.empty() ||
+      (scene.explicit_model && !scene.explicit_model->gaps.empty()))
     run->contact = std::make_unique<constraints::ContactSet>(model, run->contact_spec, scene);
   if (!method.empty() && !run->contact)
     throw InputError("--method " + method + ": the scene has no [[contact]] to enforce");

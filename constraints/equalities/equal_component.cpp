@@ -20,7 +20,7 @@ std::vector<EqualityRow> EqualComponent::rows(const core::Model& model, int owne
                      (dof_ == 0 ? "x" : "y") + ", it selects " + std::to_string(nodes.size()));
   std::vector<EqualityRow> out;
   for (size_t k = 1; k < nodes.size(); ++k)
-    out.push_back({{{2 * nodes[k] + dof_, 1.0}, {2 * nodes[0] + dof_, -1.0}}, 0.0, owner});
+    out.push_back({{{2 * nodes[k] + dof_, 1.0}, {2 * nodes[0] + dof_, -1.0}}, 0.0, owner, {}});
   return out;
 }
 

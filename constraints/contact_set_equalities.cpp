@@ -1,0 +1,108 @@
+// ContactSet's equality rows at a state: the [[constraint]] rows (constant) and the [[plate]]
+// rows (constraints/equalities/rigid_plate.hpp), with their Jacobian, values and curvature.
+#include <cmath>
+
+#include "constraints/contact_set.hpp"
+#include "constraints/equalities/rigid_plate.hpp"
+#include "core/errors.hpp"
+#include "core/model.hpp"
+
+namespace c2d::constraints {
+
+void ContactSet::check_plate_rows() {
+  const core::DofMap& dofs = model_.dofs;
+  const VecX u = core::prescribed_displacement(model_, 1.0);
+  std::vector<EqualityRow> rows;
+  for (size_t p = 0; p < model_.plates.size(); ++p) {
+    const size_t first = rows.size();
+    rigid_plate_rows(model_, static_cast<int>(p), u, true, rows);
+    for (size_t k = first; k < rows.size(); ++k) {
+      bool free = false;
+      double value = -rows[k].rhs;
+      for (const auto& [dof, a] : rows[k].terms) {
+        free = free || (a != 0.0 && !dofs.is_constrained(dof));
+        value += a * u[dof];
+      }
+      plate_row_kept_.push_back(free);
+      if (!free && std::abs(value) > 1e-9 * model_.model_size)
+        throw InputError(model_.plates[p].where + ": the plate's prescribed motion moves node " +
+                         std::to_string(model_.plates[p].nodes[0] + 1) +
+                         "'s support away from what the support prescribes (the two disagree by " +
+                         std::to_string(value) + ")");
+    }
+  }
+}
+
+std::vector<EqualityRow> ContactSet::equality_rows_at(const VecX& u_full, bool small_strain) const {
+  std::vector<EqualityRow> rows = equality_rows_;
+  if (model_.plates.empty()) return rows;
+  std::vector<EqualityRow> plate;
+  for (size_t p = 0; p < model_.plates.size(); ++p)
+    rigid_plate_rows(model_, static_cast<int>(p), u_full, small_strain, plate);
+  for (size_t k = 0; k < plate.size(); ++k)
+    if (plate_row_kept_[k]) rows.push_back(std::move(plate[k]));
+  return rows;
+}
+
+SpMat ContactSet::equality_jacobian(const std::vector<EqualityRow>& rows) const {
+  const core::DofMap& dofs = model_.dofs;
+  std::vector<Eigen::Triplet<double>> t;
+  for (size_t j = 0; j < rows.size(); ++j)
+    for (const auto& [dof, a] : rows[j].terms) {
+      const int eq = dofs.equation(dof);
+      if (eq >= 0 && a != 0.0) t.emplace_back(static_cast<int>(j), eq, a);
+    }
+  SpMat a(static_cast<int>(rows.size()), dofs.num_free());
+  a.setFromTriplets(t.begin(), t.end());
+  return a;
+}
+
+VecX ContactSet::equality_values(const std::vector<EqualityRow>& rows, const VecX& u_full) const {
+  VecX c(static_cast<int>(rows.size()));
+  for (size_t j = 0; j < rows.size(); ++j) {
+    double v = -rows[j].rhs;
+    for (const auto& [dof, a] : rows[j].terms) v += a * u_full[dof];
+    c[static_cast<int>(j)] = v;
+  }
+  return c;
+}
+
+SpMat ContactSet::equality_geometric_stiffness(const std::vector<EqualityRow>& rows,
+                                               const VecX& mu) const {
+  const core::DofMap& dofs = model_.dofs;
+  std::vector<Eigen::Triplet<double>> t;
+  for (size_t j = 0; j < rows.size(); ++j) {
+    const double m = mu[static_cast<int>(j)];
+    if (m == 0.0) continue;
+    for (const auto& [a, b, value] : rows[j].curvature) {
+      const int ea = dofs.equation(a), eb = dofs.equation(b);
+      if (ea >= 0 && eb >= 0) t.emplace_back(ea, eb, -m * value);
+    }
+  }
+  SpMat k(dofs.num_free(), dofs.num_free());
+  k.setFromTriplets(t.begin(), t.end());
+  return k;
+}
+
+void ContactSet::report_plates(const VecX& u_full, const VecX& mu, bool small_strain,
+                               ContactReport& r) const {
+  r.plates.clear();
+  if (model_.plates.empty()) return;
+  const std::vector<EqualityRow> rows = equality_rows_at(u_full, small_strain);
+  for (const core::RigidPlate& plate : model_.plates) {
+    PlateResult out;
+    out.name = plate.name;
+    out.u = u_full.segment<2>(plate.dof);
+    out.rotation = u_full[plate.dof + 2];
+    // The attachment's force on the plate is Σ μ ∂c/∂q; the plate's on the structure its opposite.
+    Eigen::Vector3d on_plate = Eigen::Vector3d::Zero();
+    for (size_t j = 0; j < rows.size() && static_cast<int>(j) < mu.size(); ++j)
+      for (const auto& [dof, a] : rows[j].terms)
+        if (dof >= plate.dof && dof < plate.dof + 3) on_plate[dof - plate.dof] += mu[static_cast<int>(j)] * a;
+    out.force = -on_plate.head<2>();
+    out.moment = -on_plate[2];
+    r.plates.push_back(out);
+  }
+}
+
+}  // namespace c2d::constraints
