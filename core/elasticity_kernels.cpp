@@ -150,6 +150,23 @@ Eigen::VectorXd edge_load(const Eigen::MatrixX2d& x, double thickness, const Vec
   return f;
 }
 
+Eigen::MatrixXd edge_pressure_matrix(int nodes, double thickness, double pressure) {
+  // f_i = −p t Σ_q w_q N_i (t_y, −t_x), t = Σ_j N_j' x_j: ∂f_i/∂x_j = −p t Σ_q w_q N_i N_j' J,
+  // J = [[0, 1], [−1, 0]].
+  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(2 * nodes, 2 * nodes);
+  Eigen::Vector3d n, dn;
+  for (int q = 0; q < 3; ++q) {
+    edge_shape(nodes, kGaussX[q], n, dn);
+    for (int i = 0; i < nodes; ++i)
+      for (int j = 0; j < nodes; ++j) {
+        const double c = -pressure * thickness * kGaussW[q] * n[i] * dn[j];
+        m(2 * i, 2 * j + 1) += c;
+        m(2 * i + 1, 2 * j) -= c;
+      }
+  }
+  return m;
+}
+
 double edge_length(const Eigen::MatrixX2d& x) {
   const int nn = static_cast<int>(x.rows());
   double l = 0.0;

@@ -39,6 +39,11 @@ double element_area(const Eigen::MatrixX2d& x);
 Eigen::VectorXd edge_load(const Eigen::MatrixX2d& x, double thickness, const Vec2& traction,
                           double pressure);
 
+/// A pressure that follows the edge: its nodal forces are linear in the nodes' current
+/// positions, f = M x (x stacked (x₁, y₁, x₂, ...)), since n ds = J dx with J the quarter turn;
+/// M (2nn × 2nn) is that matrix, not symmetric. edge_load(x, t, 0, p) = M x.
+Eigen::MatrixXd edge_pressure_matrix(int nodes, double thickness, double pressure);
+
 /// Length of a boundary edge with 2 or 3 nodes.
 double edge_length(const Eigen::MatrixX2d& x);
 

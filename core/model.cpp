@@ -314,6 +314,31 @@ void add_edge_load(const Model& model, const LoadSpec& l, VecX& f) {
   }
 }
 
+/// The matrix M of the follower pressures (f = M x, full DOFs) and their reference force M X.
+void add_follower_loads(const Scene& scene, Model& model) {
+  std::vector<Eigen::Triplet<double>> t;
+  const int nn = model.mesh.order == 1 ? 2 : 3;
+  for (const auto& l : scene.loads) {
+    if (!l.follower) continue;
+    if (model.follower_where.empty()) model.follower_where = l.at.where;
+    for (int i : select_edges(model, l.on)) {
+      const auto& be = model.mesh.boundary_edges[i];
+      const double th = model.materials[model.mesh.element_material[be.element]].thickness;
+      const Eigen::MatrixXd m = edge_pressure_matrix(nn, th, l.value);
+      for (int a = 0; a < 2 * nn; ++a)
+        for (int b = 0; b < 2 * nn; ++b)
+          if (m(a, b) != 0.0) t.emplace_back(2 * be.nodes[a / 2] + a % 2, 2 * be.nodes[b / 2] + b % 2, m(a, b));
+    }
+  }
+  if (model.follower_where.empty()) return;
+  const int n = model.dofs.num_dofs();
+  model.follower_matrix = SpMat(n, n);
+  model.follower_matrix.setFromTriplets(t.begin(), t.end());
+  VecX x = VecX::Zero(n);
+  for (int v = 0; v < model.mesh.num_nodes(); ++v) x.segment<2>(2 * v) = model.mesh.nodes[v];
+  model.follower_reference = model.follower_matrix * x;
+}
+
 /// The external force vector: every load, in the scene's order.
 void apply_loads(const Scene& scene, Model& model) {
   model.external_force = VecX::Zero(model.dofs.num_dofs());
@@ -370,6 +395,7 @@ Model build_model(const Scene& scene) {
   add_plates(scene, model);
   apply_supports(scene, model);
   apply_loads(scene, model);
+  add_follower_loads(scene, model);
   add_springs(scene, model);
   return model;
 }

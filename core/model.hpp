@@ -53,6 +53,11 @@ struct Model {
   std::vector<PrescribedRotation> rotations;
   std::vector<Spring> springs;
   std::vector<RigidPlate> plates;
+  /// Follower pressures ([[load]] follower = true): their nodal forces f = M x at the current
+  /// positions x (full DOFs; empty when none). external_force holds their reference value M X.
+  SpMat follower_matrix;
+  VecX follower_reference;  ///< M X (full; empty when none)
+  std::string follower_where;  ///< the first follower load's table, for messages
 };
 
 /// The full vector of prescribed displacements at load factor λ (zero on free DOFs): λ × the

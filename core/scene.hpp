@@ -115,6 +115,9 @@ struct LoadSpec {
   SelectionSpec on;
   Vec2 vector = Vec2::Zero();
   double value = 0;  ///< pressure
+  /// A pressure that follows the deformed edge in load-stepped runs (its load stiffness in the
+  /// tangent); false: a dead load, fixed at its reference value.
+  bool follower = false;
   SourceRef at;
 };
 

@@ -396,7 +396,7 @@ SupportSpec parse_support(const TomlView& s) {
 }
 
 LoadSpec parse_load(const TomlView& l) {
-  l.check_keys({"on", "force", "total_force", "traction", "pressure", "body_force"});
+  l.check_keys({"on", "force", "total_force", "traction", "pressure", "body_force", "follower"});
   LoadSpec ls;
   ls.at.where = l.where();
   ls.on = parse_selection(l["on"]);
@@ -413,6 +413,9 @@ LoadSpec parse_load(const TomlView& l) {
   if (kinds != 1)
     l.fail("exactly one of force, total_force, traction, pressure, body_force (found " +
            std::to_string(kinds) + ")");
+  ls.follower = l["follower"].boolean_or(false);
+  if (ls.follower && ls.kind != LoadSpec::Kind::kPressure)
+    l["follower"].fail_message("follower = true applies to a pressure only");
   return ls;
 }
 

@@ -12,7 +12,22 @@ using namespace c2d::core;
 
 FiniteStrainSystem::FiniteStrainSystem(const Model& model)
     : model_(model), assembler_(model.mesh, model.dofs),
-      f_ext_free_(model.dofs.restrict(model.external_force)) {}
+      f_ext_free_(model.dofs.restrict(model.external_force)) {
+  load_scale_ = f_ext_free_.size() ? f_ext_free_.cwiseAbs().maxCoeff() : 0.0;
+  extra_ = !model.springs.empty() || model.follower_matrix.nonZeros() > 0;
+  if (model.follower_matrix.nonZeros() == 0) return;
+  // The follower pressures act at the current positions: only the dead loads stay in f_ext.
+  f_ext_free_ = model.dofs.restrict(model.external_force - model.follower_reference);
+  std::vector<Eigen::Triplet<double>> t;
+  for (int k = 0; k < model.follower_matrix.outerSize(); ++k)
+    for (SpMat::InnerIterator it(model.follower_matrix, k); it; ++it) {
+      const int i = model.dofs.equation(static_cast<int>(it.row()));
+      const int j = model.dofs.equation(static_cast<int>(it.col()));
+      if (i >= 0 && j >= 0) t.emplace_back(i, j, it.value());
+    }
+  follower_ff_ = SpMat(model.dofs.num_free(), model.dofs.num_free());
+  follower_ff_.setFromTriplets(t.begin(), t.end());
+}
 
 void FiniteStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
   lambda_ = lambda;
@@ -43,6 +58,11 @@ bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {
     for (int i = 0; i < nn; ++i) f.segment<2>(2 * mesh.elements[e][i]) += fe.segment<2>(2 * i);
   }
   add_spring_forces(model_, u, true, f);
+  if (model_.follower_matrix.nonZeros() > 0) {
+    VecX x = u;
+    for (int v = 0; v < mesh.num_nodes(); ++v) x.segment<2>(2 * v) += mesh.nodes[v];
+    f -= lambda_ * (model_.follower_matrix * x);
+  }
   return true;
 }
 
@@ -61,8 +81,13 @@ bool FiniteStrainSystem::assemble(const VecX& u, const VecX* du_constrained, Vec
         }
       },
       du_constrained, lift);
-  if (!model_.springs.empty())
-    with_springs_ = assembler_.matrix() + spring_stiffness(model_, u, true, du_constrained, lift);
+  if (extra_) tangent_ = assembler_.matrix();
+  if (!model_.springs.empty()) tangent_ += spring_stiffness(model_, u, true, du_constrained, lift);
+  if (model_.follower_matrix.nonZeros() > 0) {
+    tangent_ -= lambda_ * follower_ff_;
+    if (du_constrained && lift)
+      *lift -= lambda_ * model_.dofs.restrict(model_.follower_matrix * *du_constrained);
+  }
   if (!ok) {  // name the first inverted element (the parallel assembly does not say which)
     VecX f;
     internal_force(u, f);
@@ -100,10 +125,12 @@ bool FiniteStrainSystem::factorize_jacobian(const VecX& u_free) {
 }
 
 bool FiniteStrainSystem::factorize_jacobian_assembled() {
+  if (follower_ff_.nonZeros() > 0) return lu_.factorize(matrix(), false) == SolveStatus::kConverged;
   return solver_.factorize(matrix()) == SolveStatus::kConverged;
 }
 
 bool FiniteStrainSystem::solve(const VecX& b, VecX& x) {
+  if (follower_ff_.nonZeros() > 0) return lu_.solve(b, x) == SolveStatus::kConverged;
   return solver_.solve(b, x) == SolveStatus::kConverged;
 }
 

@@ -1,10 +1,13 @@
 // The discrete updated-Lagrangian St. Venant–Kirchhoff problem on the free DOFs:
 // R(u_f) = f_int(u) − λ f_ext with u the full vector (prescribed values of the current load
-// factor), and its tangent K_T = K_D + K_σ.
+// factor), and its tangent K_T = K_D + K_σ. Follower pressures enter f_int as −λ M x (their
+// forces at the current positions) and the tangent as −λ M, which is not symmetric: with them
+// the Newton system is factorised by LU (UMFPACK) instead of Cholesky.
 #pragma once
 
 #include "core/assembler.hpp"
 #include "core/model.hpp"
+#include "constraints/kkt_solver.hpp"
 #include "core/spd_solver.hpp"
 #include "nonlinear/newton_solver.hpp"
 #include "nonlinear/structural_system.hpp"
@@ -20,7 +23,8 @@ class FiniteStrainSystem final : public StructuralSystem {
   double load_factor() const { return lambda_; }
   const core::Model& model() const override { return model_; }
   VecX full(const VecX& u_free) const override;
-  /// Full internal force vector at a full displacement; false if an element is inverted.
+  /// Full internal force vector at a full displacement, less the follower pressures' forces
+  /// there (at the current load factor); false if an element is inverted.
   bool internal_force(const VecX& u_full, VecX& f) const;
   /// Assembles K_T,ff at u (full) into matrix(); with `du_constrained`, also lift = K_fc du_c.
   /// False if an element is inverted.
@@ -31,9 +35,9 @@ class FiniteStrainSystem final : public StructuralSystem {
   /// element is inverted): the force scale of supports that carry the load.
   double reaction_scale(const VecX& u_free) const override;
   /// K_T,ff: the elements' (and the springs', when the model has any).
-  const SpMat& matrix() const override {
-    return model_.springs.empty() ? assembler_.matrix() : with_springs_;
-  }
+  const SpMat& matrix() const override { return extra_ ? tangent_ : assembler_.matrix(); }
+  /// The largest external load at λ = 1 (dead and follower, reference values).
+  double load_scale() const { return load_scale_; }
   /// The load step's linearisation about the converged full state u0 (with its own prescribed
   /// values): assembles K_T(u0) into matrix() and returns the out-of-balance force at the
   /// current load factor, the prescribed increment carried as a lift:
@@ -55,8 +59,12 @@ class FiniteStrainSystem final : public StructuralSystem {
   mutable int inverted_ = -1;  ///< the first inverted element of the last evaluation
   const core::Model& model_;
   core::Assembler assembler_;
-  SpMat with_springs_;  ///< the assembled K_T plus the springs' stiffness
+  bool extra_ = false;  ///< springs or follower loads add to the elements' K_T
+  SpMat tangent_;       ///< the assembled K_T plus the springs' stiffness and −λ M_ff
+  SpMat follower_ff_;   ///< M on the free DOFs
   core::SpdSolver solver_;
+  constraints::KktSolver lu_;  ///< with follower loads
+  double load_scale_ = 0.0;
   VecX f_ext_free_, u_prescribed_;
   double lambda_ = 0.0;
 };

@@ -84,8 +84,7 @@ class LoadStepper {
 
   /// Solves toward `target`; returns the trial free displacements, `rec.newton` says how.
   VecX attempt(double target, StepRecord& rec, ContactStepResult& cstep) {
-    const double load_scale =
-        system_.f_ext_free().size() ? target * system_.f_ext_free().cwiseAbs().maxCoeff() : 0.0;
+    const double load_scale = target * system_.load_scale();
     system_.set_state(target, prescribe(target));
     if (with_contact_) {
       ContactStepInput in;
@@ -166,9 +165,12 @@ class LoadStepper {
     VecX f_int;
     system_.internal_force(out.displacement, f_int);
     out.reaction = VecX::Zero(model_.dofs.num_dofs());
+    // f_int holds the follower pressures at the current positions: only the dead loads remain.
+    const VecX dead = model_.follower_reference.size()
+                          ? VecX(model_.external_force - model_.follower_reference)
+                          : model_.external_force;
     for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
-      if (model_.dofs.is_constrained(dof))
-        out.reaction[dof] = f_int[dof] - lam * model_.external_force[dof];
+      if (model_.dofs.is_constrained(dof)) out.reaction[dof] = f_int[dof] - lam * dead[dof];
     out.element_stresses = compute_element_stresses(mesh, model_.materials, out.displacement, true);
     out.nodal_stress = smooth_stresses(mesh, model_.materials, out.element_stresses, analysis_.smoothing);
     out.error = estimate_error(mesh, model_.materials, out.element_stresses, out.nodal_stress,

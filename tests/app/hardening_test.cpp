@@ -1,0 +1,625 @@
+// Issue 16 ("Hardening"), end to end through the executable: every item of findings 2 to 8 that
+// tests/app/cli_test.cpp does not already run through the program is run here, each asserting
+// the exit code and the key part of the one-line message (file, line or key, expected, found).
+// The program is started with an argument vector (no shell); scenes are written to a private
+// temporary folder. Tests named DISABLED_ are items found NOT fixed (the behaviour they assert
+// is the one the issue asks for); they are reproducers, to be enabled with the fix.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/process.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int code = -1;
+  std::string text;  ///< stdout and stderr
+};
+
+/// A private folder under the test output folder, removed at the end of the test.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name)
+      : path_(fs::temp_directory_path() / ("c2d_hardening_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const fs::path& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  /// Writes `text` to NAME in this folder and returns its path.
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return (path_ / name).string();
+  }
+
+ private:
+  fs::path path_;
+};
+
+/// Runs the program with ARGS (argv[1..]; no shell), its output into a log beside the runs.
+Outcome run_c2d(const std::vector<std::string>& args) {
+  const fs::path log =
+      fs::temp_directory_path() / ("c2d_hardening_" + std::to_string(::getpid()) + ".log");
+  const c2d::app::ProcessOutcome p = c2d::app::run_process(C2D_BINARY, args, log.string());
+  std::ifstream in(log);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  fs::remove(log);
+  return {p.started ? p.exit_code : -1, ss.str()};
+}
+
+/// The outcome ended with CODE and one line holding every fragment.
+void expect_outcome(const Outcome& o, int code, std::initializer_list<std::string> fragments) {
+  EXPECT_EQ(o.code, code) << o.text;
+  if (code == 2) {
+    EXPECT_EQ(o.text.rfind("error: ", 0), 0u) << o.text;
+    EXPECT_EQ(o.text.find('\n'), o.text.size() - 1) << "not one line: " << o.text;
+  }
+  for (const auto& f : fragments)
+    EXPECT_NE(o.text.find(f), std::string::npos) << "'" << f << "' missing in: " << o.text;
+}
+
+/// `contact2d run SCENE --out DIR/out --quiet`: input refused, exit 2, one line with FRAGMENTS,
+/// and no output folder (nor work folder) left.
+void expect_refused(const TempDir& dir, const std::string& scene,
+                    std::initializer_list<std::string> fragments,
+                    const std::vector<std::string>& extra = {}) {
+  std::vector<std::string> args{"run", scene, "--out", dir / "out", "--quiet"};
+  args.insert(args.end(), extra.begin(), extra.end());
+  expect_outcome(run_c2d(args), 2, fragments);
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().rfind("out", 0), std::string::npos) << e.path();
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(read_text(dir / "summary.json")); }
+
+std::string example(const char* name) { return std::string(C2D_SOURCE_DIR) + "/examples/" + name; }
+
+const char* const kMaterial = "[[material]]\nname = \"steel\"\nE = 1000.0\nnu = 0.3\n";
+
+/// A supported unit block (lines 1-12), then EXTRA from line 13 on.
+std::string block(const std::string& extra) {
+  return std::string(kMaterial) +
+         "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+         "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 1.0] }\nmesh = { size = 0.5 }\n"
+         "[[support]]\non = { edge = \"bottom\" }\nfix = [\"ux\", \"uy\"]\n" +
+         extra;
+}
+
+/// A square block of side SIDE whose mesh table (line 9) is MESH.
+std::string square(const std::string& side, const std::string& mesh) {
+  return std::string(kMaterial) + "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n" +
+         "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [" + side + ", " + side + "] }\n" +
+         "mesh = " + mesh + "\n[[support]]\non = { edge = \"bottom\" }\nfix = [\"ux\", \"uy\"]\n";
+}
+
+/// A body "p" whose polygon (line 8) has POINTS.
+std::string polygon(const std::string& points) {
+  return std::string(kMaterial) + "[[body]]\nname = \"p\"\nmaterial = \"steel\"\n" +
+         "shape = { type = \"polygon\", points = " + points + " }\nmesh = { size = 0.5 }\n";
+}
+
+/// Block "b" under block "punch" (contact tables from line 22 on).
+std::string two_blocks(const std::string& contact) {
+  return std::string(kMaterial) +
+         "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+         "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 1.0] }\nmesh = { size = 0.5 }\n"
+         "[[body]]\nname = \"punch\"\nmaterial = \"steel\"\n"
+         "shape = { type = \"rectangle\", min = [0.0, 1.0], max = [1.0, 2.0] }\nmesh = { size = 0.5 }\n"
+         "[[support]]\non = { body = \"b\", edge = \"bottom\" }\nfix = [\"ux\", \"uy\"]\n"
+         "[[support]]\non = { body = \"punch\", edge = \"top\" }\nuy = -0.01\nfix = [\"ux\"]\n" +
+         contact;
+}
+
+/// examples/legacy/v1_beam.msh with line LINE (1-based) replaced, as DIR/part.msh, and the
+/// examples/legacy/v1_beam.toml scene reading it (its mesh table at line 20); returns the scene.
+std::string msh_scene(const TempDir& dir, int line, const std::string& replacement) {
+  std::istringstream in(read_text(example("legacy/v1_beam.msh")));
+  std::string text, l;
+  for (int k = 1; std::getline(in, l); ++k) text += (k == line ? replacement : l) + "\n";
+  dir.write("part.msh", text);
+  std::string scene = read_text(example("legacy/v1_beam.toml"));
+  scene.replace(scene.find("file = \"v1_beam.msh\""), 20, "file = \"part.msh\"");
+  return dir.write("scene.toml", scene);
+}
+
+/// A .dat file of two T3 elements on a unit square (nodes 1-4 on lines 2-5, elements on 6-7),
+/// NODE2 as node 2's line, EXTRA lines after the elements (NE counts them).
+std::string dat(const TempDir& dir, const std::string& node2 = "2 1 0 0 0 0 0",
+                const std::string& extra = "", int extra_elements = 0,
+                const std::string& element1 = "1 1 2 3 0 1000 1 0.3") {
+  const std::string text = "4 " + std::to_string(2 + extra_elements) + " 1\n1 0 0 1 1 0 0\n" + node2 +
+                           "\n3 1 1 0 0 0 -1\n4 0 1 1 1 0 0\n" + element1 +
+                           "\n2 1 3 4 0 1000 1 0.3\n" + extra + "1e20 1e20\n";
+  return dir.write("model.dat", text);
+}
+
+/// A unit T3 block crushed to -1.5 of its height in one load step (every element inverts),
+/// optionally resting on a rigid floor instead of a fixed bottom.
+std::string crushed_block(bool on_floor) {
+  std::string s =
+      "[analysis]\nelement = \"T3\"\ngeometric_nonlinearity = true\nsteps = 1\n"
+      "[[material]]\nname = \"m\"\nE = 100.0\nnu = 0.3\n"
+      "[[body]]\nname = \"b\"\nmaterial = \"m\"\n"
+      "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 1.0] }\nmesh = { size = 0.5 }\n";
+  if (on_floor)
+    return s + "[[support]]\non = { body = \"b\", edge = \"top\" }\nuy = -1.5\nfix = [\"ux\"]\n"
+               "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
+               "[[contact]]\nslave = { body = \"b\", edge = \"bottom\" }\nmaster = { obstacle = \"floor\" }\n";
+  return s + "[[support]]\non = { body = \"b\", edge = \"bottom\" }\nfix = [\"ux\", \"uy\"]\n"
+             "[[support]]\non = { body = \"b\", edge = \"top\" }\nuy = -1.5\n";
+}
+
+const std::vector<std::string> kMethods = {"penalty", "adaptive_penalty", "lagrange",
+                                           "auglag",  "ipopt",            "ssn"};
+
+/// Starts a long contact run (two_cantilevers at mesh_scale 0.3) into OUT and returns its pid
+/// once its work folder's run.log says the solve has begun (`started` false if it never did).
+pid_t start_long_run(const std::string& out, bool* started) {
+  std::vector<std::string> words{C2D_BINARY, "run", example("two_cantilevers.toml"), "--set",
+                                 "analysis.mesh_scale=0.3", "--out", out, "--quiet"};
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  // stderr into a file beside OUT, so that the interrupt's note can be read back.
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  const std::string err = out + ".stderr";
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, words[0].c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  *started = false;
+  if (rc != 0) return -1;
+  const fs::path log = fs::path(out + ".part." + std::to_string(pid)) / "run.log";
+  for (int i = 0; i < 1200 && !*started; ++i) {
+    *started = read_text(log).find("solving") != std::string::npos;
+    if (!*started) std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  return pid;
+}
+
+int wait_exit_code(pid_t pid) {
+  int status = 0;
+  if (::waitpid(pid, &status, 0) != pid) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+}  // namespace
+
+// ---- Finding 2: degenerate geometry aborted inside gmsh; now refused at the key, exit 2. ----
+
+TEST(Hardening, F2CollinearPolygonExitsTwo) {
+  const TempDir dir("f2_collinear");
+  expect_refused(dir, dir.write("scene.toml", polygon("[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]")),
+                 {"scene.toml:8:", "body[0].shape.points", "expected a simple polygon of positive area",
+                  "no area", "found an array of 3"});
+}
+
+TEST(Hardening, F2SelfIntersectingPolygonExitsTwo) {
+  const TempDir dir("f2_bowtie");
+  expect_refused(dir,
+                 dir.write("scene.toml", polygon("[[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]]")),
+                 {"scene.toml:8:", "body[0].shape.points", "intersects itself", "found an array of 4"});
+}
+
+TEST(Hardening, F2RefinementSizeBelowResolutionExitsTwo) {
+  const TempDir dir("f2_refine");
+  expect_refused(dir,
+                 dir.write("scene.toml", square("20.0", "{ size = 1.0, refine = [ { near = [0.0, 0.0], size = 1e-8 } ] }")),
+                 {"scene.toml:9:", "body[0].mesh.refine[0].size", "expected a size of at least 1e-7",
+                  "found number 1e-08"});
+}
+
+// ---- Finding 3: one-token edits of a .msh crashed gmsh's reader; now file:line, exit 2. ----
+
+TEST(Hardening, F3MshBlockCountBeyondTheBlocksExitsTwo) {
+  const TempDir dir("f3_blocks");
+  expect_refused(dir, msh_scene(dir, 15, "3 6 1 6"),
+                 {"scene.toml:20:", "body[0]", "part.msh:30: expected", "numNodesInBlock", "found 1 value '$EndNodes'"});
+}
+
+TEST(Hardening, F3MshNodeTagBeyondIntExitsTwo) {
+  const TempDir dir("f3_tag");
+  expect_refused(dir, msh_scene(dir, 17, "2147483648"),
+                 {"part.msh:17: expected a node tag in 1..6", "found 2147483648"});
+}
+
+TEST(Hardening, F3MshNegativePhysicalTagExitsTwo) {
+  const TempDir dir("f3_physical");
+  expect_refused(dir, msh_scene(dir, 6, "1 -1 \"root\""),
+                 {"part.msh:6: expected a physical tag in 1..2147483647", "found -1"});
+}
+
+TEST(Hardening, F3MshPhysicalDimensionNineExitsTwo) {
+  const TempDir dir("f3_dimension");
+  expect_refused(dir, msh_scene(dir, 7, "9 2 \"beam\""),
+                 {"part.msh:7: expected a physical dimension in 0..3", "found 9"});
+}
+
+TEST(Hardening, F3MshElementNodeNotDefinedExitsTwo) {
+  const TempDir dir("f3_element_node");
+  expect_refused(dir, msh_scene(dir, 34, "1 1 99"),
+                 {"part.msh:34: expected a node defined in $Nodes", "found node 99"});
+}
+
+// ---- Finding 4: no size limit; now an element estimate against analysis.max_elements. ----
+
+TEST(Hardening, F4MeshBeyondTheElementBudgetExitsTwo) {
+  const TempDir dir("f4_budget");
+  expect_refused(dir, dir.write("scene.toml", square("20.0", "{ size = 0.002 }")),
+                 {"scene.toml:9:", "body[0].mesh", "analysis.max_elements", "give about"});
+}
+
+TEST(Hardening, F4TinyMeshScaleExitsTwo) {
+  const TempDir dir("f4_scale");
+  expect_refused(dir, dir.write("scene.toml", block("")),
+                 {"scene.toml:9:", "body[0].mesh", "analysis.max_elements", "analysis.mesh_scale = 0.000001", "give about"},
+                 {"--set", "analysis.mesh_scale=1e-6"});
+}
+
+TEST(Hardening, F4CoordinatesOf1e300ExitTwo) {
+  // Refused before gmsh (it used to reach 3.9 GB). The message blames the mesh size against an
+  // extent of "inf" rather than the coordinates (see the audit's report).
+  const TempDir dir("f4_huge");
+  expect_refused(dir, dir.write("scene.toml", square("1e300", "{ size = 1.0 }")),
+                 {"scene.toml:9:", "body[0].mesh.size", "found number 1"});
+}
+
+// ---- Finding 5: silent acceptances, each now refused at its key, exit 2. ----
+
+TEST(Hardening, F5MeshSizeOf1e9ExitsTwo) {
+  const TempDir dir("f5_size");
+  expect_refused(dir, dir.write("scene.toml", square("20.0", "{ size = 1e-9 }")),
+                 {"scene.toml:9:", "body[0].mesh.size", "at least 1e-7", "found number 1e-09"});
+}
+
+TEST(Hardening, F5ContactMasterBodyTypoExitsTwo) {
+  const TempDir dir("f5_punsh");
+  expect_refused(dir,
+                 dir.write("scene.toml", two_blocks("[[contact]]\nslave = { body = \"b\", edge = \"top\" }\n"
+                                                    "master = { body = \"punsh\", edge = \"bottom\" }\n")),
+                 {"scene.toml:24:", "contact[0].master", "expected the name of a [[body]]", "found 'punsh'",
+                  "did you mean 'punch'"});
+}
+
+TEST(Hardening, F5StepsBeyondIntExitsTwo) {
+  const TempDir dir("f5_steps");
+  expect_refused(dir,
+                 dir.write("scene.toml", block("[analysis]\ngeometric_nonlinearity = true\nsteps = 4294967297\n")),
+                 {"scene.toml:15:", "analysis.steps", "expected an integer within", "found integer 4294967297"});
+}
+
+TEST(Hardening, F5NodeNumberBeyondIntExitsTwo) {
+  const TempDir dir("f5_nodes");
+  expect_refused(dir,
+                 dir.write("scene.toml", block("[[load]]\non = { nodes = [4294967297] }\nforce = [0.0, 1.0]\n")),
+                 {"scene.toml:14:", "load[0].on.nodes[0]", "expected an integer within", "found integer 4294967297"});
+}
+
+TEST(Hardening, F5GapWithZeroStiffnessExitsTwo) {
+  const TempDir dir("f5_gap0");
+  expect_refused(dir, dat(dir, "2 1 0 0 0 0 0", "3 2 3 0 1 0 1 0\n", 1),
+                 {"model.dat:8:", "gap element with a stiffness k > 0", "found 0"});
+}
+
+TEST(Hardening, F5GapWithNegativeStiffnessExitsTwo) {
+  const TempDir dir("f5_gapneg");
+  expect_refused(dir, dat(dir, "2 1 0 0 0 0 0", "3 2 3 0 1 0 1 -5\n", 1),
+                 {"model.dat:8:", "gap element with a stiffness k > 0", "found -5"});
+}
+
+TEST(Hardening, F5GapFromANodeToItselfExitsTwo) {
+  const TempDir dir("f5_gapself");
+  expect_refused(dir, dat(dir, "2 1 0 0 0 0 0", "3 2 2 0 1 0 1 1e6\n", 1),
+                 {"model.dat:8:", "gap element from a node to itself"});
+}
+
+TEST(Hardening, F5NegativeSetIndexExitsTwo) {
+  const TempDir dir("f5_set");
+  expect_refused(dir, dir.write("scene.toml", block("")),
+                 {"--set material[-1].E=5.0", "expected an index 0, 1, ...", "found '-1'"},
+                 {"--set", "material[-1].E=5.0"});
+}
+
+TEST(Hardening, F5DuplicateContactNamesExitTwo) {
+  const TempDir dir("f5_names");
+  const std::string pair = "[[contact]]\nname = \"c\"\nslave = { body = \"b\", edge = \"top\" }\n"
+                           "master = { body = \"punch\", edge = \"bottom\" }\n";
+  expect_refused(dir, dir.write("scene.toml", two_blocks(pair + pair)),
+                 {"scene.toml:27:", "contact[1].name", "expected a unique [[contact]] name", "found string \"c\""});
+}
+
+// ---- Finding 6: non-finite and degenerate input, now located input errors, exit 2. ----
+
+TEST(Hardening, F6NanPressureExitsTwo) {
+  const TempDir dir("f6_pressure");
+  expect_refused(dir, dir.write("scene.toml", block("[[load]]\non = { edge = \"top\" }\npressure = nan\n")),
+                 {"scene.toml:15:", "load[0].pressure", "expected a finite number", "found number nan"});
+}
+
+TEST(Hardening, F6NanPrescribedDisplacementExitsTwo) {
+  const TempDir dir("f6_ux");
+  expect_refused(dir, dir.write("scene.toml", block("[[support]]\non = { edge = \"top\" }\nux = nan\n")),
+                 {"scene.toml:15:", "support[1].ux", "expected a finite number", "found number nan"});
+}
+
+TEST(Hardening, F6NanRotationAngleExitsTwo) {
+  const TempDir dir("f6_angle");
+  expect_refused(dir,
+                 dir.write("scene.toml", block("[[support]]\non = { edge = \"top\" }\n"
+                                               "rotate = { center = [0.0, 0.0], angle_deg = nan }\n")),
+                 {"scene.toml:15:", "support[1].rotate.angle_deg", "expected a finite number", "found number nan"});
+}
+
+TEST(Hardening, F6InfiniteModulusExitsTwo) {
+  const TempDir dir("f6_einf");
+  std::string text = block("");
+  text.replace(text.find("E = 1000.0"), 10, "E = inf");
+  expect_refused(dir, dir.write("scene.toml", text),
+                 {"scene.toml:3:", "material[0].E", "expected a finite number", "found number inf"});
+}
+
+TEST(Hardening, F6ModulusOf1e308ExitsTwo) {
+  const TempDir dir("f6_e308");
+  std::string text = block("");
+  text.replace(text.find("E = 1000.0"), 10, "E = 1e308");
+  expect_refused(dir, dir.write("scene.toml", text),
+                 {"scene.toml:3:", "material[0].E", "in [1e-30, 1e30]", "found number 1e+308"});
+}
+
+TEST(Hardening, F6NanCoordinateInMshExitsTwo) {
+  const TempDir dir("f6_mshnan");
+  expect_refused(dir, msh_scene(dir, 19, "nan 0 0"),
+                 {"part.msh:19: expected a coordinate (a finite number)", "found 'nan'"});
+}
+
+TEST(Hardening, F6NanCoordinateInDatExitsTwo) {
+  const TempDir dir("f6_datnan");
+  expect_refused(dir, dat(dir, "2 nan 0 0 0 0 0"),
+                 {"model.dat:3:", "expected finite numbers on a node line", "found nan"});
+}
+
+TEST(Hardening, F6InfiniteModulusInDatExitsTwo) {
+  const TempDir dir("f6_datinf");
+  expect_refused(dir, dat(dir, "2 1 0 0 0 0 0", "", 0, "1 1 2 3 0 inf 1 0.3"),
+                 {"model.dat:6:", "expected E and thickness in [1e-30, 1e30]"});
+}
+
+TEST(Hardening, F6NanGapDirectionExitsTwo) {
+  // Refused at its line; the message calls a NaN direction "zero" (see the audit's report).
+  const TempDir dir("f6_gapdir");
+  expect_refused(dir, dat(dir, "2 1 0 0 0 0 0", "3 2 3 0 1 nan 1 1e6\n", 1),
+                 {"model.dat:8:", "gap element with a zero direction (nx, ny)"});
+}
+
+TEST(Hardening, F6RepeatedPolygonVertexExitsTwo) {
+  const TempDir dir("f6_vertex");
+  expect_refused(dir,
+                 dir.write("scene.toml", polygon("[[0.0, 0.0], [1.0, 0.0], [1.0, 0.0], [0.0, 1.0]]")),
+                 {"scene.toml:8:", "body[0].shape.points", "vertex 2 repeats vertex 3"});
+}
+
+TEST(Hardening, F6ZeroAreaTriangleInDatExitsTwo) {
+  const TempDir dir("f6_datarea");
+  expect_refused(dir, dat(dir, "2 0.5 0.5 0 0 0 0"),
+                 {"model.dat:6:", "an element of positive area", "found collinear corner nodes 1, 2, 3"});
+}
+
+TEST(Hardening, F6RepeatedNodeInDatElementExitsTwo) {
+  const TempDir dir("f6_datrepeat");
+  expect_refused(dir, dat(dir, "2 1 0 0 0 0 0", "", 0, "1 1 2 2 0 1000 1 0.3"),
+                 {"model.dat:6:", "an element with distinct nodes", "found node 2 twice"});
+}
+
+// NOT fixed: the same faults in a .msh file reach the solver and end with exit 1 and
+// "failed: the stiffness matrix has non-finite entries (... overflow double precision)".
+TEST(Hardening, DISABLED_F6ZeroAreaTriangleInMshExitsTwo) {
+  const TempDir dir("f6_msharea");
+  expect_refused(dir, msh_scene(dir, 36, "2 1 2 5"), {"part.msh:36:", "positive area"});
+}
+
+TEST(Hardening, DISABLED_F6RepeatedNodeInMshElementExitsTwo) {
+  const TempDir dir("f6_mshrepeat");
+  expect_refused(dir, msh_scene(dir, 36, "2 1 2 2"), {"part.msh:36:", "node 2 twice"});
+}
+
+// NOT fixed (finding 6's class, "every numeric input finite and in range"): a prescribed
+// displacement or a load of 1e308 ends exit 1 "failed: singular: solution is not finite".
+TEST(Hardening, DISABLED_F6PrescribedDisplacementOf1e308ExitsTwo) {
+  const TempDir dir("f6_uy308");
+  expect_refused(dir, dir.write("scene.toml", block("[[support]]\non = { edge = \"top\" }\nuy = 1e308\n")),
+                 {"scene.toml:15:", "support[1].uy"});
+}
+
+TEST(Hardening, DISABLED_F6PressureOf1e308ExitsTwo) {
+  const TempDir dir("f6_p308");
+  expect_refused(dir, dir.write("scene.toml", block("[[load]]\non = { edge = \"top\" }\npressure = 1e308\n")),
+                 {"scene.toml:15:", "load[0].pressure"});
+}
+
+// ---- Finding 7: output folders. ----
+
+TEST(Hardening, F7RefusalsAtEveryStageLeaveNoFolder) {
+  // Refused while parsing, in the .msh pre-parse and while building the model (after the work
+  // folder exists): exit 2 and neither the target nor a work folder remains.
+  const TempDir dir("f7_refused");
+  expect_refused(dir, dir.write("syntax.toml", "[[material]]\nname = \"s\"\nE = 1\nnu = 0.3.1\n"),
+                 {"syntax.toml:4:", "TOML syntax error"});
+  expect_refused(dir, msh_scene(dir, 17, "2147483648"), {"part.msh:17:"});
+  expect_refused(dir, dir.write("edge.toml", block("[[load]]\non = { edge = \"nowhere\" }\nforce = [0.0, 1.0]\n")),
+                 {"edge.toml:14:", "load[0].on", "no boundary edge named 'nowhere'"});
+}
+
+// NOT fixed: a refusal raised after the work folder is made (model building) leaves the
+// target's parent folders, which the run created, behind (empty).
+TEST(Hardening, DISABLED_F7RefusalLeavesNoNewParentFolders) {
+  const TempDir dir("f7_parents");
+  const std::string scene =
+      dir.write("edge.toml", block("[[load]]\non = { edge = \"nowhere\" }\nforce = [0.0, 1.0]\n"));
+  expect_outcome(run_c2d({"run", scene, "--out", dir / "a/b/out", "--quiet"}), 2, {"nowhere"});
+  EXPECT_FALSE(fs::exists(dir.path() / "a"));
+}
+
+TEST(Hardening, F7SigintIntoAnEarlierRunsFolderSaysInterrupted) {
+  // run.log is written as the run goes (the work folder's says "solving" before the signal);
+  // SIGINT ends with exit 130, the note on stderr, summary.json "interrupted", and the folder
+  // holds none of the earlier run's files.
+  const TempDir dir("f7_sigint");
+  const std::string out = dir / "out";
+  ASSERT_EQ(run_c2d({"run", example("hertz_rigid_fast.toml"), "--out", out, "--quiet"}).code, 0);
+  ASSERT_TRUE(fs::exists(fs::path(out) / "pressure.png"));
+  bool started = false;
+  const pid_t pid = start_long_run(out, &started);
+  ASSERT_GT(pid, 0);
+  EXPECT_TRUE(started) << "run.log never said 'solving'";
+  ::kill(pid, SIGINT);
+  EXPECT_EQ(wait_exit_code(pid), 130);
+  EXPECT_EQ(read_text(out + ".stderr"),
+            "interrupted: partial results and summary.json in the output folder\n");
+  EXPECT_EQ(summary(out)["status"], "interrupted");
+  EXPECT_NE(read_text(fs::path(out) / "run.log").find("solving"), std::string::npos);
+  EXPECT_FALSE(fs::exists(fs::path(out) / "pressure.png"));
+}
+
+TEST(Hardening, F7SigtermEndsAsInterruptedWithExit130) {
+  const TempDir dir("f7_sigterm");
+  const std::string out = dir / "out";
+  bool started = false;
+  const pid_t pid = start_long_run(out, &started);
+  ASSERT_GT(pid, 0);
+  EXPECT_TRUE(started);
+  ::kill(pid, SIGTERM);
+  EXPECT_EQ(wait_exit_code(pid), 130);
+  EXPECT_NE(read_text(out + ".stderr").find("interrupted: partial results"), std::string::npos);
+  EXPECT_EQ(summary(out)["status"], "interrupted");
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
+}
+
+// NOT fixed: after SIGINT into an existing folder the earlier run is left beside it as
+// OUT.part.PID.interrupted-aside, and no later run removes it.
+TEST(Hardening, DISABLED_F7SigintLeavesNoAsideFolder) {
+  const TempDir dir("f7_aside");
+  const std::string out = dir / "out";
+  ASSERT_EQ(run_c2d({"run", example("hertz_rigid_fast.toml"), "--out", out, "--quiet"}).code, 0);
+  bool started = false;
+  const pid_t pid = start_long_run(out, &started);
+  ASSERT_GT(pid, 0);
+  ::kill(pid, SIGINT);
+  EXPECT_EQ(wait_exit_code(pid), 130);
+  for (const auto& e : fs::directory_iterator(dir.path()))
+    EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
+}
+
+// ---- Finding 8: misleading messages. ----
+
+TEST(Hardening, F8OutputFolderThatCannotBeCreatedExitsTwo) {
+  const Outcome o = run_c2d({"run", example("hertz_rigid_fast.toml"), "--out", "/proc/c2d_hardening/x/out", "--quiet"});
+  expect_outcome(o, 2, {"/proc/c2d_hardening", "expected an output folder that can be created"});
+  EXPECT_EQ(o.text.find("filesystem error"), std::string::npos) << o.text;
+}
+
+TEST(Hardening, F8HugeNodeCountInMshExitsTwo) {
+  const TempDir dir("f8_mshnodes");
+  expect_refused(dir, msh_scene(dir, 15, "2 2000000000 1 6"),
+                 {"part.msh:15: expected a number of nodes that the 25 remaining lines can hold",
+                  "found 2000000000"});
+}
+
+TEST(Hardening, F8HugeElementCountInMshExitsTwo) {
+  const TempDir dir("f8_mshelements");
+  expect_refused(dir, msh_scene(dir, 32, "2 2000000000 1 5"),
+                 {"part.msh:32: expected a number of elements that the 8 remaining lines can hold",
+                  "found 2000000000"});
+}
+
+TEST(Hardening, F8HugeCountsInDatExitTwo) {
+  const TempDir dir("f8_dat");
+  expect_refused(dir, dir.write("nodes.dat", "200000000 1 1\n1 0 0 1 1 0 0\n"),
+                 {"nodes.dat:1: expected node and element counts that the file's 2 lines can hold",
+                  "found 200000000 and 1"});
+  expect_refused(dir, dir.write("huge.dat", "1e115 1 1\n1 0 0 1 1 0 0\n"),
+                 {"huge.dat:1: expected positive integer node and element counts"});
+  const std::string elements = "4 200000000 1\n1 0 0 1 1 0 0\n2 1 0 0 0 0 0\n3 1 1 0 0 0 -1\n"
+                               "4 0 1 1 1 0 0\n1 1 2 3 0 1000 1 0.3\n";
+  expect_refused(dir, dir.write("elements.dat", elements),
+                 {"elements.dat:1:", "found 4 and 200000000"});
+}
+
+TEST(Hardening, F8InvertedElementInALoadSteppedRunIsNamed) {
+  const TempDir dir("f8_inverted");
+  const Outcome o = run_c2d({"run", dir.write("scene.toml", crushed_block(false)), "--out", dir / "out", "--quiet"});
+  EXPECT_EQ(o.code, 1) << o.text;
+  const std::string status = summary(dir.path() / "out")["status"];
+  EXPECT_EQ(status.rfind("failed: inverted_element: load step to", 0), 0u) << status;
+  EXPECT_NE(status.find("element "), std::string::npos) << status;
+  EXPECT_NE(status.find("is inverted (J <= 0)"), std::string::npos) << status;
+  EXPECT_EQ(status.find("KINSOL"), std::string::npos) << status;
+}
+
+// NOT fixed: with contact, the same inversion ends ill_conditioned (penalty), max_iterations
+// (auglag), diverged (ipopt) or an unnamed "failed: ... KINSOL: KIN_LINSOLV_NO_RECOVERY"
+// (lagrange, ssn); only adaptive_penalty says inverted_element.
+TEST(Hardening, DISABLED_F8InvertedElementWithContactIsNamedForEveryMethod) {
+  const TempDir dir("f8_inverted_contact");
+  const std::string scene = dir.write("scene.toml", crushed_block(true));
+  for (const auto& method : kMethods) {
+    const Outcome o = run_c2d({"run", scene, "--method", method, "--out", dir / method, "--quiet"});
+    EXPECT_EQ(o.code, 1) << method << ": " << o.text;
+    const std::string status = summary(dir.path() / method)["status"];
+    EXPECT_EQ(status.rfind("failed: inverted_element", 0), 0u) << method << ": " << status;
+    EXPECT_EQ(status.find("KINSOL"), std::string::npos) << method << ": " << status;
+  }
+}
+
+TEST(Hardening, F8PullOffIsSingularForEveryMethodIncludingIpopt) {
+  const TempDir dir("f8_pulloff");
+  const std::string scene = dir.write(
+      "scene.toml",
+      "[analysis]\nkind = \"plane_strain\"\n[[material]]\nname = \"m\"\nE = 1000.0\nnu = 0.3\n"
+      "[[body]]\nname = \"b\"\nmaterial = \"m\"\n"
+      "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [1.0, 1.0] }\nmesh = { size = 0.3 }\n"
+      "[[support]]\non = { nearest = [0.0, 0.0] }\nfix = [\"ux\"]\n"
+      "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
+      "[[contact]]\nslave = { body = \"b\", edge = \"bottom\" }\nmaster = { obstacle = \"floor\" }\n"
+      "[[load]]\non = { body = \"b\", edge = \"top\" }\ntotal_force = [0.0, 1e-12]\n");
+  for (const auto& method : kMethods) {
+    const Outcome o = run_c2d({"run", scene, "--method", method, "--out", dir / method, "--quiet"});
+    EXPECT_EQ(o.code, 1) << method << ": " << o.text;
+    const std::string status = summary(dir.path() / method)["status"];
+    EXPECT_EQ(status.rfind("failed: singular", 0), 0u) << method << ": " << status;
+  }
+  EXPECT_NE(summary(dir.path() / "ipopt")["status"].get<std::string>().find("the minimiser is not unique"),
+            std::string::npos);
+}
