@@ -1,10 +1,13 @@
 #include "core/msh_check.hpp"
 
+#include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -220,10 +223,14 @@ class MshCheck {
       if (seen + n > total)
         r_.fail("blocks holding the declared " + std::to_string(total) + " nodes",
                 std::to_string(seen + n) + " nodes so far");
-      for (long long i = 0; i < n; ++i) add_node(r_.line(1, "a node tag")[0], lo, hi);
+      std::vector<long long> tags;
+      for (long long i = 0; i < n; ++i) tags.push_back(add_node(r_.line(1, "a node tag")[0], lo, hi));
       const size_t values = 3 + static_cast<size_t>(parametric ? dim : 0);
-      for (long long i = 0; i < n; ++i)
-        for (const std::string& v : r_.line(values, "node coordinates")) r_.real(v, "a coordinate");
+      for (long long i = 0; i < n; ++i) {
+        const std::vector<std::string> c = r_.line(values, "node coordinates");
+        for (const std::string& v : c) r_.real(v, "a coordinate");
+        xy_[tags[i]] = {r_.real(c[0], "a coordinate"), r_.real(c[1], "a coordinate")};
+      }
       seen += n;
     }
     end_blocks(seen, total, "nodes", "$EndNodes");
@@ -234,16 +241,18 @@ class MshCheck {
     const long long n = r_.count(r_.line(1, "the number of nodes")[0], "a number of nodes");
     for (long long i = 0; i < n; ++i) {
       const std::vector<std::string> t = r_.line(4, "node tag and x y z");
-      add_node(t[0], 1, kMaxTag);
+      const long long tag = add_node(t[0], 1, kMaxTag);
       for (int k = 1; k < 4; ++k) r_.real(t[k], "a coordinate");
+      xy_[tag] = {r_.real(t[1], "a coordinate"), r_.real(t[2], "a coordinate")};
     }
     r_.expect_marker("$EndNodes");
     seen_nodes_ = true;
   }
 
-  void add_node(const std::string& token, long long lo, long long hi) {
+  long long add_node(const std::string& token, long long lo, long long hi) {
     const long long tag = r_.integer(token, std::max(1LL, lo), hi, "a node tag");
     if (!nodes_.insert(tag).second) r_.fail("a node tag not used before", std::to_string(tag));
+    return tag;
   }
 
   void elements4() {
@@ -267,6 +276,7 @@ class MshCheck {
         const std::vector<std::string> e = r_.line(1 + per, "an element tag and its nodes");
         add_element(e[0]);
         for (int k = 1; k <= per; ++k) referenced_node(e[k]);
+        check_shape(t[2], e, 1, per);
       }
       seen += n;
     }
@@ -288,6 +298,7 @@ class MshCheck {
       for (long long k = 0; k < tags; ++k) r_.integer(t[3 + k], -kMaxTag, kMaxTag, "an element tag");
       if (tags > 0) r_.integer(t[3], 0, kMaxTag, "a physical tag");
       for (long long k = 0; k < per; ++k) referenced_node(t[3 + tags + k]);
+      check_shape(t[1], t, static_cast<size_t>(3 + tags), per);
     }
     r_.expect_marker("$EndElements");
     seen_elements_ = true;
@@ -317,6 +328,27 @@ class MshCheck {
     if (!nodes_.count(tag)) r_.fail("a node defined in $Nodes", "node " + std::to_string(tag));
   }
 
+  /// An element's nodes (tokens first..first+per of `t`) are distinct, and a triangle's (types 2
+  /// and 9) corners span a positive area: a degenerate element would reach the solver as a
+  /// singular or non-finite stiffness.
+  void check_shape(const std::string& type, const std::vector<std::string>& t, size_t first, int per) {
+    std::vector<long long> tags;
+    for (int k = 0; k < per; ++k) tags.push_back(std::stoll(t[first + k]));
+    for (int a = 0; a < per; ++a)
+      for (int b = a + 1; b < per; ++b)
+        if (tags[a] == tags[b])
+          r_.fail("distinct nodes in an element", "node " + std::to_string(tags[a]) + " twice");
+    if (type != "2" && type != "9") return;
+    const auto& p = xy_[tags[0]];
+    const auto& q = xy_[tags[1]];
+    const auto& r = xy_[tags[2]];
+    const double ux = q[0] - p[0], uy = q[1] - p[1], vx = r[0] - p[0], vy = r[1] - p[1];
+    const double scale = std::max({ux * ux + uy * uy, vx * vx + vy * vy,
+                                   (r[0] - q[0]) * (r[0] - q[0]) + (r[1] - q[1]) * (r[1] - q[1])});
+    if (!(std::abs(ux * vy - uy * vx) > 1e-12 * scale))
+      r_.fail("a triangle with positive area", "corners on one line (zero area)");
+  }
+
   /// An unknown section ($Periodic, $NodeData, ...): skipped to its end marker.
   void skip(const std::string& name) {
     while (true) {
@@ -328,6 +360,7 @@ class MshCheck {
 
   Reader r_;
   bool v4_ = false, seen_nodes_ = false, seen_elements_ = false;
+  std::unordered_map<long long, std::array<double, 2>> xy_;  ///< node coordinates by tag
   std::unordered_set<long long> nodes_, elements_;
 };
 

@@ -19,7 +19,9 @@ PlateSpec parse_plate(const TomlView& v, int index) {
   if (v.has("reference")) p.reference = v["reference"].vec2();
   p.normal_only = v["attach"].choice_or({"all", "normal"}, "all") == "normal";
   if (v.has("force")) p.force = v["force"].vec2();
+  if (!(p.force.cwiseAbs().maxCoeff() <= 1e30)) v["force"].fail("components of at most 1e30 in magnitude");
   p.moment = v["moment"].number_or(0.0);
+  if (!(std::abs(p.moment) <= 1e30)) v["moment"].fail("a value of at most 1e30 in magnitude");
   for (const auto& item : v["fix"].items()) {
     const std::string c = item.choice({"ux", "uy", "rotation"});
     (c == "ux" ? p.ux : c == "uy" ? p.uy : p.rotation) = 0.0;
@@ -28,6 +30,7 @@ PlateSpec parse_plate(const TomlView& v, int index) {
     if (!v.has(key)) return;
     if (value) v[key].fail_message(std::string(key) + " is both fixed and prescribed");
     value = v[key].number() * scale;
+    if (!(std::abs(*value) <= 1e30)) v[key].fail("a value of at most 1e30 in magnitude");
   };
   prescribed("ux", p.ux, 1.0);
   prescribed("uy", p.uy, 1.0);

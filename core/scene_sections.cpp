@@ -204,6 +204,24 @@ void parse_adapt(const TomlView& v, AdaptSpec& a) {
   if (!(a.limits.max_growth >= 1)) v["max_growth"].fail("a factor >= 1: the largest h_new / h per cycle");
 }
 
+namespace {
+
+/// Loads and prescribed displacements: finite (the reader's) and at most 1e30 in size, where
+/// E is bounded too: beyond, K u or the load vector overflows in any unit system.
+double bounded(const TomlView& v) {
+  const double x = v.number();
+  if (!(std::abs(x) <= 1e30)) v.fail("a value of at most 1e30 in magnitude");
+  return x;
+}
+
+Vec2 bounded_vec2(const TomlView& v) {
+  const Vec2 x = v.vec2();
+  if (!(x.cwiseAbs().maxCoeff() <= 1e30)) v.fail("components of at most 1e30 in magnitude");
+  return x;
+}
+
+}  // namespace
+
 ProbeSpec parse_probe(const TomlView& v) {
   v.check_keys({"name", "quantity", "at", "on", "reduce", "plate"});
   ProbeSpec p;
@@ -373,11 +391,11 @@ SupportSpec parse_support(const TomlView& s) {
   }
   if (s.has("ux")) {
     if (ss.ux) s["ux"].fail_message("ux is both fixed and prescribed");
-    ss.ux = s["ux"].number();
+    ss.ux = bounded(s["ux"]);
   }
   if (s.has("uy")) {
     if (ss.uy) s["uy"].fail_message("uy is both fixed and prescribed");
-    ss.uy = s["uy"].number();
+    ss.uy = bounded(s["uy"]);
   }
   if (s.has("rotate")) {
     if (ss.ux || ss.uy)
@@ -401,15 +419,15 @@ LoadSpec parse_load(const TomlView& l) {
   ls.at.where = l.where();
   ls.on = parse_selection(l["on"]);
   int kinds = 0;
-  if (l.has("force")) ls.kind = LoadSpec::Kind::kNodalForce, ls.vector = l["force"].vec2(), ++kinds;
+  if (l.has("force")) ls.kind = LoadSpec::Kind::kNodalForce, ls.vector = bounded_vec2(l["force"]), ++kinds;
   if (l.has("total_force"))
-    ls.kind = LoadSpec::Kind::kTotalForce, ls.vector = l["total_force"].vec2(), ++kinds;
+    ls.kind = LoadSpec::Kind::kTotalForce, ls.vector = bounded_vec2(l["total_force"]), ++kinds;
   if (l.has("traction"))
-    ls.kind = LoadSpec::Kind::kTraction, ls.vector = l["traction"].vec2(), ++kinds;
+    ls.kind = LoadSpec::Kind::kTraction, ls.vector = bounded_vec2(l["traction"]), ++kinds;
   if (l.has("pressure"))
-    ls.kind = LoadSpec::Kind::kPressure, ls.value = l["pressure"].number(), ++kinds;
+    ls.kind = LoadSpec::Kind::kPressure, ls.value = bounded(l["pressure"]), ++kinds;
   if (l.has("body_force"))
-    ls.kind = LoadSpec::Kind::kBodyForce, ls.vector = l["body_force"].vec2(), ++kinds;
+    ls.kind = LoadSpec::Kind::kBodyForce, ls.vector = bounded_vec2(l["body_force"]), ++kinds;
   if (kinds != 1)
     l.fail("exactly one of force, total_force, traction, pressure, body_force (found " +
            std::to_string(kinds) + ")");

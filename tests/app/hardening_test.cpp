@@ -442,27 +442,27 @@ TEST(Hardening, F6RepeatedNodeInDatElementExitsTwo) {
                  {"model.dat:6:", "an element with distinct nodes", "found node 2 twice"});
 }
 
-// NOT fixed: the same faults in a .msh file reach the solver and end with exit 1 and
-// "failed: the stiffness matrix has non-finite entries (... overflow double precision)".
-TEST(Hardening, DISABLED_F6ZeroAreaTriangleInMshExitsTwo) {
+// The same faults in a .msh file are refused by its pre-parse at the element's line (they
+// reached the solver: exit 1, "the stiffness matrix has non-finite entries").
+TEST(Hardening, F6ZeroAreaTriangleInMshExitsTwo) {
   const TempDir dir("f6_msharea");
   expect_refused(dir, msh_scene(dir, 36, "2 1 2 5"), {"part.msh:36:", "positive area"});
 }
 
-TEST(Hardening, DISABLED_F6RepeatedNodeInMshElementExitsTwo) {
+TEST(Hardening, F6RepeatedNodeInMshElementExitsTwo) {
   const TempDir dir("f6_mshrepeat");
   expect_refused(dir, msh_scene(dir, 36, "2 1 2 2"), {"part.msh:36:", "node 2 twice"});
 }
 
-// NOT fixed (finding 6's class, "every numeric input finite and in range"): a prescribed
-// displacement or a load of 1e308 ends exit 1 "failed: singular: solution is not finite".
-TEST(Hardening, DISABLED_F6PrescribedDisplacementOf1e308ExitsTwo) {
+// Finding 6's class, "every numeric input finite and in range": a prescribed displacement or a
+// load beyond 1e30 in size (it ended exit 1 "failed: singular: solution is not finite").
+TEST(Hardening, F6PrescribedDisplacementOf1e308ExitsTwo) {
   const TempDir dir("f6_uy308");
   expect_refused(dir, dir.write("scene.toml", block("[[support]]\non = { edge = \"top\" }\nuy = 1e308\n")),
                  {"scene.toml:15:", "support[1].uy"});
 }
 
-TEST(Hardening, DISABLED_F6PressureOf1e308ExitsTwo) {
+TEST(Hardening, F6PressureOf1e308ExitsTwo) {
   const TempDir dir("f6_p308");
   expect_refused(dir, dir.write("scene.toml", block("[[load]]\non = { edge = \"top\" }\npressure = 1e308\n")),
                  {"scene.toml:15:", "load[0].pressure"});
