@@ -3,11 +3,16 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
+#include <vector>
 
 #include "app/output_folder.hpp"
 #include "app/report/charts.hpp"
@@ -33,12 +38,38 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   refuse_file_as_folder(target_);
   fs::path folder = fs::absolute(target_).lexically_normal();
   if (!folder.has_filename()) folder = folder.parent_path();  // "out/" names "out"
-  create_output_folder(folder.parent_path().string());
-  dir_ = folder.string() + ".part." + std::to_string(::getpid());
+  // The folders this run creates above its target, removed again if it ends without a result.
   std::error_code ec;
+  for (fs::path p = folder.parent_path(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    created_parent_ = p.string();
+    if (p == p.parent_path()) break;
+  }
+  create_output_folder(folder.parent_path().string());
+  remove_stale_work_folders(folder);
+  dir_ = folder.string() + ".part." + std::to_string(::getpid());
   fs::remove_all(dir_, ec);
   create_output_folder(dir_);
   log_.open(dir_ + "/run.log");
+}
+
+void RunOutput::remove_stale_work_folders(const std::filesystem::path& folder) {
+  // A run killed outright (SIGKILL, a crash) leaves its work folder TARGET.part.PID; one
+  // interrupted leaves nothing, but an older version left TARGET.part.PID.interrupted-aside.
+  // Those of processes no longer alive belong to nobody.
+  namespace fs = std::filesystem;
+  const std::string prefix = folder.filename().string() + ".part.";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(folder.parent_path(), ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const std::string rest = name.substr(prefix.size());
+    size_t digits = 0;
+    while (digits < rest.size() && std::isdigit(static_cast<unsigned char>(rest[digits]))) ++digits;
+    if (digits == 0 || digits > 9) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(rest.substr(0, digits)));
+    const bool alive = ::kill(pid, 0) == 0 || errno == EPERM;
+    if (!alive || rest.size() > digits) fs::remove_all(e.path(), ec);
+  }
 }
 
 namespace {
@@ -46,6 +77,10 @@ namespace {
 // What the interrupt handler needs, prepared before it is installed: it may only call
 // async-signal-safe functions (open, write, close, rename, _exit).
 char g_work[4096], g_target[4096], g_aside[4096], g_summary[4096];
+// The earlier run's files under its set-aside name, deepest first, each NUL-terminated: the
+// handler unlinks them (and rmdirs the folders) so an interrupted run leaves one folder.
+char g_doomed[1 << 16];
+size_t g_doomed_size = 0;
 const char kInterrupted[] =
     "{\n  \"status\": \"interrupted\",\n  \"message\": \"SIGINT or SIGTERM before the run finished; "
     "the files are those written until then\"\n}\n";
@@ -58,6 +93,9 @@ extern "C" void on_interrupt(int) {
   }
   ::rename(g_target, g_aside);  // an earlier run's folder, if any, is set aside
   ::rename(g_work, g_target);
+  for (size_t at = 0; at < g_doomed_size; at += std::strlen(g_doomed + at) + 1)
+    if (::unlink(g_doomed + at) != 0) ::rmdir(g_doomed + at);
+  ::rmdir(g_aside);
   const char note[] = "interrupted: partial results and summary.json in the output folder\n";
   [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, note, sizeof note - 1);
   ::_exit(130);
@@ -70,10 +108,27 @@ void copy_path(char* to, const std::string& from) {
 }  // namespace
 
 void RunOutput::end_on_interrupt() {
+  namespace fs = std::filesystem;
   copy_path(g_work, dir_);
   copy_path(g_target, target_);
-  copy_path(g_aside, dir_ + ".interrupted-aside");
+  const std::string aside = dir_ + ".interrupted-aside";
+  copy_path(g_aside, aside);
   copy_path(g_summary, dir_ + "/summary.json");
+  // The earlier run's entries as they will be named once set aside, deepest first.
+  std::vector<std::string> doomed;
+  std::error_code ec;
+  if (fs::is_directory(target_, ec))
+    for (const auto& e : fs::recursive_directory_iterator(target_, ec))
+      doomed.push_back(aside + "/" + fs::relative(e.path(), target_, ec).string());
+  std::sort(doomed.begin(), doomed.end(), [](const std::string& a, const std::string& b) {
+    return a.size() > b.size();  // a folder's entries before the folder
+  });
+  g_doomed_size = 0;
+  for (const std::string& d : doomed) {
+    if (g_doomed_size + d.size() + 1 > sizeof g_doomed) break;  // the rest stays
+    std::memcpy(g_doomed + g_doomed_size, d.c_str(), d.size() + 1);
+    g_doomed_size += d.size() + 1;
+  }
   struct sigaction action {};
   action.sa_handler = on_interrupt;
   sigemptyset(&action.sa_mask);
@@ -83,8 +138,16 @@ void RunOutput::end_on_interrupt() {
 
 RunOutput::~RunOutput() {
   if (committed_) return;
+  namespace fs = std::filesystem;
   std::error_code ec;  // a run that ended in an exception leaves nothing behind
-  std::filesystem::remove_all(dir_, ec);
+  fs::remove_all(dir_, ec);
+  if (created_parent_.empty()) return;
+  // ... nor the folders it made above its target, where nothing else has appeared since.
+  for (fs::path p = fs::path(dir_).parent_path(); fs::is_empty(p, ec) && !ec; p = p.parent_path()) {
+    const bool last = p == fs::path(created_parent_);
+    fs::remove(p, ec);
+    if (last || ec) break;
+  }
 }
 
 void RunOutput::commit() {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -71,8 +72,12 @@ class RunOutput {
   void write_tables(const SceneRun& run);
   std::string write_charts(const SceneRun& run);
 
+  /// Removes the work folders of earlier runs into this target whose process is gone.
+  static void remove_stale_work_folders(const std::filesystem::path& folder);
+
   const core::Scene& scene_;
   std::string target_, dir_;
+  std::string created_parent_;  ///< the topmost folder this run created above its target
   bool committed_ = false;
   std::ofstream log_;
   Series step_files_, cycle_files_;

@@ -481,9 +481,9 @@ TEST(Hardening, F7RefusalsAtEveryStageLeaveNoFolder) {
                  {"edge.toml:14:", "load[0].on", "no boundary edge named 'nowhere'"});
 }
 
-// NOT fixed: a refusal raised after the work folder is made (model building) leaves the
-// target's parent folders, which the run created, behind (empty).
-TEST(Hardening, DISABLED_F7RefusalLeavesNoNewParentFolders) {
+// A refusal raised after the work folder is made (model building) removes the parent folders
+// the run created for its target (they were left behind, empty).
+TEST(Hardening, F7RefusalLeavesNoNewParentFolders) {
   const TempDir dir("f7_parents");
   const std::string scene =
       dir.write("edge.toml", block("[[load]]\non = { edge = \"nowhere\" }\nforce = [0.0, 1.0]\n"));
@@ -527,9 +527,29 @@ TEST(Hardening, F7SigtermEndsAsInterruptedWithExit130) {
     EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
 }
 
-// NOT fixed: after SIGINT into an existing folder the earlier run is left beside it as
-// OUT.part.PID.interrupted-aside, and no later run removes it.
-TEST(Hardening, DISABLED_F7SigintLeavesNoAsideFolder) {
+// After SIGINT into an existing folder the partial run replaces the earlier one whole: the
+// earlier run is no longer left beside it as OUT.part.PID.interrupted-aside.
+// A run killed outright leaves its work folder OUT.part.PID (and an older version left
+// OUT.part.PID.interrupted-aside after SIGINT): the next run into OUT removes those of processes
+// that are gone.
+TEST(Hardening, F7WorkFoldersOfDeadRunsAreRemovedByTheNextRun) {
+  const TempDir dir("f7_stale");
+  const std::string out = dir / "out";
+  const pid_t child = ::fork();
+  if (child == 0) ::_exit(0);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);  // a PID whose process is gone
+  const std::string stale = out + ".part." + std::to_string(child);
+  fs::create_directories(stale);
+  std::ofstream(stale + "/run.log") << "killed\n";
+  fs::create_directories(stale + ".interrupted-aside");
+  ASSERT_EQ(run_c2d({"run", example("hertz_rigid_fast.toml"), "--out", out, "--quiet"}).code, 0);
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_FALSE(fs::exists(stale + ".interrupted-aside"));
+  EXPECT_TRUE(fs::exists(out + "/summary.json"));
+}
+
+TEST(Hardening, F7SigintLeavesNoAsideFolder) {
   const TempDir dir("f7_aside");
   const std::string out = dir / "out";
   ASSERT_EQ(run_c2d({"run", example("hertz_rigid_fast.toml"), "--out", out, "--quiet"}).code, 0);

@@ -16,6 +16,7 @@
 #include "core/scene.hpp"
 #include "nonlinear/linear_static.hpp"
 #include "nonlinear/load_stepper.hpp"
+#include "scene_run.hpp"
 
 using namespace c2d;
 
@@ -56,28 +57,12 @@ reduce = "maxabs"
 )" + extra;
 }
 
-struct Solved {
-  core::Results results;
-  constraints::ContactReport report;
-};
+using Solved = test::SceneRun;
 
 Solved run(const std::string& text, const std::string& method, bool stepped = false) {
-  const core::Scene scene = core::parse_scene(text, "mpc.toml");
-  const core::Model model = core::build_model(scene);
-  const constraints::ContactSet set(model, constraints::parse_contact_scene(scene, method),
-                                    scene);
-  Solved r;
-  if (stepped) {
-    nonlinear::StepperOptions o;
-    o.steps = scene.analysis.steps;
-    r.results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, o, nullptr, &set,
-                                                     &r.report);
-  } else {
-    r.results = nonlinear::solve_linear_static(model, scene.analysis, &set, &r.report);
-  }
-  if (r.results.status == SolveStatus::kConverged)
-    r.results.probes = core::evaluate_probes(scene, model, r.results);
-  return r;
+  core::Scene scene = core::parse_scene(text, "mpc.toml");
+  scene.analysis.geometric_nonlinearity = stepped;
+  return test::run_scene(scene, method);
 }
 
 // A point force on the top-right corner; the top edge held to one uy.

@@ -19,32 +19,16 @@
 #include "core/scene.hpp"
 #include "nonlinear/linear_static.hpp"
 #include "nonlinear/load_stepper.hpp"
+#include "scene_run.hpp"
 
 using namespace c2d;
 
 namespace {
 
-struct Solved {
-  core::Results results;
-  constraints::ContactReport report;
-  std::vector<nonlinear::StepRecord> trace;
-};
+using Solved = test::SceneRun;
 
 Solved run(const core::Scene& scene, const std::string& method) {
-  const core::Model model = core::build_model(scene);
-  const constraints::ContactSet set(model, constraints::parse_contact_scene(scene, method), scene);
-  Solved r;
-  if (scene.analysis.geometric_nonlinearity) {
-    nonlinear::StepperOptions o;
-    o.steps = scene.analysis.steps;
-    r.results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, o, &r.trace, &set,
-                                                     &r.report);
-  } else {
-    r.results = nonlinear::solve_linear_static(model, scene.analysis, &set, &r.report);
-  }
-  if (r.results.status == SolveStatus::kConverged)
-    r.results.probes = core::evaluate_probes(scene, model, r.results);
-  return r;
+  return test::run_scene(scene, method);
 }
 
 // L = 1000, h = 10, t = 10, E = 210,000, ν = 0: EI = 1.75e8 N mm².
