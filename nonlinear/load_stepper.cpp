@@ -75,8 +75,19 @@ class LoadStepper {
     if (ok && options_.on_state) emit_state(rec);
     if (!ok && give_up) {
       r_.status = rec.newton.status;
+      std::string why = rec.newton.message;
+      // A contact method that stopped on the linearised problem (a penalty out of range, an
+      // iteration cap) may have stopped because the load crushes an element: its trial state
+      // says so.
+      VecX f;
+      if (r_.status != SolveStatus::kInvertedElement && with_contact_ &&
+          cstep.u_free.size() == u_free_.size() &&
+          !system_.internal_force(system_.full(cstep.u_free), f)) {
+        r_.status = SolveStatus::kInvertedElement;
+        why = "in the method's last trial state " + system_.evaluation_failure() + "; " + why;
+      }
       r_.message = "load step to λ = " + std::to_string(target) + " failed after " +
-                   std::to_string(cutbacks_) + " cutbacks (" + rec.newton.message + ")";
+                   std::to_string(cutbacks_) + " cutbacks (" + why + ")";
       return false;
     }
     return true;

@@ -86,7 +86,8 @@ void error_handler(int, const char*, const char*, char* msg, void* data) {
 /// recoverable failures, or a failed setup): an input or step-size fault, said where.
 void name_evaluation_failure(int flag, const NewtonSystem& system, NewtonReport& report) {
   const bool evaluation = flag == KIN_FIRST_SYSFUNC_ERR || flag == KIN_REPTD_SYSFUNC_ERR ||
-                          flag == KIN_SYSFUNC_FAIL || flag == KIN_LSETUP_FAIL;
+                          flag == KIN_SYSFUNC_FAIL || flag == KIN_LSETUP_FAIL ||
+                          flag == KIN_LSOLVE_FAIL || flag == KIN_LINSOLV_NO_RECOVERY;
   const std::string why = evaluation ? system.evaluation_failure() : std::string();
   if (why.empty()) return;
   report.status = SolveStatus::kInvertedElement;
@@ -103,6 +104,9 @@ SolveStatus map_flag(int flag, std::string& message) {
     case KIN_MXNEWT_5X_EXCEEDED: message = "five maximal Newton steps in a row"; return SolveStatus::kDiverged;
     case KIN_LSETUP_FAIL:
     case KIN_LSOLVE_FAIL: message = "the Newton system could not be factorised"; return SolveStatus::kSingular;
+    case KIN_LINSOLV_NO_RECOVERY:
+      message = "the Newton system could not be solved at a freshly factorised Jacobian";
+      return SolveStatus::kSingular;
     default: {
       char* name = KINGetReturnFlagName(flag);
       message = std::string("KINSOL: ") + (name ? name : "error");

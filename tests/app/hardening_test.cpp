@@ -608,9 +608,10 @@ TEST(Hardening, F8InvertedElementInALoadSteppedRunIsNamed) {
   EXPECT_EQ(status.find("KINSOL"), std::string::npos) << status;
 }
 
-// NOT fixed: with contact, the same inversion ends ill_conditioned (penalty), max_iterations
-// (auglag), diverged (ipopt) or an unnamed "failed: ... KINSOL: KIN_LINSOLV_NO_RECOVERY"
-// (lagrange, ssn); only adaptive_penalty says inverted_element.
+// NOT fixed for every method: with contact, the same inversion ends inverted_element with
+// adaptive_penalty and ipopt (its last trial state inverts an element), but ill_conditioned
+// (penalty), max_iterations (auglag) and singular, "the Newton system could not be solved"
+// (lagrange, ssn; it was an unnamed "KINSOL: KIN_LINSOLV_NO_RECOVERY").
 TEST(Hardening, DISABLED_F8InvertedElementWithContactIsNamedForEveryMethod) {
   const TempDir dir("f8_inverted_contact");
   const std::string scene = dir.write("scene.toml", crushed_block(true));
