@@ -1,5 +1,7 @@
 #include "core/mesh_budget.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -91,6 +93,12 @@ double estimate_elements(const BodySpec& b) {
   double smallest = h;
   for (const auto& r : b.refine) smallest = std::min(smallest, r.size);
   return std::min(n, area / (kTriangle * smallest * smallest));
+}
+
+double default_max_elements() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  const double memory = pages > 0 && page > 0 ? static_cast<double>(pages) * page : 0.0;
+  return memory > 0 ? std::min(20e6, std::floor(memory / kBytesPerElement)) : 20e6;
 }
 
 }  // namespace c2d::core

@@ -144,7 +144,8 @@ struct AnalysisSpec {
   /// Newton iterations per KINSOL solve before a load step is cut back.
   int max_newton_iterations = 25;
   /// Largest mesh, in triangles, a body's sizes may ask for (estimated before meshing).
-  double max_elements = 20e6;
+  /// 0: the default, 2·10⁷ or what the machine's memory holds (core/mesh_budget.hpp).
+  double max_elements = 0.0;
 };
 
 /// The error-driven adaptive loop (`[adapt]`, or `contact2d run --adapt`): solve, estimate

@@ -293,8 +293,12 @@ void check_mesh_budget(const TomlView& mesh, const AnalysisSpec& analysis, const
   const auto refine = mesh["refine"].items();
   for (size_t i = 0; i < bs.refine.size(); ++i) resolvable(bs.refine[i].size, refine[i]["size"]);
   const double estimate = estimate_elements(bs);
-  if (estimate > analysis.max_elements)
-    mesh.fail("a mesh of at most analysis.max_elements = " + std::to_string(analysis.max_elements) +
+  const bool given = analysis.max_elements > 0;
+  const double limit = given ? analysis.max_elements : default_max_elements();
+  if (estimate > limit)
+    mesh.fail("a mesh of at most analysis.max_elements = " +
+              std::to_string(static_cast<long long>(limit)) +
+              (given ? std::string() : std::string(" (the default: what this machine's memory holds)")) +
               " triangles; these sizes (after analysis.mesh_scale = " +
               std::to_string(analysis.mesh_scale) + ") give about " +
               std::to_string(static_cast<long long>(std::min(estimate, 9e18))));
