@@ -14,16 +14,14 @@ void ContactSet::check_plate_rows() {
   const VecX u = core::prescribed_displacement(model_, 1.0);
   std::vector<EqualityRow> rows;
   for (size_t p = 0; p < model_.plates.size(); ++p) {
-    const size_t first = rows.size();
+    rows.clear();
     rigid_plate_rows(model_, static_cast<int>(p), u, true, rows);
-    for (size_t k = first; k < rows.size(); ++k) {
+    const VecX values = equality_values(rows, u);
+    for (size_t k = 0; k < rows.size(); ++k) {
       bool free = false;
-      double value = -rows[k].rhs;
-      for (const auto& [dof, a] : rows[k].terms) {
-        free = free || (a != 0.0 && !dofs.is_constrained(dof));
-        value += a * u[dof];
-      }
+      for (const auto& [dof, a] : rows[k].terms) free = free || (a != 0.0 && !dofs.is_constrained(dof));
       plate_row_kept_.push_back(free);
+      const double value = values[static_cast<int>(k)];
       if (!free && std::abs(value) > 1e-9 * model_.model_size)
         throw InputError(model_.plates[p].where + ": the plate's prescribed motion moves node " +
                          std::to_string(model_.plates[p].nodes[0] + 1) +

@@ -44,15 +44,10 @@ PlateSpec parse_plate(const TomlView& v, int index) {
 
 namespace {
 
-/// Unit normal of a boundary edge pointing away from its element.
+/// Unit outward normal of a boundary edge: (t_y, −t_x), its element being on the left.
 Vec2 outward_normal(const Mesh& mesh, const BoundaryEdge& be) {
-  const Vec2 a = mesh.nodes[be.nodes[0]], b = mesh.nodes[be.nodes[1]];
-  Vec2 n(b.y() - a.y(), a.x() - b.x());
-  n.normalize();
-  Vec2 centroid = Vec2::Zero();
-  const auto& el = mesh.elements[be.element];
-  for (int i = 0; i < 3; ++i) centroid += mesh.nodes[el[i]] / 3.0;
-  return n.dot(centroid - a) > 0 ? Vec2(-n) : n;
+  const Vec2 t = mesh.nodes[be.nodes[1]] - mesh.nodes[be.nodes[0]];
+  return Vec2(t.y(), -t.x()).normalized();
 }
 
 RigidPlate make_plate(const PlateSpec& spec, const Model& model, int dof) {

@@ -11,13 +11,14 @@ namespace c2d::nonlinear {
 using namespace c2d::core;
 
 FiniteStrainSystem::FiniteStrainSystem(const Model& model)
-    : model_(model), assembler_(model.mesh, model.dofs),
-      f_ext_free_(model.dofs.restrict(model.external_force)) {
-  load_scale_ = f_ext_free_.size() ? f_ext_free_.cwiseAbs().maxCoeff() : 0.0;
+    : model_(model), assembler_(model.mesh, model.dofs), f_dead_(model.external_force) {
+  const VecX all = model.dofs.restrict(model.external_force);
+  load_scale_ = all.size() ? all.cwiseAbs().maxCoeff() : 0.0;
   extra_ = !model.springs.empty() || model.follower_matrix.nonZeros() > 0;
-  if (model.follower_matrix.nonZeros() == 0) return;
   // The follower pressures act at the current positions: only the dead loads stay in f_ext.
-  f_ext_free_ = model.dofs.restrict(model.external_force - model.follower_reference);
+  if (model.follower_matrix.nonZeros() > 0) f_dead_ -= model.follower_reference;
+  f_ext_free_ = model.dofs.restrict(f_dead_);
+  if (model.follower_matrix.nonZeros() == 0) return;
   std::vector<Eigen::Triplet<double>> t;
   for (int k = 0; k < model.follower_matrix.outerSize(); ++k)
     for (SpMat::InnerIterator it(model.follower_matrix, k); it; ++it) {

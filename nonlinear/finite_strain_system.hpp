@@ -38,6 +38,9 @@ class FiniteStrainSystem final : public StructuralSystem {
   const SpMat& matrix() const override { return extra_ ? tangent_ : assembler_.matrix(); }
   /// The largest external load at λ = 1 (dead and follower, reference values).
   double load_scale() const { return load_scale_; }
+  /// The dead loads at λ = 1 (full): the external force less the follower pressures, which
+  /// internal_force counts at the current positions.
+  const VecX& dead_load() const { return f_dead_; }
   /// The load step's linearisation about the converged full state u0 (with its own prescribed
   /// values): assembles K_T(u0) into matrix() and returns the out-of-balance force at the
   /// current load factor, the prescribed increment carried as a lift:
@@ -65,7 +68,7 @@ class FiniteStrainSystem final : public StructuralSystem {
   core::SpdSolver solver_;
   constraints::KktSolver lu_;  ///< with follower loads
   double load_scale_ = 0.0;
-  VecX f_ext_free_, u_prescribed_;
+  VecX f_dead_, f_ext_free_, u_prescribed_;
   double lambda_ = 0.0;
 };
 

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "core/error_estimator.hpp"
+#include "core/errors.hpp"
 #include "core/stopwatch.hpp"
 #include "core/stress_recovery.hpp"
 #include "nonlinear/finite_strain_system.hpp"
@@ -177,9 +178,7 @@ class LoadStepper {
     system_.internal_force(out.displacement, f_int);
     out.reaction = VecX::Zero(model_.dofs.num_dofs());
     // f_int holds the follower pressures at the current positions: only the dead loads remain.
-    const VecX dead = model_.follower_reference.size()
-                          ? VecX(model_.external_force - model_.follower_reference)
-                          : model_.external_force;
+    const VecX& dead = system_.dead_load();
     for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
       if (model_.dofs.is_constrained(dof)) out.reaction[dof] = f_int[dof] - lam * dead[dof];
     out.element_stresses = compute_element_stresses(mesh, model_.materials, out.displacement, true);
@@ -260,6 +259,11 @@ Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analys
                                   const StepperOptions& options, std::vector<StepRecord>* trace,
                                   const constraints::ContactSet* contact,
                                   constraints::ContactReport* contact_report) {
+  if (contact && !contact->empty() && model.follower_matrix.nonZeros() > 0)
+    throw InputError(model.follower_where +
+                     ": follower = true: expected a load-stepped run without [[contact]], "
+                     "[[constraint]] or [[plate]] (their methods take a symmetric tangent; a "
+                     "follower pressure's is not), found both");
   return LoadStepper(model, analysis, options, trace, contact).run(contact_report);
 }
 

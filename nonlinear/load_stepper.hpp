@@ -44,7 +44,8 @@ struct StepperOptions {
 };
 
 /// Solves from λ = 0 to 1. On failure the results hold the last converged step, with the status
-/// and message of the failure. Never throws on a numerical failure. With `contact`, every step
+/// and message of the failure. Never throws on a numerical failure; throws InputError (at the
+/// follower load) when the model has follower pressures and `contact` holds rows. With `contact`, every step
 /// runs the outer active-set iterations of solve_contact_step; `contact_report` gets the state
 /// of the last converged step.
 core::Results solve_geometric_nonlinear(const core::Model& model, const core::AnalysisSpec& analysis,

@@ -23,11 +23,6 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
   if (!run->contact_spec.empty() || !model.plates.empty() ||
       (scene.explicit_model && !scene.explicit_model->gaps.empty()))
     run->contact = std::make_unique<constraints::ContactSet>(model, run->contact_spec, scene);
-  if (run->contact && scene.analysis.geometric_nonlinearity && model.follower_matrix.nonZeros() > 0)
-    throw InputError(model.follower_where +
-                     ": follower = true: expected a load-stepped run without [[contact]], "
-                     "[[constraint]] or [[plate]] (their methods take a symmetric tangent; a "
-                     "follower pressure's is not), found both");
   if (!method.empty() && !run->contact)
     throw InputError("--method " + method + ": the scene has no [[contact]] to enforce");
   say("solving " + std::to_string(model.dofs.num_free()) + " equations" +

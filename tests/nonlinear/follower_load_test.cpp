@@ -12,7 +12,10 @@
 #include <cmath>
 #include <string>
 
+#include "constraints/contact_scene.hpp"
+#include "constraints/contact_set.hpp"
 #include "core/elasticity_kernels.hpp"
+#include "core/errors.hpp"
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/scene.hpp"
@@ -117,5 +120,29 @@ TEST(FollowerLoad, TurnedBlockUnderAFollowerPressureIsExact) {
     int newton = 0;
     for (const auto& s : trace) newton += s.newton.iterations;
     EXPECT_LE(newton, 5 * 8) << element;  // measured: 4 a step
+  }
+}
+
+// With contact, constraints or plates the methods' Newton solves take a symmetric tangent, which
+// a follower pressure's is not: the load-stepped solve refuses the combination at the load.
+TEST(FollowerLoad, RefusedWithConstraintsInALoadSteppedRun) {
+  const core::Scene scene = core::parse_scene(block("T3", 100.0) + R"(
+[[constraint]]
+type = "equal"
+on = { body = "b", edge = "top" }
+dof = "uy"
+)", "follower.toml");
+  const core::Model model = core::build_model(scene);
+  const constraints::ContactSet set(model, constraints::parse_contact_scene(scene, ""), scene);
+  nonlinear::StepperOptions o;
+  o.steps = scene.analysis.steps;
+  try {
+    nonlinear::solve_geometric_nonlinear(model, scene.analysis, o, nullptr, &set);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("follower.toml:"), std::string::npos) << what;
+    EXPECT_NE(what.find("load[0]"), std::string::npos) << what;
+    EXPECT_NE(what.find("symmetric tangent"), std::string::npos) << what;
   }
 }
