@@ -40,6 +40,20 @@ struct ConstrainedProblem {
   /// penalties do not drift with K_T and an outer iteration that changes no active set
   /// confirms the step instead of posing a slightly different problem.
   VecX gap_row_stiffness;
+  /// Friction (all empty: frictionless; see constraints/friction_solver.hpp). Per gap row i,
+  /// the tangential row T_i: the slave's displacement relative to the master along the tangent
+  /// t (the normal turned clockwise), so s = slip0 + T u is the row's slip in the step (from the
+  /// last converged state). The friction force λ_t opposes it: the structure receives −T_iᵀ λ_t,
+  /// |λ_t| ≤ μ_i λ_i (Coulomb) or ≤ friction_bound_i (Tresca, when > 0), and a row that slips
+  /// carries the bound in the direction of its slip.
+  SpMat slip_jacobian;        ///< T: m x n
+  VecX slip0;                 ///< m
+  VecX friction_coefficient;  ///< m: μ (0 with no bound: a frictionless row)
+  VecX friction_bound;        ///< m: Tresca bound as a force (0: Coulomb)
+  VecX tangent_penalty_ratio; ///< m: k_t / k of penalty-type methods
+  /// m: the friction force each row carried at the last converged state (the penalty's
+  /// elastic tangential spring: its return map starts from it); empty: none.
+  VecX tangent_force0;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.
@@ -48,6 +62,8 @@ struct ConstrainedProblem {
   int num_unknowns() const { return static_cast<int>(load.size()); }
   int num_equalities() const { return static_cast<int>(eq_rhs.size()); }
   int num_gaps() const { return static_cast<int>(gap0.size()); }
+  /// Whether some gap row has friction.
+  bool has_friction() const;
 
   /// Local stiffness of each row: Σ_j a_ij² K_jj / Σ_j a_ij². For a contact row this is the
   /// assembled stiffness of the elements around the slave node (and its master nodes), the
@@ -74,7 +90,11 @@ struct IterationRecord {
   double max_penetration = 0; ///< max(0, −g) over the rows
   double penalty = 0;         ///< largest penalty / augmentation stiffness in use (0: none)
   double residual = 0;        ///< backend-specific: KKT or complementarity residual
+  int stick = 0, slip = 0;    ///< frictional rows: active rows that stick and that slip
 };
+
+/// The state of a frictional row: open (no normal force), stick, or slip.
+enum class FrictionState : char { kOpen = 0, kStick = 1, kSlip = 2 };
 
 struct ConstraintSolution {
   SolveStatus status = SolveStatus::kFailed;
@@ -88,6 +108,11 @@ struct ConstraintSolution {
   VecX eq_penalty;            ///< m_eq: penalty stiffness per equality row (penalty-type methods)
   VecX penalty;               ///< m: penalty stiffness used per row (penalty-type methods)
   std::vector<char> active;   ///< m: 1 where the row carries force
+  /// Friction (empty when the problem has none): per row the friction force λ_t (against the
+  /// slip along t), the slip s = slip0 + T u, and the row's FrictionState.
+  VecX tangent_force;
+  VecX slip;
+  std::vector<FrictionState> friction_state;
   int iterations = 0;
   int factorizations = 0;
   /// Time in the linear solver, summed over the solve: symbolic analyses, numeric

@@ -84,6 +84,30 @@ EqualitySpec parse_equality(const TomlView& v, int index) {
 
 }  // namespace
 
+namespace {
+
+FrictionSpec parse_friction(const TomlView& v, const ContactPairSpec& c) {
+  v.require_table();
+  v.check_keys({"coefficient", "bound", "penalty_ratio"});
+  FrictionSpec f;
+  if (v.has("coefficient") == v.has("bound"))
+    v.fail("one of coefficient (Coulomb) or bound (Tresca)");
+  if (v.has("coefficient")) {
+    f.coefficient = v["coefficient"].number();
+    if (!(f.coefficient >= 0 && f.coefficient <= 1e6))
+      v["coefficient"].fail("a friction coefficient >= 0");
+  } else {
+    f.bound = v["bound"].positive();
+    if (c.detection == "node_to_node")
+      v["bound"].fail("a coefficient: a Tresca bound is a shear traction and node_to_node has "
+                      "no slave surface to spread it over");
+  }
+  if (v.has("penalty_ratio")) f.penalty_ratio = v["penalty_ratio"].positive();
+  return f;
+}
+
+}  // namespace
+
 ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string& method) {
   ContactSceneSpec spec;
   if (scene.explicit_model) {
@@ -114,7 +138,7 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
     for (const auto& v : root["contact"].tables()) {
       v.check_keys({"name", "slave", "master", "detection", "direction", "search_distance",
                     "method", "penalty", "auglag", "ipopt", "tolerance", "relative_tolerance",
-                    "max_iterations"});
+                    "max_iterations", "friction"});
       ContactPairSpec c;
       c.where = v.where();
       c.name = v["name"].string_or("contact" + std::to_string(spec.pairs.size() + 1));
@@ -145,6 +169,7 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
         c.direction->normalize();
       }
       if (v.has("search_distance")) c.search_distance = v["search_distance"].positive();
+      if (v.has("friction")) c.friction = parse_friction(v["friction"], c);
       adopt_options(v, "[[contact]]");
       spec.pairs.push_back(c);
     }

@@ -14,6 +14,15 @@
 
 namespace c2d::constraints {
 
+/// A pair's friction (docs/scene.md): Coulomb with `coefficient`, or Tresca with a fixed bound
+/// on the shear traction; neither: frictionless.
+struct FrictionSpec {
+  double coefficient = 0.0;    ///< Coulomb μ
+  double bound = 0.0;          ///< Tresca: the largest shear traction (force per unit area)
+  double penalty_ratio = 1.0;  ///< penalty-type methods: k_t / k
+  bool enabled() const { return coefficient > 0 || bound > 0; }
+};
+
 struct ContactPairSpec {
   std::string name;
   core::SelectionSpec slave;
@@ -22,6 +31,7 @@ struct ContactPairSpec {
   std::string detection = "node_to_segment";  ///< node_to_segment | node_to_node
   std::optional<Vec2> direction;              ///< node_to_node: fixed direction master -> slave
   double search_distance = -1.0;              ///< < 0: automatic
+  FrictionSpec friction;
   std::string where;
 };
 

@@ -45,6 +45,24 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
   for (const auto& e : slave_edges_) shortest = std::min(shortest, chord(mesh.nodes, e));
   if (shortest == 1e300) shortest = mesh.edge_length_range().first;
   length_scale_ = shortest > 0 && shortest < 1e300 ? shortest : model.model_size * 1e-3;
+  // Each slave node's share of the slave surface (a Tresca bound is a traction over it).
+  tributary_.assign(mesh.num_nodes(), 0.0);
+  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    const MasterEdge& e = slave_edges_[k];
+    const double a = chord(mesh.nodes, e) * slave_edge_thickness_[k];
+    if (e.count == 3) {
+      tributary_[e.nodes[0]] += a / 6, tributary_[e.nodes[1]] += a / 6;
+      tributary_[e.nodes[2]] += 2 * a / 3;
+    } else {
+      tributary_[e.nodes[0]] += a / 2, tributary_[e.nodes[1]] += a / 2;
+    }
+  }
+}
+
+bool ContactSet::has_friction() const {
+  for (const ContactPairSpec& c : spec_.pairs)
+    if (c.friction.enabled()) return true;
+  return false;
 }
 
 void ContactSet::add_slave_edges(const ContactPairSpec& cs, bool required) {
@@ -100,7 +118,7 @@ std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain) const {
 
 ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
                                        const std::vector<GapRow>& rows, const VecX& u_full,
-                                       bool small_strain) const {
+                                       bool small_strain, const VecX* u_reference) const {
   const core::DofMap& dofs = model_.dofs;
   ConstrainedProblem p;
   p.stiffness = k_ff;
@@ -127,6 +145,7 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   }
   p.gap_jacobian = SpMat(m, dofs.num_free());
   p.gap_jacobian.setFromTriplets(t.begin(), t.end());
+  if (has_friction()) add_friction_rows(rows, u_full, u_reference, p);
   // The equality rows: A u_f = b − (their prescribed DOFs' part).
   const std::vector<EqualityRow> equalities = equality_rows_at(u_full, small_strain);
   const int me = static_cast<int>(equalities.size());
@@ -148,6 +167,44 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   p.length_scale = length_scale_;
   p.model_size = model_.model_size;
   return p;
+}
+
+void ContactSet::add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
+                                   const VecX* u_reference, ConstrainedProblem& p) const {
+  // The tangential row of a gap row: each coefficient turned clockwise (c → (c_y, −c_x)), so
+  // its slip is along the normal turned clockwise; the slip is measured from u_reference.
+  const core::DofMap& dofs = model_.dofs;
+  const int m = static_cast<int>(rows.size());
+  std::vector<Eigen::Triplet<double>> t;
+  p.slip0 = VecX::Zero(m);
+  p.friction_coefficient = VecX::Zero(m);
+  p.friction_bound = VecX::Zero(m);
+  p.tangent_penalty_ratio = VecX::Ones(m);
+  for (int i = 0; i < m; ++i) {
+    const GapRow& r = rows[i];
+    double s0 = 0.0;
+    for (const auto& [node, coefficient] : r.terms) {
+      const Vec2 a(coefficient.y(), -coefficient.x());
+      for (int c = 0; c < 2; ++c) {
+        const int dof = 2 * node + c;
+        if (a[c] == 0.0) continue;
+        const double ref = u_reference ? (*u_reference)[dof] : 0.0;
+        const int eq = dofs.equation(dof);
+        if (eq >= 0)
+          t.emplace_back(i, eq, a[c]), s0 -= a[c] * ref;
+        else
+          s0 += a[c] * (u_full[dof] - ref);
+      }
+    }
+    p.slip0[i] = s0;
+    if (r.pair >= static_cast<int>(spec_.pairs.size())) continue;  // the seed's gap elements
+    const FrictionSpec& f = spec_.pairs[r.pair].friction;
+    p.friction_coefficient[i] = f.coefficient;
+    p.tangent_penalty_ratio[i] = f.penalty_ratio;
+    if (f.bound > 0) p.friction_bound[i] = f.bound * (r.weight > 0 ? r.weight : tributary_[r.slave]);
+  }
+  p.slip_jacobian = SpMat(m, dofs.num_free());
+  p.slip_jacobian.setFromTriplets(t.begin(), t.end());
 }
 
 SpMat ContactSet::gap_jacobian(const std::vector<GapRow>& rows) const {
@@ -344,6 +401,10 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     cn.penalty = std::max(cn.penalty, s.penalty.size() > k ? s.penalty[k] : 0.0);
     cn.active = cn.active || (static_cast<int>(s.active.size()) > k && s.active[k]);
     mortar_weight[at] += rows[i].weight;
+    if (s.tangent_force.size() > k) cn.tangent_force -= s.tangent_force[k];
+    if (s.slip.size() > k) cn.slip = s.slip[k], cn.accumulated_slip = std::abs(cn.slip);
+    if (static_cast<int>(s.friction_state.size()) > k)
+      cn.state = std::max(cn.state, s.friction_state[k]);
   }
   std::vector<char> mortar_edge(slave_edges_.size(), 0);
   for (size_t k = 0; k < slave_edges_.size(); ++k) {
@@ -372,7 +433,13 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
   r.active_nodes = 0;
   r.total_force = 0.0;
   r.p_max = 0.0;
+  r.friction = has_friction();
+  r.stick_nodes = r.slip_nodes = 0;
+  r.tangent_force = 0.0;
   for (const ContactNodeResult& cn : r.nodes) {
+    r.tangent_force += cn.tangent_force;
+    r.stick_nodes += cn.state == FrictionState::kStick;
+    r.slip_nodes += cn.state == FrictionState::kSlip;
     r.active_nodes += cn.active;
     r.total_force += cn.force;
     r.p_max = std::max(r.p_max, cn.pressure);
@@ -391,17 +458,23 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
   for (size_t k = 0; k < slave_edges_.size(); ++k)
     if (!mortar_edge[k]) edges.push_back(slave_edges_[k]), thickness.push_back(slave_edge_thickness_[k]);
   const int n = static_cast<int>(r.nodes.size());
-  VecX force(n);
+  VecX force(n), tangent(n);
   std::vector<char> active(r.nodes.size(), 0);
   for (int i = 0; i < n; ++i) {
     if (r.nodes[i].gap == 1e300) r.nodes[i].gap = 0.0;  // no master within reach
     force[i] = mortar_weight[i] > 0 ? 0.0 : r.nodes[i].force;
+    tangent[i] = mortar_weight[i] > 0 ? 0.0 : r.nodes[i].tangent_force;
     active[i] = mortar_weight[i] > 0 ? 0 : r.nodes[i].active;
   }
   const VecX p = recover_pressure(model_.mesh.nodes, edges, thickness, slave_nodes_, force, active);
+  const VecX q = has_friction() ? recover_pressure(model_.mesh.nodes, edges, thickness,
+                                                   slave_nodes_, tangent, active)
+                                : VecX(VecX::Zero(n));
   // Mortar rows: the multiplier is the pressure's integral against the row's hat.
-  for (int i = 0; i < n; ++i)
+  for (int i = 0; i < n; ++i) {
     r.nodes[i].pressure = mortar_weight[i] > 0 ? r.nodes[i].force / mortar_weight[i] : p[i];
+    r.nodes[i].shear = mortar_weight[i] > 0 ? r.nodes[i].tangent_force / mortar_weight[i] : q[i];
+  }
   // The middle node of a quadratic mortar edge lies on the linear multiplier between its corners.
   for (size_t k = 0; k < slave_edges_.size(); ++k) {
     const MasterEdge& e = slave_edges_[k];
@@ -409,6 +482,7 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
     const ContactNodeResult &a = r.nodes[slot.at(e.nodes[0])], &b = r.nodes[slot.at(e.nodes[1])];
     ContactNodeResult& m = r.nodes[slot.at(e.nodes[2])];
     m.pressure = 0.5 * (a.pressure + b.pressure);
+    m.shear = 0.5 * (a.shear + b.shear);
     m.gap = 0.5 * (a.gap + b.gap);
     m.active = a.active || b.active;  // inside the support of an active multiplier
   }

@@ -26,6 +26,14 @@ struct ContactNodeResult {
   double pressure = 0.0;  ///< recovered contact pressure (0 for nodes on no slave edge)
   double penalty = 0.0;   ///< penalty stiffness used (penalty-type methods)
   bool active = false;
+  /// Friction: the tangential force on the slave along t (the normal turned clockwise; −λ_t),
+  /// the shear traction recovered from it like the pressure, the slip of the step along t, and
+  /// the state.
+  double tangent_force = 0.0;
+  double shear = 0.0;
+  double slip = 0.0;
+  double accumulated_slip = 0.0;  ///< Σ |slip| over the steps (a load-stepped run sums them)
+  FrictionState state = FrictionState::kOpen;
 };
 
 /// Per equality row after a solve: the force its multiplier exerts and what is left of it.
@@ -66,6 +74,9 @@ struct ContactReport {
   double pivot_ratio = std::numeric_limits<double>::quiet_NaN();  ///< of the last solve
   double stiffness_max = std::numeric_limits<double>::quiet_NaN(); ///< max |K_ij| (linear runs)
   bool has_surface = false;     ///< pressures recovered on slave edges
+  bool friction = false;        ///< some pair has friction: the nodes' tangential fields are set
+  int stick_nodes = 0, slip_nodes = 0;
+  double tangent_force = 0.0;   ///< Σ of the nodes' tangential forces (along each node's t)
   std::vector<EqualityRowResult> equalities;  ///< the [[constraint]] rows
   std::vector<std::string> equality_names, equality_types;  ///< per [[constraint]]
   double max_equality_violation = 0.0;        ///< max |A u − b| over them
@@ -107,8 +118,13 @@ class ContactSet {
 
   /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
   /// configuration), with prescribed DOFs moved into g0.
+  /// With friction, the tangential rows too: the slip from `u_reference` (the last converged
+  /// full displacement; null: the undeformed state) to u.
   ConstrainedProblem problem(const SpMat& k_ff, const VecX& f_ff, const std::vector<GapRow>& rows,
-                             const VecX& u_full, bool small_strain = true) const;
+                             const VecX& u_full, bool small_strain = true,
+                             const VecX* u_reference = nullptr) const;
+  /// Whether some [[contact]] has friction.
+  bool has_friction() const;
 
   /// The rows' gradients on the free DOFs: G, m × n_free (prescribed DOFs dropped).
   SpMat gap_jacobian(const std::vector<GapRow>& rows) const;
@@ -134,6 +150,9 @@ class ContactSet {
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
+  /// The tangential rows of `rows` and their friction laws into `p` (see ConstrainedProblem).
+  void add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
+                         const VecX* u_reference, ConstrainedProblem& p) const;
   /// Marks the plates' rows that hold a free DOF; a row on prescribed DOFs only must agree with
   /// them (else InputError) and is left out.
   void check_plate_rows();
@@ -156,6 +175,7 @@ class ContactSet {
   std::vector<int> slave_nodes_;             ///< unique, sorted
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;
+  std::vector<double> tributary_;            ///< per node: ∫ N ds t over the slave edges
   double length_scale_ = 1.0;
   int num_slots_ = 0;
 };

@@ -79,8 +79,15 @@ void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
   if (s.penalty.size() != m) s.penalty = VecX::Zero(m);
   if (s.eq_penalty.size() != p.num_equalities()) s.eq_penalty = VecX::Zero(p.num_equalities());
   if (static_cast<int>(s.active.size()) != m) s.active.assign(m, 0);
+  const bool friction = p.has_friction();
+  if (friction) {
+    if (s.tangent_force.size() != m) s.tangent_force = VecX::Zero(m);
+    if (static_cast<int>(s.friction_state.size()) != m)
+      s.friction_state.assign(m, FrictionState::kOpen);
+  }
   const bool finite = s.u.allFinite() && s.contact_force.allFinite() &&
-                      s.eq_multiplier.allFinite() && s.penalty.allFinite();
+                      s.eq_multiplier.allFinite() && s.penalty.allFinite() &&
+                      s.tangent_force.allFinite();
   if (!finite) {
     s.status = SolveStatus::kFailed;
     s.message = "non-finite values in the solution" + (s.message.empty() ? "" : ": " + s.message);
@@ -88,7 +95,9 @@ void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
     s.contact_force.setZero();
     s.eq_multiplier.setZero();
     s.penalty.setZero();
+    s.tangent_force.setZero();
   }
+  if (friction) s.slip = p.slip0 + p.slip_jacobian * s.u;
   s.gap = m > 0 ? VecX(p.gap0 + p.gap_jacobian * s.u) : VecX();
   s.max_penetration = max_penetration(s.gap);
   s.max_eq_violation =

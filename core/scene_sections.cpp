@@ -230,6 +230,8 @@ ProbeSpec parse_probe(const TomlView& v) {
   p.quantity = v["quantity"].choice({"ux", "uy", "umag", "sx", "sy", "sxy", "vm", "s1", "s2",
                                      "reaction_x", "reaction_y", "contact_pressure_max",
                                      "contact_length", "contact_force", "contact_penetration",
+                                     "contact_tangential_force", "contact_stick_nodes",
+                                     "contact_slip_nodes",
                                      "plate_ux", "plate_uy", "plate_rotation", "plate_fx",
                                      "plate_fy", "plate_moment"});
   if (p.quantity.rfind("plate_", 0) == 0) {

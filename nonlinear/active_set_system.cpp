@@ -40,6 +40,7 @@ bool ActiveSetSystem::residual(const VecX& x, VecX& r) {
   if (!base_.residual(x.head(n_), ru) || !gap(x, g)) return false;  // gap() updates G
   r.resize(size());
   r.head(n_) = ru - gt_ * forces(x, g);
+  if (fixed_force_.size() == n_) r.head(n_) -= fixed_force_;
   terms_->extra_residual(g, x.tail(size() - n_), r.tail(size() - n_));
   return true;
 }

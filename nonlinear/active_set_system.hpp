@@ -43,6 +43,9 @@ class ActiveSetSystem final : public NewtonSystem {
   /// Row forces at x (gap rows: λ ≥ 0 compressive; then the equality rows' multipliers).
   VecX forces(const VecX& x, const VecX& gap) const;
   double row_stiffness() const { return terms_->row_stiffness(); }
+  /// A force on the free DOFs held fixed through the solve (the friction forces −Tᵀλ_t the
+  /// method found: friction is resolved by the method at each outer iteration, not by Newton).
+  void set_fixed_force(const VecX& f) { fixed_force_ = f; }
 
   bool residual(const VecX& x, VecX& r) override;
   bool factorize_jacobian(const VecX& x) override;
@@ -65,6 +68,7 @@ class ActiveSetSystem final : public NewtonSystem {
   VecX c_;
   std::unique_ptr<constraints::ActiveSetTerms> terms_;
   int n_;
+  VecX fixed_force_;
   // Finite strain: the rows at the last iterate evaluated.
   bool evaluated_ = false;
   VecX at_, gap_now_;

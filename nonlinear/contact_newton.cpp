@@ -55,6 +55,7 @@ class ConstrainedStep {
     if (out_.status == SolveStatus::kConverged) {
       out_.newton.status = SolveStatus::kConverged;
       out_.memory = previous_;
+      out_.tangent_memory = tangent_by_slot_;
       verify_final_state();
     } else {
       fail(SolveStatus::kMaxIterations, "active set or geometry still changing after " +
@@ -94,11 +95,19 @@ class ConstrainedStep {
       out_.status = SolveStatus::kConverged;
       return true;
     }
-    ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full, system_.is_linear());
+    ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full,
+                                             system_.is_linear(), &in_.u_prev_full);
     VecX c(qp.num_gaps() + qp.num_equalities());  // g(u_f) = c + G u_f, then A u_f − b
     c << qp.gap0, -qp.eq_rhs;
     qp.gap0 += qp.gap_jacobian * u_;     // the gaps and equalities in terms of the step Δu
     qp.eq_rhs -= qp.eq_jacobian * u_;
+    if (qp.slip0.size() == qp.num_gaps()) {  // friction: the slip since the last step, and
+      qp.slip0 += qp.slip_jacobian * u_;      // the penalty's tangential spring force there
+      qp.tangent_force0 = VecX::Zero(qp.num_gaps());
+      if (in_.tangent_memory.size() == contact_.num_slots())
+        for (int i = 0; i < qp.num_gaps(); ++i)
+          qp.tangent_force0[i] = in_.tangent_memory[rows_[i].slot];
+    }
     keep_local_stiffness(qp);
     warm_start(qp);
 
@@ -202,12 +211,15 @@ class ConstrainedStep {
     it.strategy_step = inf_norm(s.u);
     it.rows = m;
     ContactMemory next(slots, 0);
+    const bool friction = static_cast<int>(s.friction_state.size()) == m;
     for (int i = 0; i < m; ++i)
-      if (s.active[i]) next[rows_[i].slot] = 1;
+      if (s.active[i])
+        next[rows_[i].slot] = friction && s.friction_state[i] == FrictionState::kSlip ? 2 : 1;
     for (int k = 0; k < slots; ++k) {
       it.entering += next[k] && !previous_[k];
       it.leaving += !next[k] && previous_[k];
-      it.active += next[k];
+      it.active += next[k] != 0;
+      if (friction) it.stick += next[k] == 1, it.slip += next[k] == 2;
     }
     it.penalty = s.penalty.size() ? s.penalty.maxCoeff() : 0.0;
     return next;
@@ -241,6 +253,7 @@ class ConstrainedStep {
     held.resize(m + me, 1);
     ActiveSetSystem sys(system_, contact_, rows_, stack_rows(qp.gap_jacobian, qp.eq_jacobian), c,
                         strategy_.active_set_terms(qp, s), held);
+    if (s.tangent_force.size() == m) sys.set_fixed_force(-(qp.slip_jacobian.transpose() * s.tangent_force));
     VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), start_force);
     NewtonOptions newton = in_.newton;
     // The force scale of the step's residuals: the largest met in the step, so that the state
@@ -308,6 +321,10 @@ class ConstrainedStep {
     std::fill(force_by_slot_.begin(), force_by_slot_.end(), 0.0);
     for (size_t i = 0; i < rows_.size(); ++i)
       force_by_slot_[rows_[i].slot] = state_.contact_force[static_cast<int>(i)];
+    if (state_.tangent_force.size() == m) {
+      tangent_by_slot_ = VecX::Zero(contact_.num_slots());
+      for (int i = 0; i < m; ++i) tangent_by_slot_[rows_[i].slot] = state_.tangent_force[i];
+    }
     it.max_penetration = state_.max_penetration;
     it.max_force = inf_norm(state_.contact_force);
     ContactReport report;
@@ -342,6 +359,7 @@ class ConstrainedStep {
   ContactMemory previous_;
   std::set<ContactMemory> seen_;
   std::vector<double> force_by_slot_;  ///< the last solve's row forces
+  VecX tangent_by_slot_;               ///< friction: the held state's friction forces
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
   double coordinate_scale_ = 0.0;      ///< the lengths a gap is computed from, for round-off
@@ -387,6 +405,11 @@ void store_contact_results(const ContactReport& report, int nn, core::Results& r
   r.globals["contact_length"] = report.length;
   r.globals["contact_force"] = report.total_force;
   r.globals["contact_penetration"] = report.max_penetration;
+  if (report.friction) {
+    r.globals["contact_tangential_force"] = report.tangent_force;
+    r.globals["contact_stick_nodes"] = report.stick_nodes;
+    r.globals["contact_slip_nodes"] = report.slip_nodes;
+  }
   VecX gap = VecX::Zero(nn), pressure = VecX::Zero(nn), force = VecX::Zero(nn);
   for (const auto& cn : report.nodes) {
     gap[cn.node] = cn.gap;
@@ -404,6 +427,17 @@ void store_contact_results(const ContactReport& report, int nn, core::Results& r
   r.point_fields["contact_gap"] = gap;
   r.point_fields["contact_pressure"] = pressure;
   r.point_fields["contact_force"] = force;
+  if (report.friction) {
+    VecX shear = VecX::Zero(nn), slip = VecX::Zero(nn), state = VecX::Zero(nn);
+    for (const auto& cn : report.nodes) {
+      shear[cn.node] = cn.shear;
+      slip[cn.node] = cn.accumulated_slip;
+      state[cn.node] = static_cast<double>(cn.state);
+    }
+    r.point_fields["contact_shear"] = shear;
+    r.point_fields["contact_slip"] = slip;
+    r.point_fields["contact_state"] = state;
+  }
 }
 
 }  // namespace c2d::nonlinear

@@ -35,6 +35,7 @@ struct ContactIteration {
   SolveStatus strategy_status = SolveStatus::kConverged;
   double strategy_step = 0.0;   ///< ‖Δu‖∞ the strategy asked for
   int rows = 0, active = 0, entering = 0, leaving = 0;
+  int stick = 0, slip = 0;      ///< friction: active rows sticking and slipping
   double penalty = 0.0;         ///< largest penalty stiffness in use (0: none)
   NewtonReport newton;          ///< KINSOL with the set fixed (no iterations: the step confirmed)
   double max_penetration = 0.0; ///< after the KINSOL solve
@@ -42,13 +43,16 @@ struct ContactIteration {
   double max_pressure = 0.0;    ///< largest recovered pressure then (0 without a slave surface)
 };
 
-/// What a converged state carries into the next load step: per row slot, closed or not.
+/// What a converged state carries into the next load step: per row slot, 0 open, 1 closed (and
+/// sticking, with friction), 2 closed and slipping.
 using ContactMemory = std::vector<char>;
 
 struct ContactStepInput {
   VecX u_free;          ///< converged free displacements of the previous step
   VecX u_prev_full;     ///< the same state as a full vector (previous prescribed values)
   ContactMemory memory; ///< active set of the previous step, by slot
+  /// Friction: per slot, the friction force λ_t of the previous step (empty: none).
+  VecX tangent_memory;
   NewtonOptions newton; ///< tolerance and limits; the residual scale is set per step
   double floor_scale = 0.0;  ///< smallest residual scale (stress-free, displacement-driven)
   int max_outer = 15;
@@ -70,6 +74,7 @@ struct ContactStepResult {
   std::string message;
   VecX u_free;
   ContactMemory memory;
+  VecX tangent_memory;  ///< friction: per slot, the friction force λ_t at the converged state
   std::vector<ContactIteration> iterations;
   NewtonReport newton;  ///< the KINSOL solves of the step combined (iterations, norms)
   std::vector<constraints::GapRow> rows;   ///< at the converged state

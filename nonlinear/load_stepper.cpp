@@ -103,6 +103,7 @@ class LoadStepper {
       in.u_free = u_free_;
       in.u_prev_full = u_prev_full_;
       in.memory = memory_;
+      in.tangent_memory = tangent_memory_;
       in.newton = options_.newton;
       in.newton.residual_scale = load_scale;
       in.floor_scale = floor_scale_;
@@ -133,8 +134,15 @@ class LoadStepper {
     if (with_contact_) {
       strategy_->step_accepted();
       memory_ = cstep.memory;
+      tangent_memory_ = cstep.tangent_memory;
       last_contact_.status = SolveStatus::kConverged;
       contact_->report(cstep.rows, cstep.state, last_contact_);
+      // Friction: the slip accumulated over the converged steps, per slave node.
+      accumulated_slip_.resize(last_contact_.nodes.size(), 0.0);
+      for (size_t i = 0; i < last_contact_.nodes.size(); ++i) {
+        accumulated_slip_[i] += std::abs(last_contact_.nodes[i].slip);
+        last_contact_.nodes[i].accumulated_slip = accumulated_slip_[i];
+      }
       contact_->report_plates(u_prev_full_, cstep.state.eq_multiplier, false, last_contact_);
       last_contact_.measured_penetration = cstep.measured_penetration;
       last_contact_.penetration_tolerance = cstep.penetration_tolerance;
@@ -244,6 +252,8 @@ class LoadStepper {
   VecX u_free_, u_prev_full_;
   double lambda_ = 0.0;
   ContactMemory memory_;
+  VecX tangent_memory_;                 ///< friction: per slot, the last converged λ_t
+  std::vector<double> accumulated_slip_;  ///< friction: Σ |slip| per slave node
   constraints::ContactReport last_contact_;
   Results r_, last_state_;
   bool have_state_ = false;

@@ -11,16 +11,36 @@ namespace {
 // trace.csv columns (DESIGN §4), shared by the contact and the Newton traces.
 constexpr const char* kTraceHeader =
     "step,load_factor,attempt,outer,iteration,residual,increment_norm,active,entering,leaving,"
-    "max_penetration,max_pressure,penalty,status\n";
+    "max_penetration,max_pressure,penalty,status,stick,slip\n";
 
-constexpr const char* kContactStepsHeader = "step,load_factor,node,x,y,gap,force,pressure,active\n";
+constexpr const char* kContactStepsHeader = "step,load_factor,node,x,y,gap,force,pressure,active";
+/// Friction columns (frictional scenes only): the tangential force on the slave along t (the
+/// normal turned clockwise), its recovered traction, the step's slip, the slip summed over the
+/// steps, and open / stick / slip.
+constexpr const char* kFrictionColumns = ",tangential_force,shear,slip,accumulated_slip,state";
+
+const char* state_name(constraints::FrictionState s) {
+  switch (s) {
+    case constraints::FrictionState::kStick: return "stick";
+    case constraints::FrictionState::kSlip: return "slip";
+    default: return "open";
+  }
+}
+
+void write_friction(std::ostream& os, const constraints::ContactNodeResult& n) {
+  os << ',' << n.tangent_force << ',' << n.shear << ',' << n.slip << ',' << n.accumulated_slip
+     << ',' << state_name(n.state);
+}
 
 /// The rows of one converged state in contact_steps.csv.
 void write_contact_state(std::ostream& os, int step, double load_factor,
                          const constraints::ContactReport& state) {
-  for (const auto& n : state.nodes)
+  for (const auto& n : state.nodes) {
     os << step << ',' << load_factor << ',' << n.node + 1 << ',' << n.x.x() << ',' << n.x.y() << ','
-       << n.gap << ',' << n.force << ',' << n.pressure << ',' << (n.active ? 1 : 0) << '\n';
+       << n.gap << ',' << n.force << ',' << n.pressure << ',' << (n.active ? 1 : 0);
+    if (state.friction) write_friction(os, n);
+    os << '\n';
+  }
 }
 
 /// The rows of one load step without contact: one per Newton iteration.
@@ -31,7 +51,7 @@ void write_newton_rows(std::ostream& os, const nonlinear::StepRecord& s) {
     os << s.step << ',' << s.load_factor << ',' << s.attempt << ",1," << k << ',' << norms[k]
        << ',';
     if (last) os << s.newton.last_step;
-    os << ",0,0,0,0,0,0," << (last ? to_string(s.newton.status) : "iterating") << '\n';
+    os << ",0,0,0,0,0,0," << (last ? to_string(s.newton.status) : "iterating") << ",0,0\n";
   }
 }
 
@@ -57,7 +77,7 @@ void write_contact_rows(std::ostream& os, const nonlinear::StepRecord& s) {
       os << ',' << it.penalty << ','
          << (!last ? "iterating"
                    : to_string(o + 1 == s.contact.size() ? s.newton.status : it.newton.status))
-         << '\n';
+         << ',' << it.stick << ',' << it.slip << '\n';
     }
     base += it.newton.iterations;
   }
@@ -67,10 +87,14 @@ void write_contact_rows(std::ostream& os, const nonlinear::StepRecord& s) {
 
 std::string contact_csv(const constraints::ContactReport& c) {
   std::ostringstream os;
-  os << std::setprecision(12) << "node,x,y,gap,force,pressure,active,penalty\n";
-  for (const auto& n : c.nodes)
+  os << std::setprecision(12) << "node,x,y,gap,force,pressure,active,penalty"
+     << (c.friction ? kFrictionColumns : "") << '\n';
+  for (const auto& n : c.nodes) {
     os << n.node + 1 << ',' << n.x.x() << ',' << n.x.y() << ',' << n.gap << ',' << n.force << ','
-       << n.pressure << ',' << (n.active ? 1 : 0) << ',' << n.penalty << '\n';
+       << n.pressure << ',' << (n.active ? 1 : 0) << ',' << n.penalty;
+    if (c.friction) write_friction(os, n);
+    os << '\n';
+  }
   return os.str();
 }
 
@@ -94,7 +118,8 @@ std::string trace_csv(const constraints::ContactReport& c) {
     os << "1,1,0,1," << h.iteration << ',' << h.residual << ",," << h.active << ',' << h.entering
        << ',' << h.leaving << ',' << h.max_penetration << ',';
     if (last) os << c.p_max;
-    os << ',' << h.penalty << ',' << (last ? to_string(c.status) : "iterating") << '\n';
+    os << ',' << h.penalty << ',' << (last ? to_string(c.status) : "iterating") << ',' << h.stick
+       << ',' << h.slip << '\n';
   }
   return os.str();
 }
@@ -113,7 +138,9 @@ std::string newton_trace_csv(const std::vector<nonlinear::StepRecord>& steps) {
 
 std::string contact_steps_csv(const std::vector<nonlinear::StepRecord>& steps) {
   std::ostringstream os;
-  os << std::setprecision(12) << kContactStepsHeader;
+  bool friction = false;
+  for (const auto& s : steps) friction = friction || s.contact_state.friction;
+  os << std::setprecision(12) << kContactStepsHeader << (friction ? kFrictionColumns : "") << '\n';
   for (const auto& s : steps)
     if (s.newton.status == SolveStatus::kConverged)
       write_contact_state(os, s.step, s.load_factor, s.contact_state);
@@ -122,7 +149,8 @@ std::string contact_steps_csv(const std::vector<nonlinear::StepRecord>& steps) {
 
 std::string contact_steps_csv(const constraints::ContactReport& contact, bool converged) {
   std::ostringstream os;
-  os << std::setprecision(12) << kContactStepsHeader;
+  os << std::setprecision(12) << kContactStepsHeader << (contact.friction ? kFrictionColumns : "")
+     << '\n';
   if (converged) write_contact_state(os, 1, 1.0, contact);
   return os.str();
 }

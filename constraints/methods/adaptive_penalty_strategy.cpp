@@ -22,8 +22,19 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
               " stiffness raises";
   for (int round = 0; round < options_.max_iterations; ++round) {
     const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
-    const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
-                                      active, s.u, s.history, first);
+    PenalizedSolver::Outcome outcome;
+    if (p.has_friction()) {
+      FrictionalOptions o = penalised_friction(p, k_gap, zero_gap, k_eq, zero_eq);
+      if (p.tangent_force0.size() == p.num_gaps()) o.tangent_hat = p.tangent_force0;
+      o.max_iterations = options_.max_iterations;
+      o.first_iteration = first;
+      solve_frictional(p, o, s);
+      outcome.status = s.status;
+      outcome.message = s.message;
+    } else {
+      outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations, active,
+                             s.u, s.history, first);
+    }
     s.penalty_history.push_back(std::max(k_gap.size() ? k_gap.maxCoeff() : 0.0,
                                          k_eq.size() ? k_eq.maxCoeff() : 0.0));
     if (outcome.status != SolveStatus::kConverged) {
@@ -56,8 +67,10 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
       break;
     }
   }
-  solver.report_counts(s);
-  if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kMaxIterations)
+  if (!p.has_friction()) solver.report_counts(s);  // the frictional solve reports its own
+  if (p.has_friction())
+    s.eq_penalty = k_eq;
+  else if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kMaxIterations)
     penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
   s.penalty = k_gap;
   return s;

@@ -8,10 +8,63 @@
 
 namespace c2d::constraints {
 
+namespace {
+
+/// Alart and Curnier's augmented Lagrangian with friction: each round solves the penalised
+/// frictional problem for the multiplier estimates (the return map of both rows, Coulomb's
+/// bound from the trial normal force), then sets them to the forces found (Uzawa).
+ConstraintSolution solve_with_friction(const ConstrainedProblem& p, const StrategyOptions& opt,
+                                       const VecX& k_gap, const VecX& k_eq) {
+  ConstraintSolution s;
+  const double tol = penetration_tolerance(opt, p);
+  VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
+  if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
+  FrictionalOptions o = penalised_friction(p, k_gap, lambda, k_eq, mu);
+  if (p.tangent_force0.size() == p.num_gaps()) o.tangent_hat = p.tangent_force0;
+  o.max_iterations = opt.max_iterations;
+  s.status = SolveStatus::kMaxIterations;
+  std::string why = "penetration above tolerance or multipliers still changing after " +
+                    std::to_string(opt.max_iterations) + " multiplier updates";
+  for (int round = 0; round < opt.max_iterations; ++round) {
+    o.first_iteration = s.history.empty() ? 1 : s.history.back().iteration + 1;
+    solve_frictional(p, o, s);
+    if (s.status != SolveStatus::kConverged) {
+      why = s.message;
+      break;
+    }
+    const VecX g = p.gap0 + p.gap_jacobian * s.u;
+    const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
+    const double violation = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
+    const double change = std::max({(s.contact_force - o.lambda_hat).lpNorm<Eigen::Infinity>(),
+                                    (s.tangent_force - o.tangent_hat).lpNorm<Eigen::Infinity>(),
+                                    (s.eq_multiplier - o.mu_hat).lpNorm<Eigen::Infinity>()});
+    o.lambda_hat = s.contact_force;
+    o.tangent_hat = s.tangent_force;
+    o.mu_hat = s.eq_multiplier;
+    s.history.back().residual = change;
+    const double scale = std::max({s.contact_force.lpNorm<Eigen::Infinity>(),
+                                   s.tangent_force.lpNorm<Eigen::Infinity>(),
+                                   s.eq_multiplier.lpNorm<Eigen::Infinity>()});
+    if (max_penetration(g) <= tol && violation <= tol && change <= 1e-9 * scale) {
+      s.status = SolveStatus::kConverged;
+      s.message.clear();
+      break;
+    }
+    s.status = SolveStatus::kMaxIterations;
+  }
+  if (s.status != SolveStatus::kConverged) s.message = why;
+  s.penalty = k_gap;
+  s.eq_penalty = k_eq;
+  return s;
+}
+
+}  // namespace
+
 ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
   VecX k_gap, k_eq;
   default_penalties(p, 0.0, options_.augmentation_factor, k_gap, k_eq);
+  if (p.has_friction()) return solve_with_friction(p, options_, k_gap, k_eq);
   const double tol = penetration_tolerance(options_, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
   if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);

@@ -81,9 +81,12 @@ RowSet prepare_rows(const ConstrainedProblem& p) {
   return out;
 }
 
+/// The QP over x = [u; p]: ½uᵀKu − fᵀu + cᵀp, where p are auxiliary variables with linear cost
+/// c (the Tresca problem's |s_i| ≤ p_i, cost b_i; none without friction).
 class ContactQp : public Ipopt::TNLP {
  public:
-  ContactQp(const ConstrainedProblem& p, const RowSet& rows) : p_(p), rows_(rows) {
+  ContactQp(const ConstrainedProblem& p, const RowSet& rows, const VecX& cost)
+      : p_(p), rows_(rows), cost_(cost) {
     for (int c = 0; c < p.stiffness.outerSize(); ++c)
       for (SpMat::InnerIterator it(p.stiffness, c); it; ++it)
         if (it.row() >= it.col()) hess_.emplace_back(it.row(), it.col(), it.value());
@@ -96,7 +99,7 @@ class ContactQp : public Ipopt::TNLP {
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_h,
                     IndexStyleEnum& style) override {
-    n = p_.num_unknowns();
+    n = p_.num_unknowns() + static_cast<Index>(cost_.size());
     m = static_cast<Index>(rows_.rows.size());
     nnz_jac = jac_nnz_;
     nnz_h = static_cast<Index>(hess_.size());
@@ -115,14 +118,17 @@ class ContactQp : public Ipopt::TNLP {
       for (Index i = 0; i < n; ++i) x0[i] = 0.0;
     return true;
   }
-  bool eval_f(Index n, const Number* xp, bool, Number& obj) override {
-    const Eigen::Map<const VecX> u(xp, n);
-    obj = 0.5 * u.dot(p_.stiffness * u) - p_.load.dot(u);
+  bool eval_f(Index, const Number* xp, bool, Number& obj) override {
+    const int nu = p_.num_unknowns(), np = static_cast<int>(cost_.size());
+    const Eigen::Map<const VecX> u(xp, nu), aux(xp + nu, np);
+    obj = 0.5 * u.dot(p_.stiffness * u) - p_.load.dot(u) + cost_.dot(aux);
     return std::isfinite(obj);
   }
-  bool eval_grad_f(Index n, const Number* xp, bool, Number* grad) override {
-    const Eigen::Map<const VecX> u(xp, n);
-    Eigen::Map<VecX>(grad, n) = p_.stiffness * u - p_.load;
+  bool eval_grad_f(Index, const Number* xp, bool, Number* grad) override {
+    const int nu = p_.num_unknowns(), np = static_cast<int>(cost_.size());
+    const Eigen::Map<const VecX> u(xp, nu);
+    Eigen::Map<VecX>(grad, nu) = p_.stiffness * u - p_.load;
+    Eigen::Map<VecX>(grad + nu, np) = cost_;
     return true;
   }
   bool eval_g(Index n, const Number* xp, bool, Index m, Number* g) override {
@@ -164,6 +170,7 @@ class ContactQp : public Ipopt::TNLP {
  private:
   const ConstrainedProblem& p_;
   const RowSet& rows_;
+  VecX cost_;
   std::vector<Eigen::Triplet<double>> hess_;
   Index jac_nnz_ = 0;
 };
@@ -240,21 +247,26 @@ void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
 
 }  // namespace
 
-ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
-  ConstraintSolution s;
-  const RowSet rows = prepare_rows(p);
-  if (!rows.inconsistent.empty()) {
-    s.status = SolveStatus::kFailed;
-    s.message = "inconsistent constraints: " + rows.inconsistent;
-    return s;
-  }
-  Ipopt::SmartPtr<ContactQp> qp = new ContactQp(p, rows);
+namespace {
+
+struct QpOutcome {
+  SolveStatus status = SolveStatus::kFailed;
+  std::string message;
+  VecX x, lambda;  ///< [u; p] and Ipopt's multipliers of the rows
+  int iterations = 0;
+};
+
+/// Ipopt on the QP of `rows` with auxiliary costs `cost`.
+QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX& cost,
+                    const StrategyOptions& o, double tolerance) {
+  QpOutcome out;
+  Ipopt::SmartPtr<ContactQp> qp = new ContactQp(p, rows, cost);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   auto opt = app->Options();
   opt->SetStringValue("sb", "yes");
   opt->SetIntegerValue("print_level", 0);
-  opt->SetNumericValue("tol", options_.ipopt_tolerance);
-  opt->SetIntegerValue("max_iter", std::max(200, 20 * options_.max_iterations));
+  opt->SetNumericValue("tol", tolerance);
+  opt->SetIntegerValue("max_iter", std::max(200, 20 * o.max_iterations));
   opt->SetStringValue("hessian_constant", "yes");
   opt->SetStringValue("jac_c_constant", "yes");
   opt->SetStringValue("jac_d_constant", "yes");
@@ -263,39 +275,181 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   opt->SetNumericValue("bound_relax_factor", 0.0);
   Ipopt::ApplicationReturnStatus st = app->Initialize();
   if (st != Ipopt::Solve_Succeeded) {
-    s.status = SolveStatus::kFailed;
-    s.message = "Ipopt initialisation failed";
-    return s;
+    out.message = "Ipopt initialisation failed";
+    return out;
   }
   st = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(qp));
-  s.status = map_status(st, s.message);
-  const int iterations =
-      Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : 0;
-  if (rows.dropped_zero + rows.dropped_duplicate > 0)
-    s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +
-                 std::to_string(rows.dropped_zero) + " zero and " +
-                 std::to_string(rows.dropped_duplicate) + " duplicate constraint rows";
-  s.u = qp->x.size() == p.num_unknowns() ? qp->x : VecX::Zero(p.num_unknowns());
-  s.contact_force = VecX::Zero(p.num_gaps());
-  s.eq_multiplier = VecX::Zero(p.num_equalities());
-  if (qp->lambda.size() == static_cast<int>(rows.rows.size())) {
-    // Ipopt's Lagrangian is f + gᵀλ: the force a row exerts is −λ / |row|.
-    for (size_t r = 0; r < rows.rows.size(); ++r) {
-      const KeptRow& k = rows.rows[r];
-      const double force = -qp->lambda[static_cast<int>(r)] / k.norm;
-      if (k.equality) s.eq_multiplier[k.source] = force;
-      else s.contact_force[k.source] = std::max(0.0, force);
+  out.status = map_status(st, out.message);
+  out.iterations = Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : 0;
+  out.x = qp->x;
+  out.lambda = qp->lambda;
+  return out;
+}
+
+/// A Tresca problem's rows: for each gap row i with a bound b_i > 0 and a tangential row, an
+/// auxiliary p_k ≥ |s_i| as p_k − s_i ≥ 0 (kept with friction = +1) and p_k + s_i ≥ 0 (−1),
+/// over x = [u; p], normalised like the others. Returns the costs b of the p.
+VecX add_tresca_rows(const ConstrainedProblem& p, const VecX& bound, RowSet& rows,
+                     std::vector<int>& friction_sign) {
+  const SpMat tt = p.slip_jacobian.transpose();
+  std::vector<double> cost;
+  friction_sign.assign(rows.rows.size(), 0);
+  for (int i = 0; i < p.num_gaps(); ++i) {
+    if (!(bound[i] > 0) || tt.col(i).nonZeros() == 0) continue;
+    const int aux = p.num_unknowns() + static_cast<int>(cost.size());
+    cost.push_back(bound[i]);
+    for (const int sign : {+1, -1}) {
+      KeptRow k;
+      k.source = i;
+      k.terms.emplace_back(aux, 1.0);
+      double n2 = 1.0;
+      for (SpMat::InnerIterator it(tt, i); it; ++it) {
+        k.terms.emplace_back(static_cast<int>(it.row()), -sign * it.value());
+        n2 += it.value() * it.value();
+      }
+      k.norm = std::sqrt(n2);
+      for (auto& [c, v] : k.terms) v /= k.norm;
+      k.lower = sign * p.slip0[i] / k.norm;  // p − sign·(s0 + T u) ≥ 0
+      k.upper = 2e19;
+      rows.rows.push_back(k);
+      friction_sign.push_back(sign);
     }
   }
+  return Eigen::Map<const VecX>(cost.data(), static_cast<Eigen::Index>(cost.size()));
+}
+
+/// Forces from Ipopt's multipliers (its Lagrangian is f + gᵀλ: a row exerts −λ / |row|): the
+/// gap rows' λ ≥ 0, the equality rows' μ, and λ_t = φ⁺ − φ⁻ from a Tresca row pair.
+void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
+                    const std::vector<int>& friction_sign, const QpOutcome& qp,
+                    ConstraintSolution& s) {
+  s.u = qp.x.size() >= p.num_unknowns() ? VecX(qp.x.head(p.num_unknowns()))
+                                        : VecX::Zero(p.num_unknowns());
+  s.contact_force = VecX::Zero(p.num_gaps());
+  s.eq_multiplier = VecX::Zero(p.num_equalities());
+  if (p.has_friction()) s.tangent_force = VecX::Zero(p.num_gaps());
+  if (qp.lambda.size() != static_cast<int>(rows.rows.size())) return;
+  for (size_t r = 0; r < rows.rows.size(); ++r) {
+    const KeptRow& k = rows.rows[r];
+    const double force = -qp.lambda[static_cast<int>(r)] / k.norm;
+    if (r < friction_sign.size() && friction_sign[r] != 0)
+      s.tangent_force[k.source] += friction_sign[r] * std::max(0.0, force);
+    else if (k.equality)
+      s.eq_multiplier[k.source] = force;
+    else
+      s.contact_force[k.source] = std::max(0.0, force);
+  }
+}
+
+}  // namespace
+
+ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
+  ConstraintSolution s;
+  const RowSet base = prepare_rows(p);
+  if (!base.inconsistent.empty()) {
+    s.status = SolveStatus::kFailed;
+    s.message = "inconsistent constraints: " + base.inconsistent;
+    return s;
+  }
+  // Friction: a fixed point of Tresca problems. Each is a QP (the friction cone's two faces as
+  // the linear inequalities p ≥ ±s, cost b p); a Coulomb row's bound b = μ λ comes from the
+  // normal force of the previous QP (the first sees the warm start's forces, or none), and the
+  // iteration ends when no bound changes by more than 1e-9 of the largest.
+  const bool friction = p.has_friction();
+  VecX bound = VecX::Zero(p.num_gaps());
+  auto coulomb_bounds = [&](const VecX& normal) {
+    VecX b(p.num_gaps());
+    for (int i = 0; i < p.num_gaps(); ++i)
+      b[i] = p.friction_bound.size() == p.num_gaps() && p.friction_bound[i] > 0
+                 ? p.friction_bound[i]
+                 : p.friction_coefficient[i] * std::max(0.0, normal[i]);
+    return b;
+  };
+  if (friction)
+    bound = coulomb_bounds(p.initial_force.size() == p.num_gaps() ? p.initial_force
+                                                                 : VecX(VecX::Zero(p.num_gaps())));
+  const int rounds = friction ? options_.max_iterations : 1;
+  int total_iterations = 0;
+  s.status = SolveStatus::kMaxIterations;
+  std::string message = "friction bounds still changing after " + std::to_string(rounds) +
+                        " Tresca problems";
+  for (int round = 1; round <= rounds; ++round) {
+    RowSet rows = base;
+    std::vector<int> friction_sign;
+    const VecX cost = friction ? add_tresca_rows(p, bound, rows, friction_sign) : VecX();
+    // A sticking row holds p = |s| = 0 with both faces active (degenerate): the barrier leaves
+    // a slip of O(tol) there, which its tangential stiffness turns into force errors of 1e-4
+    // at tol = 1e-10, so the Tresca problems are solved to 1e-4 of the tolerance.
+    const QpOutcome qp =
+        run_ipopt(p, rows, cost, options_, friction ? 1e-4 * options_.ipopt_tolerance
+                                                    : options_.ipopt_tolerance);
+    total_iterations += qp.iterations;
+    extract_forces(p, rows, friction_sign, qp, s);
+    IterationRecord rec;
+    rec.iteration = total_iterations;
+    rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
+    if (qp.status != SolveStatus::kConverged) {
+      s.status = qp.status;
+      message = qp.message;
+      s.history.push_back(rec);
+      break;
+    }
+    if (!friction) {
+      s.status = SolveStatus::kConverged;
+      message = qp.message;
+      s.history.push_back(rec);
+      break;
+    }
+    // The bounds from the contact forces of touching rows only: an interior point leaves
+    // O(μ_barrier / gap) forces on open rows, which would otherwise keep the bounds moving.
+    VecX normal = s.contact_force;
+    {
+      const VecX gap = p.gap0 + p.gap_jacobian * s.u;
+      const double touch = penetration_tolerance(options_, p);
+      const double fmax = normal.size() ? normal.maxCoeff() : 0.0;
+      for (int i = 0; i < normal.size(); ++i)
+        if (!(normal[i] > 1e-6 * fmax && gap[i] <= touch)) normal[i] = 0.0;
+    }
+    const VecX next = coulomb_bounds(normal);
+    const double change = (next - bound).lpNorm<Eigen::Infinity>();
+    rec.residual = change;
+    s.history.push_back(rec);
+    const bool settled = change <= 1e-9 * std::max(next.lpNorm<Eigen::Infinity>(), 1e-300) ||
+                         next.lpNorm<Eigen::Infinity>() == 0.0;
+    bound = next;
+    if (settled && round > 1) {
+      s.status = SolveStatus::kConverged;
+      message.clear();
+      break;
+    }
+  }
+  s.message = message;
+  if (base.dropped_zero + base.dropped_duplicate > 0)
+    s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +
+                 std::to_string(base.dropped_zero) + " zero and " +
+                 std::to_string(base.dropped_duplicate) + " duplicate constraint rows";
   settle_active_set(p, options_, s);
-  IterationRecord rec;
-  rec.iteration = iterations;
-  rec.active = count_active(s.active);
-  rec.entering = rec.active;
-  rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
-  s.history.push_back(rec);
-  s.iterations = iterations;
-  s.factorizations = iterations;
+  if (friction) {
+    // Stick where the row did not slip (within the penetration tolerance), slip elsewhere.
+    const VecX slip = p.slip0 + p.slip_jacobian * s.u;
+    const double tol = penetration_tolerance(options_, p);
+    s.friction_state.assign(p.num_gaps(), FrictionState::kOpen);
+    for (int i = 0; i < p.num_gaps(); ++i)
+      if (s.active[i])
+        s.friction_state[i] =
+            std::abs(slip[i]) <= tol && p.friction_coefficient[i] + (p.friction_bound.size() ? p.friction_bound[i] : 0.0) > 0
+                ? FrictionState::kStick
+                : FrictionState::kSlip;
+  }
+  IterationRecord& last = s.history.back();
+  last.active = count_active(s.active);
+  last.entering = last.active;
+  for (int i = 0; i < p.num_gaps() && friction; ++i) {
+    last.stick += s.friction_state[i] == FrictionState::kStick;
+    last.slip += s.friction_state[i] == FrictionState::kSlip;
+  }
+  s.iterations = total_iterations;
+  s.factorizations = total_iterations;
   return s;
 }
 

@@ -2,12 +2,20 @@
 
 #include <algorithm>
 
+#include "constraints/friction_solver.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
 
 ConstraintSolution LagrangeStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
+  if (p.has_friction()) {
+    FrictionalOptions o;
+    o.rule = FrictionalOptions::Rule::kPrimalDual;
+    o.max_iterations = options_.max_iterations;
+    solve_frictional(p, o, s);
+    return s;
+  }
   const double gap_tol = 1e-12 * p.model_size;
   // The reduced system changes size with the active set, so each iteration analyses anew.
   // Rows in tension leave, penetrating rows enter.

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "constraints/friction_solver.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
@@ -41,6 +42,19 @@ void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& 
   s.eq_penalty = k_eq;
 }
 
+FrictionalOptions penalised_friction(const ConstrainedProblem& p, const VecX& k_gap,
+                                     const VecX& lambda, const VecX& k_eq, const VecX& mu) {
+  FrictionalOptions o;
+  o.rule = FrictionalOptions::Rule::kPenalised;
+  o.k_gap = k_gap;
+  o.k_tangent = tangent_penalties(p, k_gap);
+  o.k_eq = k_eq;
+  o.lambda_hat = lambda;
+  o.mu_hat = mu;
+  o.tangent_hat = VecX::Zero(p.num_gaps());
+  return o;
+}
+
 namespace {
 // Largest ratio of a row's penalty to its local stiffness: how many digits the penalty costs.
 double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX& k_eq) {
@@ -56,14 +70,22 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
   VecX k_gap, k_eq;
   default_penalties(p, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
-  std::vector<char> active = initially_closed(p);
-  PenalizedSolver solver(p);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
-  const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
-                                    active, s.u, s.history, 1);
-  s.status = outcome.status;
-  s.message = outcome.message;
-  solver.report_counts(s);
+  if (p.has_friction()) {
+    // The return map: the tangential spring starts from the force of the last converged state.
+    FrictionalOptions o = penalised_friction(p, k_gap, zero_gap, k_eq, zero_eq);
+    if (p.tangent_force0.size() == p.num_gaps()) o.tangent_hat = p.tangent_force0;
+    o.max_iterations = options_.max_iterations;
+    solve_frictional(p, o, s);
+  } else {
+    std::vector<char> active = initially_closed(p);
+    PenalizedSolver solver(p);
+    const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
+                                      active, s.u, s.history, 1);
+    s.status = outcome.status;
+    s.message = outcome.message;
+    solver.report_counts(s);
+  }
   // A penalty many orders above the element stiffness leaves the factorization nothing but
   // round-off: say so instead of returning what it produced.
   const double ratio = penalty_ratio(p, k_gap, k_eq);
@@ -77,9 +99,12 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
     s.status = SolveStatus::kIllConditioned;
     s.message = buf;
   }
-  if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kCycling ||
-      s.status == SolveStatus::kMaxIterations)
+  if (p.has_friction()) {
+    s.eq_penalty = k_eq;  // the frictional solve reports the forces of its sets
+  } else if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kCycling ||
+             s.status == SolveStatus::kMaxIterations) {
     penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
+  }
   else
     s.u = VecX::Zero(p.num_unknowns());
   s.penalty = k_gap;

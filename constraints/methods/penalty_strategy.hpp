@@ -4,6 +4,7 @@
 #pragma once
 
 #include "constraints/constraint_strategy.hpp"
+#include "constraints/friction_solver.hpp"
 
 namespace c2d::constraints {
 
@@ -23,5 +24,10 @@ void default_penalties(const ConstrainedProblem& p, double absolute_k, double fa
 /// Contact forces and multipliers of a penalised solution: λ = max(0, λ0 − k g), μ = μ0 − k h.
 void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& lambda,
                     const VecX& k_eq, const VecX& mu, ConstraintSolution& s);
+
+/// The frictional solve of a penalised problem (friction_solver.hpp) with these stiffnesses and
+/// multiplier estimates; k_t = the rows' tangential ratio × k, λ̂_t = 0.
+FrictionalOptions penalised_friction(const ConstrainedProblem& p, const VecX& k_gap,
+                                     const VecX& lambda, const VecX& k_eq, const VecX& mu);
 
 }  // namespace c2d::constraints

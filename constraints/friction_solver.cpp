@@ -1,0 +1,307 @@
+#include "constraints/friction_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "constraints/kkt_solver.hpp"
+#include "constraints/strategy_common.hpp"
+
+namespace c2d::constraints {
+
+bool ConstrainedProblem::has_friction() const {
+  if (friction_coefficient.size() != num_gaps() || slip0.size() != num_gaps()) return false;
+  for (int i = 0; i < num_gaps(); ++i)
+    if (friction_coefficient[i] > 0 || (friction_bound.size() == num_gaps() && friction_bound[i] > 0))
+      return true;
+  return false;
+}
+
+VecX tangent_penalties(const ConstrainedProblem& p, const VecX& k_gap) {
+  VecX k_t = k_gap;
+  if (p.tangent_penalty_ratio.size() == k_gap.size())
+    k_t = k_gap.cwiseProduct(p.tangent_penalty_ratio);
+  return k_t;
+}
+
+namespace {
+
+using Rule = FrictionalOptions::Rule;
+
+// The sets, as the iteration tracks them: entry i (a gap row) is 1 when the row is held, entry
+// m + i its tangential row's state. A Coulomb row's tangential row is free while its normal row
+// is; a Tresca row's is not tied to it (the classical Tresca problem bounds the friction on the
+// whole candidate surface, which keeps it convex: tying it to contact made the bound switch on
+// and off with the contact and the sets cycle).
+enum Tangential : char { kFree = 0, kStick = 1, kSlipPlus = 2, kSlipMinus = 3 };
+
+/// The rows of a sparse matrix as (column, value) lists.
+std::vector<std::vector<std::pair<int, double>>> row_lists(const SpMat& a, double sign) {
+  std::vector<std::vector<std::pair<int, double>>> rows(a.rows());
+  for (int c = 0; c < a.outerSize(); ++c)
+    for (SpMat::InnerIterator it(a, c); it; ++it)
+      if (it.value() != 0.0) rows[it.row()].emplace_back(c, sign * it.value());
+  return rows;
+}
+
+class FrictionalSolve {
+ public:
+  FrictionalSolve(const ConstrainedProblem& p, const FrictionalOptions& o)
+      : p_(p), o_(o), n_(p.num_unknowns()), me_(p.num_equalities()), m_(p.num_gaps()),
+        s_(saddle_point_scale(p)), eq_rows_(row_lists(p.eq_jacobian, 1.0)),
+        gap_rows_(row_lists(p.gap_jacobian, 1.0)), slip_rows_(row_lists(p.slip_jacobian, -1.0)) {
+    penalised_ = o.rule == Rule::kPenalised;
+    mu_ = p.friction_coefficient;
+    bound_ = p.friction_bound.size() == m_ ? p.friction_bound : VecX::Zero(m_);
+  }
+
+  void run(ConstraintSolution& s) {
+    std::vector<char> code(2 * m_, kFree);
+    const std::vector<char> closed = initially_closed(p_);
+    for (int i = 0; i < m_; ++i) {
+      code[i] = closed[i] && (penalised_ || !gap_rows_[i].empty());
+      if (frictional(i) && (code[i] || tresca(i))) code[m_ + i] = kStick;
+    }
+    std::set<std::vector<char>> seen{code};
+    s.status = SolveStatus::kMaxIterations;
+    s.message = "stick, slip and contact sets still changing after " +
+                std::to_string(o_.max_iterations) + " iterations";
+    bool solved = false;
+    int it = 0;
+    for (int k = 0; k < o_.max_iterations; ++k) {
+      it = o_.first_iteration + k;
+      if (const SolveStatus st = solve(code, s); st != SolveStatus::kConverged) {
+        s.status = st;
+        s.message = kkt_.report().message;
+        break;
+      }
+      solved = true;
+      const VecX g = p_.gap0 + p_.gap_jacobian * s.u;
+      const VecX sl = p_.slip0 + p_.slip_jacobian * s.u;
+      std::vector<char> next = code;
+      const double residual = update(s, g, sl, next);
+      s.history.push_back(record(it, code, next, g, residual));
+      if (next == code) {
+        s.status = SolveStatus::kConverged;
+        s.message.clear();
+        break;
+      }
+      if (!seen.insert(next).second) {
+        s.status = SolveStatus::kCycling;
+        s.message = "stick, slip and contact sets returned to an earlier combination at "
+                    "iteration " + std::to_string(it);
+        break;
+      }
+      code = next;
+    }
+    // Summed: a method may call repeatedly (stiffness raises, multiplier updates).
+    const KktSolveReport& r = kkt_.report();
+    s.factorizations += r.numeric_factorizations;
+    s.symbolic_analyses += r.symbolic_analyses;
+    s.symbolic_seconds += r.symbolic_seconds;
+    s.numeric_seconds += r.numeric_seconds;
+    s.solve_seconds += r.solve_seconds;
+    s.pivot_ratio = r.rcond;
+    finish(code, solved, s);
+  }
+
+ private:
+  bool frictional(int i) const { return mu_[i] > 0 || bound_[i] > 0; }
+  bool tresca(int i) const { return bound_[i] > 0; }
+  double compliance(const VecX& k, int i) const { return penalised_ ? 1.0 / k[i] : 0.0; }
+
+  /// Assembles and solves the system of the sets `code` into s.u, λ, λ_t, μ.
+  SolveStatus solve(const std::vector<char>& code, ConstraintSolution& out) {
+    const int size = n_ + me_ + 2 * m_;
+    const double s = s_;
+    std::vector<Triplet> t;
+    t.reserve(p_.stiffness.nonZeros() + 4 * (p_.eq_jacobian.nonZeros() +
+                                             p_.gap_jacobian.nonZeros() +
+                                             p_.slip_jacobian.nonZeros()) + 3 * (me_ + 2 * m_));
+    for (int c = 0; c < p_.stiffness.outerSize(); ++c)
+      for (SpMat::InnerIterator it(p_.stiffness, c); it; ++it) t.emplace_back(it.row(), c, it.value());
+    VecX rhs = VecX::Zero(size);
+    rhs.head(n_) = p_.load;
+    // One row: its coefficients in both blocks (the row's own only when it holds c = 0).
+    auto add_row = [&](int r, const std::vector<std::pair<int, double>>& coef, bool holds) {
+      for (const auto& [j, a] : coef) {
+        t.emplace_back(j, r, -s * a);
+        t.emplace_back(r, j, holds ? -s * a : 0.0);
+      }
+    };
+    for (int j = 0; j < me_; ++j) {
+      const int r = n_ + j;
+      add_row(r, eq_rows_[j], true);
+      const double cmp = penalised_ ? 1.0 / o_.k_eq[j] : 0.0;
+      t.emplace_back(r, r, -s * s * cmp);
+      rhs[r] = -s * p_.eq_rhs[j] - (penalised_ ? s * cmp * o_.mu_hat[j] : 0.0);
+    }
+    for (int i = 0; i < m_; ++i) {
+      const int rn = n_ + me_ + i, rt = n_ + me_ + m_ + i;
+      const bool on = code[i];
+      add_row(rn, gap_rows_[i], on);
+      const double cn = compliance(o_.k_gap, i);
+      t.emplace_back(rn, rn, on ? -s * s * cn : s);
+      rhs[rn] = on ? s * p_.gap0[i] - (penalised_ ? s * cn * o_.lambda_hat[i] : 0.0) : 0.0;
+      // The tangential row: held when sticking (with a tangential row to hold), a slip
+      // condition when slipping, λ_t = 0 otherwise.
+      const char ts = code[m_ + i];
+      const bool stick = ts == kStick && (penalised_ || !slip_rows_[i].empty());
+      const bool slip = ts == kSlipPlus || ts == kSlipMinus;
+      const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
+      add_row(rt, slip_rows_[i], stick);
+      const double ct = compliance(o_.k_tangent, i);
+      t.emplace_back(rt, rt, stick ? -s * s * ct : s);
+      const bool coulomb = bound_[i] <= 0 && mu_[i] > 0;
+      if (coulomb) t.emplace_back(rt, rn, slip ? -s * mu_[i] * sigma : 0.0);
+      if (stick)
+        rhs[rt] = -s * p_.slip0[i] - (penalised_ ? s * ct * o_.tangent_hat[i] : 0.0);
+      else if (slip && !coulomb)
+        rhs[rt] = sigma * bound_[i];
+    }
+    SpMat a(size, size);
+    a.setFromTriplets(t.begin(), t.end());
+    SolveStatus st = kkt_.factorize(a, analysed_);
+    analysed_ = true;
+    VecX x;
+    if (st == SolveStatus::kConverged) st = kkt_.solve(rhs, x);
+    if (st != SolveStatus::kConverged) return st;
+    out.u = x.head(n_);
+    out.eq_multiplier = s * x.segment(n_, me_);
+    out.contact_force = s * x.segment(n_ + me_, m_);
+    out.tangent_force = s * x.segment(n_ + me_ + m_, m_);
+    return st;
+  }
+
+  static bool code_on(const std::vector<char>& code, int i) { return code[i] != 0; }
+
+  /// The method's rule: the next sets from the solution; returns the iteration's residual (the
+  /// largest violation of the complementarity conditions, as a force).
+  double update(const ConstraintSolution& sol, const VecX& g, const VecX& sl,
+                std::vector<char>& next) const {
+    const VecX& lambda = sol.contact_force;
+    const VecX& lt = sol.tangent_force;
+    double scale = 0.0;
+    for (int i = 0; i < m_; ++i) scale = std::max({scale, std::abs(lambda[i]), std::abs(lt[i])});
+    const double ftol = 1e-10 * std::max(scale, 1e-300);
+    const double gap_tol = touch_tolerance(p_);
+    const double c = s_;
+    double residual = 0.0;
+    for (int i = 0; i < m_; ++i) {
+      const bool was = code_on(next, i);
+      const char now = next[m_ + i];
+      bool on = false;
+      double normal = 0.0, trial_t = 0.0;  // the normal force the bound is taken from
+      switch (o_.rule) {
+        case Rule::kPrimalDual:
+          on = was ? lambda[i] >= -ftol : !gap_rows_[i].empty() && g[i] < -gap_tol;
+          normal = lambda[i];
+          trial_t = lt[i];
+          residual = std::max(residual, was ? std::max(0.0, -lambda[i]) : 0.0);
+          break;
+        case Rule::kSemiSmooth:
+          normal = lambda[i] - c * g[i];
+          on = !gap_rows_[i].empty() && normal > ftol;
+          trial_t = lt[i] + c * sl[i];
+          residual = std::max(residual, std::abs(lambda[i] - std::max(0.0, normal)));
+          break;
+        case Rule::kPenalised:
+          normal = o_.lambda_hat[i] - o_.k_gap[i] * g[i];
+          on = normal > 0;
+          trial_t = o_.tangent_hat[i] + o_.k_tangent[i] * sl[i];
+          break;
+      }
+      next[i] = on;
+      if (!frictional(i) || (!on && !tresca(i))) {
+        next[m_ + i] = kFree;
+        continue;
+      }
+      const double bound = tresca(i) ? bound_[i] : mu_[i] * std::max(0.0, normal);
+      if (o_.rule == Rule::kPrimalDual) {
+        // A stick row slips when its force exceeds the bound; a slipping row sticks when its
+        // slip turns against its force. A row that enters (λ = λ_t = 0, g < 0) slips along its
+        // slip when |s| > μ|g| (Tresca: when s ≠ 0), else sticks: the limit c → 0 of the
+        // semi-smooth rule, |c s| ≤ μ c |g|.
+        if (now == kStick && std::abs(lt[i]) > bound + ftol) {
+          next[m_ + i] = lt[i] > 0 ? kSlipPlus : kSlipMinus;
+        } else if ((now == kSlipPlus && sl[i] < -gap_tol) ||
+                   (now == kSlipMinus && sl[i] > gap_tol)) {
+          next[m_ + i] = kStick;
+        } else if (now == kFree) {
+          const double allowed = tresca(i) ? gap_tol : mu_[i] * std::abs(g[i]);
+          next[m_ + i] =
+              std::abs(sl[i]) > allowed ? (sl[i] > 0 ? kSlipPlus : kSlipMinus) : kStick;
+        }
+        if (now == kStick) residual = std::max(residual, std::abs(lt[i]) - bound);
+        continue;
+      }
+      const double excess = std::abs(trial_t) - bound;
+      if (excess > ftol)
+        next[m_ + i] = trial_t > 0 ? kSlipPlus : kSlipMinus;
+      else if (excess < -ftol || now == kFree)
+        next[m_ + i] = kStick;
+      // else: within round-off of the bound, the row keeps its state
+      if (next[m_ + i] == kSlipPlus || next[m_ + i] == kSlipMinus)
+        residual = std::max(residual, std::abs(lt[i] - (trial_t > 0 ? bound : -bound)));
+    }
+    return residual;
+  }
+
+  IterationRecord record(int it, const std::vector<char>& code, const std::vector<char>& next,
+                         const VecX& g, double residual) const {
+    IterationRecord rec;
+    rec.iteration = it;
+    for (int i = 0; i < m_; ++i) {
+      rec.active += next[i];
+      rec.entering += next[i] && !code[i];
+      rec.leaving += !next[i] && code[i];
+      rec.stick += next[i] && next[m_ + i] == kStick;
+      rec.slip += next[i] && (next[m_ + i] == kSlipPlus || next[m_ + i] == kSlipMinus ||
+                              !frictional(i));
+    }
+    rec.max_penetration = max_penetration(g);
+    rec.residual = residual;
+    return rec;
+  }
+
+  /// The solution's friction fields and active set from the last sets.
+  void finish(const std::vector<char>& code, bool solved, ConstraintSolution& s) const {
+    if (!solved) {
+      s.u = VecX::Zero(n_);
+      s.contact_force = VecX::Zero(m_);
+      s.tangent_force = VecX::Zero(m_);
+      s.eq_multiplier = VecX::Zero(me_);
+    }
+    s.contact_force = s.contact_force.cwiseMax(0.0);
+    s.active.assign(m_, 0);
+    s.friction_state.assign(m_, FrictionState::kOpen);
+    for (int i = 0; i < m_; ++i) {
+      s.active[i] = penalised_ ? s.contact_force[i] > 0 : code[i] != 0;
+      if (!s.active[i]) continue;  // (a Tresca row may carry friction while open)
+      // A frictionless row slides freely.
+      s.friction_state[i] =
+          frictional(i) && code[m_ + i] == kStick ? FrictionState::kStick : FrictionState::kSlip;
+    }
+    s.slip = p_.slip0 + p_.slip_jacobian * s.u;
+  }
+
+  const ConstrainedProblem& p_;
+  const FrictionalOptions& o_;
+  int n_, me_, m_;
+  double s_;
+  bool penalised_ = false;
+  VecX mu_, bound_;
+  std::vector<std::vector<std::pair<int, double>>> eq_rows_, gap_rows_, slip_rows_;
+  KktSolver kkt_;
+  bool analysed_ = false;
+};
+
+}  // namespace
+
+void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
+                      ConstraintSolution& s) {
+  FrictionalSolve(p, options).run(s);
+}
+
+}  // namespace c2d::constraints

@@ -1,0 +1,57 @@
+// Frictional contact, 2D Coulomb or Tresca, for every method: one active-set iteration on the
+// rows' complementarity conditions, whose rules are the method's.
+//
+// Every row is one of three kinds, with a multiplier scaled by s (z = λ / s):
+//   equality rows   c = A u − b      force  Aᵀμ
+//   normal rows     c = g0 + G u     force  Gᵀλ      (λ ≥ 0 compressive)
+//   tangential rows c = −(s0 + T u)  force −Tᵀλ_t    (λ_t opposes the slip s = s0 + T u)
+// and a row is held (c = 0 exactly, or λ = λ̂ − k c for a penalised one), free (λ = 0), or, for a
+// tangential row, slipping: λ_t = σ μ λ (Coulomb) or σ b (Tresca), σ = ±1 the slip's sign. In
+// 2D, with σ fixed, that slip condition is linear in the multipliers, so each iteration solves
+// one linear system, exactly the semi-smooth Newton step of the frictional complementarity
+// functions (Hüeber, Stadler and Wohlmuth, SISC 2008): K u − s Cᵀ z = f with the rows' equations,
+// non-symmetric through the slip rows' coupling to their normal multiplier, factorised by
+// UMFPACK with one symbolic analysis (every row keeps its entries, zero when unused).
+//
+// The rules that choose the next sets (from the new λ, λ_t, g and s):
+//   semi-smooth (ssn):    normal held iff λ − c g > 0; then stick iff |λ_t + c s| ≤ μ(λ − c g)
+//                         (or b), else slip with σ = sign(λ_t + c s); c = s (a stiffness);
+//   primal-dual (lagrange): a held row stays unless λ < 0, a free row enters when g < 0; a stick
+//                         row slips when |λ_t| exceeds the bound, a slipping row sticks when its
+//                         slip turns against σ (the limit c → 0 of the rule above);
+//   penalised (penalty, adaptive_penalty, auglag): the return map. Normal held iff the trial
+//                         force λ̂ − k g > 0; then stick iff |λ̂_t + k_t s| ≤ μ(λ̂ − k g) (or b),
+//                         else slip with σ = sign(λ̂_t + k_t s).
+// Within a round-off margin of the bound a row keeps its state, so the sets cannot chatter on
+// it. The iteration ends when the sets repeat (converged), return to an earlier combination
+// (cycling) or reach the iteration limit; each is a named status.
+#pragma once
+
+#include "constraints/constrained_problem.hpp"
+
+namespace c2d::constraints {
+
+struct FrictionalOptions {
+  enum class Rule { kPrimalDual, kSemiSmooth, kPenalised };
+  Rule rule = Rule::kSemiSmooth;
+  /// kPenalised: the stiffness of each gap, tangential and equality row, and the multiplier
+  /// estimates λ̂, λ̂_t, μ̂ (the augmented Lagrangian's; the penalty's λ̂_t is the elastic
+  /// tangential force of the last converged state, λ̂ and μ̂ are 0). Ignored by the exact rules.
+  VecX k_gap, k_tangent, k_eq;
+  VecX lambda_hat, tangent_hat, mu_hat;
+  int max_iterations = 50;
+  /// Number of the first iteration in the history (a method that calls repeatedly numbers on).
+  int first_iteration = 1;
+};
+
+/// Solves the frictional problem with the method's rule: fills u, λ, λ_t, μ, the slip, the
+/// friction states, the active set, the history and the status (never throws; a failed or
+/// stopped solve keeps its last state with λ ≥ 0, or zeros when no system was solved).
+/// `s.history` is appended to.
+void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
+                      ConstraintSolution& s);
+
+/// The tangential stiffness of penalty-type methods: k_t = ratio × k per row.
+VecX tangent_penalties(const ConstrainedProblem& p, const VecX& k_gap);
+
+}  // namespace c2d::constraints
