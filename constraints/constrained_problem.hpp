@@ -54,6 +54,9 @@ struct ConstrainedProblem {
   /// m: the friction force each row carried at the last converged state (the penalty's
   /// elastic tangential spring: its return map starts from it); empty: none.
   VecX tangent_force0;
+  /// Optional warm start of the friction states per row: 1 stick, 2 slip along +t, 3 slip
+  /// along −t, 0 none given (a closed row then starts sticking).
+  std::vector<char> initial_friction;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.

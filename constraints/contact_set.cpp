@@ -445,6 +445,17 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     r.p_max = std::max(r.p_max, cn.pressure);
   }
   r.length = contact_length(slot, mortar_edge, r.nodes);
+  if (r.friction) {  // the stick zone, measured as the contact zone is
+    std::vector<ContactNodeResult> sticking = r.nodes;
+    for (ContactNodeResult& cn : sticking) cn.active = cn.state == FrictionState::kStick;
+    // a quadratic mortar edge's middle node sticks with its corners
+    for (size_t k = 0; k < slave_edges_.size(); ++k)
+      if (mortar_edge[k] && slave_edges_[k].count == 3)
+        sticking[slot.at(slave_edges_[k].nodes[2])].active =
+            sticking[slot.at(slave_edges_[k].nodes[0])].active ||
+            sticking[slot.at(slave_edges_[k].nodes[1])].active;
+    r.stick_length = contact_length(slot, mortar_edge, sticking);
+  }
   r.max_penetration = s.max_penetration;
   r.rows = static_cast<int>(rows.size());
 }

@@ -77,6 +77,7 @@ struct ContactReport {
   bool friction = false;        ///< some pair has friction: the nodes' tangential fields are set
   int stick_nodes = 0, slip_nodes = 0;
   double tangent_force = 0.0;   ///< Σ of the nodes' tangential forces (along each node's t)
+  double stick_length = 0.0;    ///< measure of the slave surface owned by sticking nodes
   std::vector<EqualityRowResult> equalities;  ///< the [[constraint]] rows
   std::vector<std::string> equality_names, equality_types;  ///< per [[constraint]]
   double max_equality_violation = 0.0;        ///< max |A u − b| over them

@@ -52,17 +52,39 @@ class FrictionalSolve {
         s_(saddle_point_scale(p)), eq_rows_(row_lists(p.eq_jacobian, 1.0)),
         gap_rows_(row_lists(p.gap_jacobian, 1.0)), slip_rows_(row_lists(p.slip_jacobian, -1.0)) {
     penalised_ = o.rule == Rule::kPenalised;
+    rule_ = o.rule;
     mu_ = p.friction_coefficient;
     bound_ = p.friction_bound.size() == m_ ? p.friction_bound : VecX::Zero(m_);
   }
 
   void run(ConstraintSolution& s) {
-    std::vector<char> code(2 * m_, kFree);
+    // Cold start: the problem's closed rows, every frictional one sticking.
+    std::vector<char> cold(2 * m_, kFree);
     const std::vector<char> closed = initially_closed(p_);
     for (int i = 0; i < m_; ++i) {
-      code[i] = closed[i] && (penalised_ || !gap_rows_[i].empty());
-      if (frictional(i) && (code[i] || tresca(i))) code[m_ + i] = kStick;
+      cold[i] = closed[i] && (penalised_ || !gap_rows_[i].empty());
+      if (frictional(i) && (cold[i] || tresca(i))) cold[m_ + i] = kStick;
     }
+    // Warm start: the previous state's friction states, or a solution's sets.
+    std::vector<char> code = cold;
+    for (int i = 0; i < m_; ++i)
+      if (code[m_ + i] == kStick && static_cast<int>(p_.initial_friction.size()) == m_ &&
+          p_.initial_friction[i] >= 1 && p_.initial_friction[i] <= 3)
+        code[m_ + i] = p_.initial_friction[i];  // the same codes
+    if (const ConstraintSolution* st = o_.start;
+        st && static_cast<int>(st->active.size()) == m_ &&
+        static_cast<int>(st->friction_state.size()) == m_ && st->tangent_force.size() == m_) {
+      for (int i = 0; i < m_; ++i) {
+        code[i] = st->active[i] && (penalised_ || !gap_rows_[i].empty());
+        code[m_ + i] = kFree;
+        if (!frictional(i) || (!code[i] && !tresca(i))) continue;
+        // (an open Tresca row carries friction: it slips when its force reached the bound)
+        const bool slips = st->friction_state[i] == FrictionState::kSlip ||
+                           (!code[i] && std::abs(st->tangent_force[i]) >= (1 - 1e-6) * bound_[i]);
+        code[m_ + i] = slips ? (st->tangent_force[i] >= 0 ? kSlipPlus : kSlipMinus) : kStick;
+      }
+    }
+    bool warm = code != cold;
     std::set<std::vector<char>> seen{code};
     s.status = SolveStatus::kMaxIterations;
     s.message = "stick, slip and contact sets still changing after " +
@@ -88,10 +110,22 @@ class FrictionalSolve {
         break;
       }
       if (!seen.insert(next).second) {
-        s.status = SolveStatus::kCycling;
-        s.message = "stick, slip and contact sets returned to an earlier combination at "
-                    "iteration " + std::to_string(it);
-        break;
+        if (rule_ == Rule::kSemiSmooth) {
+          // The semi-smooth step has no globalisation: where its sets cycle, the primal-dual
+          // rule (its limit c → 0, which moves one decision at a time) continues from them.
+          rule_ = Rule::kPrimalDual;
+          seen = {next};
+        } else if (warm) {
+          // A warm start is a guess: one that leads into a cycle is dropped for the cold one.
+          warm = false;
+          next = cold;
+          seen = {next};
+        } else {
+          s.status = SolveStatus::kCycling;
+          s.message = "stick, slip and contact sets returned to an earlier combination at "
+                      "iteration " + std::to_string(it);
+          break;
+        }
       }
       code = next;
     }
@@ -193,7 +227,7 @@ class FrictionalSolve {
       const char now = next[m_ + i];
       bool on = false;
       double normal = 0.0, trial_t = 0.0;  // the normal force the bound is taken from
-      switch (o_.rule) {
+      switch (rule_) {
         case Rule::kPrimalDual:
           on = was ? lambda[i] >= -ftol : !gap_rows_[i].empty() && g[i] < -gap_tol;
           normal = lambda[i];
@@ -218,7 +252,7 @@ class FrictionalSolve {
         continue;
       }
       const double bound = tresca(i) ? bound_[i] : mu_[i] * std::max(0.0, normal);
-      if (o_.rule == Rule::kPrimalDual) {
+      if (rule_ == Rule::kPrimalDual) {
         // A stick row slips when its force exceeds the bound; a slipping row sticks when its
         // slip turns against its force. A row that enters (λ = λ_t = 0, g < 0) slips along its
         // slip when |s| > μ|g| (Tresca: when s ≠ 0), else sticks: the limit c → 0 of the
@@ -291,6 +325,7 @@ class FrictionalSolve {
   int n_, me_, m_;
   double s_;
   bool penalised_ = false;
+  Rule rule_;  ///< the rule in use (ssn's falls back to the primal-dual one on a cycle)
   VecX mu_, bound_;
   std::vector<std::vector<std::pair<int, double>>> eq_rows_, gap_rows_, slip_rows_;
   KktSolver kkt_;

@@ -24,7 +24,9 @@
 //                         else slip with σ = sign(λ̂_t + k_t s).
 // Within a round-off margin of the bound a row keeps its state, so the sets cannot chatter on
 // it. The iteration ends when the sets repeat (converged), return to an earlier combination
-// (cycling) or reach the iteration limit; each is a named status.
+// (cycling) or reach the iteration limit; each is a named status. The semi-smooth step has no
+// globalisation: where its sets return to an earlier combination, the primal-dual rule (its
+// limit c → 0) continues from them.
 #pragma once
 
 #include "constraints/constrained_problem.hpp"
@@ -40,6 +42,10 @@ struct FrictionalOptions {
   VecX k_gap, k_tangent, k_eq;
   VecX lambda_hat, tangent_hat, mu_hat;
   int max_iterations = 50;
+  /// Optional starting sets: a solution's active rows held, its friction states, a slipping
+  /// row's direction from the sign of its friction force (null: the problem's warm start, every
+  /// closed frictional row sticking).
+  const ConstraintSolution* start = nullptr;
   /// Number of the first iteration in the history (a method that calls repeatedly numbers on).
   int first_iteration = 1;
 };

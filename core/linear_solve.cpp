@@ -46,7 +46,8 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
     with_springs = assembler.matrix() + spring_stiffness(model, VecX::Zero(dofs.num_dofs()), false,
                                                          &u_prescribed, &lift);
   const SpMat& k_ff = model.springs.empty() ? assembler.matrix() : with_springs;
-  const VecX rhs = dofs.restrict(model.external_force) - lift;
+  const VecX f_ext = model.external_force_at(1.0);
+  const VecX rhs = dofs.restrict(f_ext) - lift;
   r.time.assemble = clock.lap();
 
   VecX u_free;
@@ -93,7 +94,7 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
   VecX spring_force = VecX::Zero(dofs.num_dofs());
   add_spring_forces(model, r.displacement, false, spring_force);
   for (int dof = 0; dof < dofs.num_dofs(); ++dof)
-    if (dofs.is_constrained(dof)) r.reaction[dof] += spring_force[dof] - model.external_force[dof];
+    if (dofs.is_constrained(dof)) r.reaction[dof] += spring_force[dof] - f_ext[dof];
 
   r.element_stresses = compute_element_stresses(mesh, model.materials, r.displacement);
   r.nodal_stress = smooth_stresses(mesh, model.materials, r.element_stresses, analysis.smoothing);

@@ -339,13 +339,17 @@ void add_follower_loads(const Scene& scene, Model& model) {
   model.follower_reference = model.follower_matrix * x;
 }
 
-/// The external force vector: every load, in the scene's order.
+/// The external force vector: every load, in the scene's order (a load with an amplitude in
+/// its own vector).
 void apply_loads(const Scene& scene, Model& model) {
   model.external_force = VecX::Zero(model.dofs.num_dofs());
-  VecX& f = model.external_force;
-  add_plate_loads(scene, model, f);
+  add_plate_loads(scene, model, model.external_force);
   for (const auto& l : scene.loads) {
     using K = LoadSpec::Kind;
+    if (!l.amplitude.empty()) {
+      model.amplitude_loads.push_back({VecX::Zero(model.dofs.num_dofs()), l.amplitude});
+    }
+    VecX& f = l.amplitude.empty() ? model.external_force : model.amplitude_loads.back().force;
     if (l.kind == K::kNodalForce) {
       for (int n : select_nodes(model, l.on)) f.segment<2>(2 * n) += l.vector;
     } else if (l.kind == K::kBodyForce) {
@@ -398,6 +402,23 @@ Model build_model(const Scene& scene) {
   add_follower_loads(scene, model);
   add_springs(scene, model);
   return model;
+}
+
+double Model::AmplitudeLoad::at(double lambda) const {
+  if (lambda <= table.front().first) return table.front().second;
+  for (size_t k = 1; k < table.size(); ++k)
+    if (lambda <= table[k].first) {
+      const auto& [l0, a0] = table[k - 1];
+      const auto& [l1, a1] = table[k];
+      return a0 + (a1 - a0) * (lambda - l0) / (l1 - l0);
+    }
+  return table.back().second;
+}
+
+VecX Model::external_force_at(double lambda) const {
+  VecX f = lambda * external_force;
+  for (const AmplitudeLoad& a : amplitude_loads) f += a.at(lambda) * a.force;
+  return f;
 }
 
 }  // namespace c2d::core

@@ -46,7 +46,16 @@ struct Model {
   std::vector<std::string> body_names;
   /// Full DOF numbering: 2 per node (2 n + component), then 3 per rigid plate.
   DofMap dofs;
-  VecX external_force;  ///< full vector
+  VecX external_force;  ///< full vector: the loads that grow as λ (a = λ), at λ = 1
+  /// Loads with their own amplitude ([[load]] amplitude): a(λ) × force.
+  struct AmplitudeLoad {
+    VecX force;  ///< full vector, at a = 1
+    std::vector<std::pair<double, double>> table;
+    double at(double lambda) const;
+  };
+  std::vector<AmplitudeLoad> amplitude_loads;
+  /// The dead external force at load factor λ: λ external_force + Σ a(λ) force (full vector).
+  VecX external_force_at(double lambda) const;
   std::vector<int> node_material;  ///< material of (one of) the elements at each node
   double model_size = 1.0;  ///< bounding-box diagonal
   double mesh_seconds = 0.0;

@@ -118,6 +118,9 @@ struct LoadSpec {
   /// A pressure that follows the deformed edge in load-stepped runs (its load stiffness in the
   /// tangent); false: a dead load, fixed at its reference value.
   bool follower = false;
+  /// How the load grows with the load factor λ: a piecewise-linear table of (λ, a) points from
+  /// λ = 0 to λ = 1 (the load is a(λ) × its value); empty: a = λ.
+  std::vector<std::pair<double, double>> amplitude;
   SourceRef at;
 };
 

@@ -420,7 +420,8 @@ SupportSpec parse_support(const TomlView& s) {
 }
 
 LoadSpec parse_load(const TomlView& l) {
-  l.check_keys({"on", "force", "total_force", "traction", "pressure", "body_force", "follower"});
+  l.check_keys({"on", "force", "total_force", "traction", "pressure", "body_force", "follower",
+                "amplitude"});
   LoadSpec ls;
   ls.at.where = l.where();
   ls.on = parse_selection(l["on"]);
@@ -440,6 +441,21 @@ LoadSpec parse_load(const TomlView& l) {
   ls.follower = l["follower"].boolean_or(false);
   if (ls.follower && ls.kind != LoadSpec::Kind::kPressure)
     l["follower"].fail_message("follower = true applies to a pressure only");
+  if (l.has("amplitude")) {
+    const TomlView a = l["amplitude"];
+    const std::vector<Vec2> points = a.points();
+    if (points.size() < 2 || points.front().x() != 0.0 || points.back().x() != 1.0)
+      a.fail("[[lambda, a], ...] points from lambda = 0 to lambda = 1");
+    for (size_t k = 1; k < points.size(); ++k)
+      if (!(points[k].x() > points[k - 1].x()))
+        a.fail("load factors increasing strictly from 0 to 1");
+    for (const Vec2& p : points) {
+      if (!std::isfinite(p.y()) || std::abs(p.y()) > 1e6)
+        a.fail("finite amplitudes of at most 1e6 in size");
+      ls.amplitude.emplace_back(p.x(), p.y());
+    }
+    if (ls.follower) a.fail_message("an amplitude applies to dead loads only (not follower = true)");
+  }
   return ls;
 }
 

@@ -9,10 +9,10 @@ using namespace c2d::constraints;
 ActiveSetSystem::ActiveSetSystem(StructuralSystem& base, const ContactSet& contact,
                                  const std::vector<GapRow>& rows, const SpMat& g, const VecX& c,
                                  std::unique_ptr<ActiveSetTerms> terms,
-                                 const std::vector<char>& active)
+                                 const std::vector<char>& active, int linear_tail)
     : base_(base), contact_(contact), moving_(!base.is_linear()), template_(rows),
       active_(active), g_(g), gt_(g_.transpose()), g_template_(g), c_(c),
-      terms_(std::move(terms)), n_(static_cast<int>(g_.cols())) {}
+      terms_(std::move(terms)), n_(static_cast<int>(g_.cols())), linear_tail_(linear_tail) {}
 
 VecX ActiveSetSystem::pack(const VecX& u, const VecX& force) const {
   VecX x(size());
@@ -60,7 +60,8 @@ bool ActiveSetSystem::factorize_jacobian(const VecX& x) {
   jacobian_ = base_.matrix() +
               contact_.geometric_stiffness(rows_now_, force.head(num_gaps()).cwiseMax(0.0));
   if (!eq_now_.empty())
-    jacobian_ += contact_.equality_geometric_stiffness(eq_now_, force.tail(force.size() - num_gaps()));
+    jacobian_ += contact_.equality_geometric_stiffness(
+        eq_now_, force.segment(num_gaps(), force.size() - num_gaps() - linear_tail_));
   return terms_->factorize(jacobian_) || terms_->factorize(base_.matrix());
 }
 
@@ -91,10 +92,12 @@ bool ActiveSetSystem::evaluate(const VecX& x) {
                 " found no master";
     }
   }
-  if (me > 0 && contact_.has_nonlinear_equalities()) {
+  const int me_rows = me - linear_tail_;  // the equality rows proper
+  if (me_rows > 0 && contact_.has_nonlinear_equalities()) {
     eq_now_ = contact_.equality_rows_at(full, false);
-    gap_now_.tail(me) = contact_.equality_values(eq_now_, full);
-    g_ = stack_rows(contact_.gap_jacobian(rows_now_), contact_.equality_jacobian(eq_now_));
+    gap_now_.segment(m, me_rows) = contact_.equality_values(eq_now_, full);
+    g_ = stack_rows(stack_rows(contact_.gap_jacobian(rows_now_), contact_.equality_jacobian(eq_now_)),
+                    g_template_.bottomRows(linear_tail_));
   } else {
     g_ = stack_rows(contact_.gap_jacobian(rows_now_), g_template_.bottomRows(me));
   }

@@ -27,10 +27,12 @@ class ActiveSetSystem final : public NewtonSystem {
   /// `rows`: the gap rows detected for the outer iteration (their slots and order); `g`, `c`:
   /// those rows linearised at the detection state (g(u) = c + G u), then the equality rows
   /// A u + c_eq = 0; `active`: the gap rows' set followed by the equality rows.
+  /// `linear_tail` rows at the end (after the equality rows) stay linear in every
+  /// configuration: friction's sticking rows.
   ActiveSetSystem(StructuralSystem& base, const constraints::ContactSet& contact,
                   const std::vector<constraints::GapRow>& rows, const SpMat& g, const VecX& c,
                   std::unique_ptr<constraints::ActiveSetTerms> terms,
-                  const std::vector<char>& active);
+                  const std::vector<char>& active, int linear_tail = 0);
 
   int num_gaps() const { return static_cast<int>(template_.size()); }
   int size() const { return n_ + terms_->extra_unknowns(); }
@@ -68,6 +70,7 @@ class ActiveSetSystem final : public NewtonSystem {
   VecX c_;
   std::unique_ptr<constraints::ActiveSetTerms> terms_;
   int n_;
+  int linear_tail_ = 0;
   VecX fixed_force_;
   // Finite strain: the rows at the last iterate evaluated.
   bool evaluated_ = false;

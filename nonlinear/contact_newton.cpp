@@ -23,6 +23,59 @@ double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0
 
 namespace {
 
+/// Friction in a Newton solve with the set held: the sticking rows become held rows, appended to
+/// the equality rows as c = −s(u) (their multiplier, or their tangential spring λ̂_t + k_t s, is
+/// the friction force, so a body held sideways by friction alone is held in Newton too); the
+/// slipping rows' forces stay at the method's values, a fixed force −Tᵀλ_t.
+struct HeldFriction {
+  std::vector<int> stick;  ///< the sticking gap rows
+  ConstrainedProblem qp;   ///< the problem with their rows appended to the equality rows
+  ConstraintSolution s;    ///< the solution with their forces (and tangential stiffness)
+  VecX c;                  ///< the held rows' constants, theirs appended
+  VecX fixed_force;        ///< −T_slipᵀ λ_t on the free DOFs
+
+  /// `u` is the state the problem was linearised at (qp's rows are in terms of the step).
+  HeldFriction(const ConstrainedProblem& p, const VecX& c0, const ConstraintSolution& sol,
+               const VecX& u)
+      : qp(p), s(sol) {
+    const int m = p.num_gaps(), me = p.num_equalities();
+    const SpMat tt = p.slip_jacobian.transpose();  // column i: the tangential row i
+    VecX slip_force = sol.tangent_force;
+    for (int i = 0; i < m; ++i)
+      if (sol.active[i] && sol.friction_state[i] == FrictionState::kStick &&
+          tt.col(i).nonZeros() > 0) {
+        stick.push_back(i);
+        slip_force[i] = 0.0;
+      }
+    fixed_force = -(p.slip_jacobian.transpose() * slip_force);
+    const int ms = static_cast<int>(stick.size());
+    std::vector<Triplet> t;
+    for (int k = 0; k < ms; ++k)
+      for (SpMat::InnerIterator it(tt, stick[k]); it; ++it)
+        t.emplace_back(k, static_cast<int>(it.row()), -it.value());
+    SpMat rows(ms, p.num_unknowns());
+    rows.setFromTriplets(t.begin(), t.end());
+    qp.eq_jacobian = stack_rows(p.eq_jacobian, rows);
+    qp.eq_rhs.conservativeResize(me + ms);
+    c = VecX(c0.size() + ms);
+    c.head(c0.size()) = c0;
+    s.eq_multiplier.conservativeResize(me + ms);
+    const bool penalised = sol.eq_penalty.size() == me && sol.penalty.size() == m;
+    if (penalised) s.eq_penalty.conservativeResize(me + ms);
+    const VecX ratio = p.tangent_penalty_ratio.size() == m ? p.tangent_penalty_ratio : VecX::Ones(m);
+    for (int k = 0; k < ms; ++k) {
+      const int i = stick[k];
+      qp.eq_rhs[me + k] = p.slip0[i];  // −T Δu − slip0 = −s
+      double s_abs = p.slip0[i];
+      for (SpMat::InnerIterator it(tt, i); it; ++it) s_abs -= it.value() * u[it.row()];
+      c[c0.size() + k] = -s_abs;       // c − T u_f = −s at the free displacements u_f
+      s.eq_multiplier[me + k] = sol.tangent_force[i];
+      if (penalised) s.eq_penalty[me + k] = ratio[i] * sol.penalty[i];
+    }
+    s.tangent_force = VecX();  // the terms see the stick rows as equality rows
+  }
+};
+
 /// One load step's outer iterations (see contact_newton.hpp), as named steps over the state
 /// they share: the current free displacements, the active set by slot, the last solve's row
 /// forces, and the last state that satisfied the equations with its set held.
@@ -180,7 +233,9 @@ class ConstrainedStep {
     qp.initial_force = VecX::Zero(m);
     const double touch = touch_tolerance(qp);
     bool any = false;
+    if (qp.has_friction()) qp.initial_friction.assign(m, 0);
     for (int i = 0; i < m; ++i) {
+      if (qp.has_friction()) qp.initial_friction[i] = previous_[rows_[i].slot];
       qp.initial_active[i] = previous_[rows_[i].slot] || qp.gap0[i] <= touch;
       qp.initial_force[i] = force_by_slot_[rows_[i].slot];
       any = any || qp.initial_active[i];
@@ -214,12 +269,14 @@ class ConstrainedStep {
     const bool friction = static_cast<int>(s.friction_state.size()) == m;
     for (int i = 0; i < m; ++i)
       if (s.active[i])
-        next[rows_[i].slot] = friction && s.friction_state[i] == FrictionState::kSlip ? 2 : 1;
+        next[rows_[i].slot] = !friction || s.friction_state[i] != FrictionState::kSlip ? 1
+                              : s.tangent_force[i] >= 0                           ? 2
+                                                                                  : 3;
     for (int k = 0; k < slots; ++k) {
       it.entering += next[k] && !previous_[k];
       it.leaving += !next[k] && previous_[k];
       it.active += next[k] != 0;
-      if (friction) it.stick += next[k] == 1, it.slip += next[k] == 2;
+      if (friction) it.stick += next[k] == 1, it.slip += next[k] >= 2;
     }
     it.penalty = s.penalty.size() ? s.penalty.maxCoeff() : 0.0;
     return next;
@@ -239,21 +296,29 @@ class ConstrainedStep {
   /// KINSOL with the set fixed, from the strategy's step when the set changed, from the state
   /// itself (and its own multipliers) when the strategy kept it; no solve when the start
   /// already satisfies the equations. False when Newton failed.
-  bool hold_set(const ConstrainedProblem& qp, const VecX& c, const ConstraintSolution& s,
+  bool hold_set(const ConstrainedProblem& qp0, const VecX& c0, const ConstraintSolution& s0,
                 bool same_set, ContactIteration& it) {
+    std::unique_ptr<HeldFriction> friction;
+    if (s0.friction_state.size() == static_cast<size_t>(qp0.num_gaps()) && qp0.num_gaps() > 0)
+      friction = std::make_unique<HeldFriction>(qp0, c0, s0, u_);
+    const ConstrainedProblem& qp = friction ? friction->qp : qp0;
+    const ConstraintSolution& s = friction ? friction->s : s0;
+    const VecX& c = friction ? friction->c : c0;
     const int m = qp.num_gaps(), me = qp.num_equalities();
     // The held rows: the gap rows, then the equality rows (their forces: the multipliers μ).
     VecX start_force(m + me);  // (terms whose forces follow from u ignore it)
     start_force << s.contact_force, s.eq_multiplier;
     if (same_set) {
       for (int i = 0; i < m; ++i) start_force[i] = force_by_slot_[rows_[i].slot];
-      if (state_.eq_multiplier.size() == me) start_force.tail(me) = state_.eq_multiplier;
+      const int me0 = qp0.num_equalities();
+      if (state_.eq_multiplier.size() == me0) start_force.segment(m, me0) = state_.eq_multiplier;
     }
     std::vector<char> held = s.active;
     held.resize(m + me, 1);
     ActiveSetSystem sys(system_, contact_, rows_, stack_rows(qp.gap_jacobian, qp.eq_jacobian), c,
-                        strategy_.active_set_terms(qp, s), held);
-    if (s.tangent_force.size() == m) sys.set_fixed_force(-(qp.slip_jacobian.transpose() * s.tangent_force));
+                        strategy_.active_set_terms(qp, s), held,
+                        friction ? static_cast<int>(friction->stick.size()) : 0);
+    if (friction) sys.set_fixed_force(friction->fixed_force);
     VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), start_force);
     NewtonOptions newton = in_.newton;
     // The force scale of the step's residuals: the largest met in the step, so that the state
@@ -280,7 +345,7 @@ class ConstrainedStep {
       }
     }
     u_ = x.head(u_.size());
-    keep_state(sys, x, s, it);
+    keep_state(sys, x, s0, it, friction ? friction->stick : std::vector<int>());
     out_.iterations.push_back(it);
     return true;
   }
@@ -303,19 +368,25 @@ class ConstrainedStep {
     return true;
   }
 
+  /// The held state: `stick` lists the sticking rows held after the equality rows.
   void keep_state(ActiveSetSystem& sys, const VecX& x, const ConstraintSolution& s,
-                  ContactIteration& it) {
+                  ContactIteration& it, const std::vector<int>& stick) {
     state_ = s;
     state_.u = u_;
     VecX held_gap;
     sys.gap(x, held_gap);  // evaluated by the solve's last residual
     const VecX held_force = sys.forces(x, held_gap);
-    const int m = sys.num_gaps(), me = static_cast<int>(held_gap.size()) - m;
+    const int ms = static_cast<int>(stick.size());
+    const int m = sys.num_gaps(), me = static_cast<int>(held_gap.size()) - m - ms;
     state_rows_ = sys.rows();
     state_.gap = held_gap.head(m);
     state_.contact_force = held_force.head(m);
-    state_.eq_residual = held_gap.tail(me);
-    state_.eq_multiplier = held_force.tail(me);
+    state_.eq_residual = held_gap.segment(m, me);
+    state_.eq_multiplier = held_force.segment(m, me);
+    for (int k = 0; k < ms; ++k) {  // the sticking rows' friction forces and slips after Newton
+      state_.tangent_force[stick[k]] = held_force[m + me + k];
+      state_.slip[stick[k]] = -held_gap[m + me + k];
+    }
     state_.max_eq_violation = inf_norm(state_.eq_residual);
     state_.max_penetration = max_penetration(state_.gap);
     std::fill(force_by_slot_.begin(), force_by_slot_.end(), 0.0);

@@ -44,7 +44,7 @@ struct ContactIteration {
 };
 
 /// What a converged state carries into the next load step: per row slot, 0 open, 1 closed (and
-/// sticking, with friction), 2 closed and slipping.
+/// sticking, with friction), 2 closed and slipping along +t, 3 along −t.
 using ContactMemory = std::vector<char>;
 
 struct ContactStepInput {

@@ -12,8 +12,13 @@ using namespace c2d::core;
 
 FiniteStrainSystem::FiniteStrainSystem(const Model& model)
     : model_(model), assembler_(model.mesh, model.dofs), f_dead_(model.external_force) {
-  const VecX all = model.dofs.restrict(model.external_force);
-  load_scale_ = all.size() ? all.cwiseAbs().maxCoeff() : 0.0;
+  VecX all = model.dofs.restrict(model.external_force).cwiseAbs();
+  for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
+    double peak = 0.0;
+    for (const auto& [lambda, value] : a.table) peak = std::max(peak, std::abs(value));
+    all += peak * model.dofs.restrict(a.force).cwiseAbs();
+  }
+  load_scale_ = all.size() ? all.maxCoeff() : 0.0;
   extra_ = !model.springs.empty() || model.follower_matrix.nonZeros() > 0;
   // The follower pressures act at the current positions: only the dead loads stay in f_ext.
   if (model.follower_matrix.nonZeros() > 0) f_dead_ -= model.follower_reference;
@@ -33,6 +38,14 @@ FiniteStrainSystem::FiniteStrainSystem(const Model& model)
 void FiniteStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
   lambda_ = lambda;
   u_prescribed_ = u_prescribed;
+  f_now_free_ = lambda * f_ext_free_;
+  for (const auto& a : model_.amplitude_loads) f_now_free_ += a.at(lambda) * model_.dofs.restrict(a.force);
+}
+
+VecX FiniteStrainSystem::dead_load_at(double lambda) const {
+  VecX f = lambda * f_dead_;
+  for (const auto& a : model_.amplitude_loads) f += a.at(lambda) * a.force;
+  return f;
 }
 
 std::string FiniteStrainSystem::evaluation_failure() const {
@@ -101,7 +114,7 @@ bool FiniteStrainSystem::step_predictor(const VecX& u0, VecX& load) {
   for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
     if (model_.dofs.is_constrained(dof)) du_c[dof] = u_prescribed_[dof] - u0[dof];
   if (!internal_force(u0, f_int) || !assemble(u0, &du_c, &lift)) return false;
-  load = lambda_ * f_ext_free_ - model_.dofs.restrict(f_int) - lift;
+  load = f_now_free_ - model_.dofs.restrict(f_int) - lift;
   return true;
 }
 
@@ -117,7 +130,7 @@ double FiniteStrainSystem::reaction_scale(const VecX& u_free) const {
 bool FiniteStrainSystem::residual(const VecX& u_free, VecX& r) {
   VecX f;
   if (!internal_force(full(u_free), f)) return false;
-  r = model_.dofs.restrict(f) - lambda_ * f_ext_free_;
+  r = model_.dofs.restrict(f) - f_now_free_;
   return true;
 }
 

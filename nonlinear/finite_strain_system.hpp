@@ -40,7 +40,8 @@ class FiniteStrainSystem final : public StructuralSystem {
   double load_scale() const { return load_scale_; }
   /// The dead loads at λ = 1 (full): the external force less the follower pressures, which
   /// internal_force counts at the current positions.
-  const VecX& dead_load() const { return f_dead_; }
+  /// The dead loads at load factor λ, amplitudes included (full vector).
+  VecX dead_load_at(double lambda) const;
   /// The load step's linearisation about the converged full state u0 (with its own prescribed
   /// values): assembles K_T(u0) into matrix() and returns the out-of-balance force at the
   /// current load factor, the prescribed increment carried as a lift:
@@ -69,6 +70,7 @@ class FiniteStrainSystem final : public StructuralSystem {
   constraints::KktSolver lu_;  ///< with follower loads
   double load_scale_ = 0.0;
   VecX f_dead_, f_ext_free_, u_prescribed_;
+  VecX f_now_free_;  ///< the dead loads at the state's λ, free DOFs
   double lambda_ = 0.0;
 };
 

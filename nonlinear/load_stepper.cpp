@@ -186,9 +186,9 @@ class LoadStepper {
     system_.internal_force(out.displacement, f_int);
     out.reaction = VecX::Zero(model_.dofs.num_dofs());
     // f_int holds the follower pressures at the current positions: only the dead loads remain.
-    const VecX& dead = system_.dead_load();
+    const VecX dead = system_.dead_load_at(lam);
     for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
-      if (model_.dofs.is_constrained(dof)) out.reaction[dof] = f_int[dof] - lam * dead[dof];
+      if (model_.dofs.is_constrained(dof)) out.reaction[dof] = f_int[dof] - dead[dof];
     out.element_stresses = compute_element_stresses(mesh, model_.materials, out.displacement, true);
     out.nodal_stress = smooth_stresses(mesh, model_.materials, out.element_stresses, analysis_.smoothing);
     out.error = estimate_error(mesh, model_.materials, out.element_stresses, out.nodal_stress,

@@ -40,6 +40,34 @@ double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, do
   return ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan("");
 }
 
+double cattaneo_mindlin_error(const std::vector<std::pair<double, double>>& x_q, double mu,
+                              double p0, double b, double c) {
+  if (x_q.size() < 2 || !(b > 0) || !(p0 > 0) || !(mu > 0) || !(c >= 0) || c > b)
+    return std::nan("");
+  std::vector<std::pair<double, double>> pts = x_q;
+  std::sort(pts.begin(), pts.end());
+  const double lo = std::max(pts.front().first, -1.5 * b), hi = std::min(pts.back().first, 1.5 * b);
+  if (!(hi > lo)) return std::nan("");
+  constexpr int kSamples = 4000;
+  double err2 = 0.0, ref2 = 0.0;
+  size_t k = 0;
+  for (int i = 0; i <= kSamples; ++i) {
+    const double x = lo + (hi - lo) * i / kSamples;
+    while (k + 2 < pts.size() && pts[k + 1].first < x) ++k;
+    const auto& a = pts[k];
+    const auto& d = pts[k + 1];
+    const double t =
+        d.first > a.first ? std::clamp((x - a.first) / (d.first - a.first), 0.0, 1.0) : 0.0;
+    const double qh = a.second + t * (d.second - a.second);
+    double qa = std::abs(x) < b ? mu * p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
+    if (std::abs(x) < c) qa -= mu * p0 * (c / b) * std::sqrt(1.0 - (x / c) * (x / c));
+    const double w = (i == 0 || i == kSamples) ? 0.5 : 1.0;
+    err2 += w * (qh - qa) * (qh - qa);
+    ref2 += w * qa * qa;
+  }
+  return ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan("");
+}
+
 namespace {
 
 struct HertzResidual {

@@ -27,6 +27,13 @@ std::optional<HertzReference> hertz_reference(const core::Scene& scene);
 /// x measured along the surface's main direction from the reference's centre at 0).
 double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b);
 
+/// The same measure for the shear traction of the Cattaneo–Mindlin problem (Johnson §7.1): a
+/// Hertz contact of half-width b and peak p0 under a tangential force Q < μP, stick over |x| < c
+/// with c = b √(1 − Q/μP): q(x) = μ p0 √(1 − x²/b²) − μ p0 (c/b) √(1 − x²/c²) (the last term for
+/// |x| < c only). `x_q` holds the shear magnitude in the direction of the force.
+double cattaneo_mindlin_error(const std::vector<std::pair<double, double>>& x_q, double mu,
+                              double p0, double b, double c);
+
 struct HertzFit {
   bool ok = false;
   double p0 = 0.0, b = 0.0, x0 = 0.0;

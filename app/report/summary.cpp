@@ -44,6 +44,15 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
   for (const auto& n : contact.nodes) k_max = std::max(k_max, n.penalty);
   c["penalty_max"] = k_max > 0 ? nlohmann::json(k_max) : nlohmann::json();
   c["penalty_history"] = contact.penalty_history;
+  if (contact.friction) {
+    double q_max = 0.0;
+    for (const auto& n : contact.nodes) q_max = std::max(q_max, std::abs(n.shear));
+    c["friction"] = {{"stick_nodes", contact.stick_nodes},
+                     {"slip_nodes", contact.slip_nodes},
+                     {"stick_length", number(contact.has_surface ? contact.stick_length : nan)},
+                     {"shear_max", number(contact.has_surface ? q_max : nan)},
+                     {"tangential_force", number(contact.tangent_force)}};
+  }
   return c;
 }
 
@@ -152,6 +161,10 @@ nlohmann::json reference_errors(const core::Scene& scene, const core::Results& r
     measured.emplace_back("p_max", contact->p_max);
     measured.emplace_back("contact_length", contact->length);
     measured.emplace_back("total_force", contact->total_force);
+    if (contact->friction) {
+      measured.emplace_back("stick_length", contact->stick_length);
+      measured.emplace_back("tangential_force", std::abs(contact->tangent_force));
+    }
   }
   nlohmann::json err = nlohmann::json::object();
   for (const auto& [key, value] : measured) {
@@ -163,6 +176,21 @@ nlohmann::json reference_errors(const core::Scene& scene, const core::Results& r
   if (contact && contact->has_surface && hertz)
     err["pressure_profile_l2"] =
         number(hertz_profile_error(pressure_profile(*contact), hertz->p0, hertz->b));
+  // Cattaneo–Mindlin: the shear profile, from p_max = p0, contact_length = 2b, stick_length =
+  // 2c and the coefficient μ; the shear taken in the direction of the total tangential force.
+  const auto& ref = scene.reference;
+  if (contact && contact->friction && contact->has_surface &&
+      scene.reference_kind == "cattaneo_mindlin" && ref.count("p_max") &&
+      ref.count("contact_length") && ref.count("stick_length") && ref.count("coefficient")) {
+    int axis = 0;
+    pressure_profile(*contact, &axis);
+    const double sign = contact->tangent_force < 0 ? -1.0 : 1.0;
+    std::vector<std::pair<double, double>> pts;
+    for (const auto& n : contact->nodes) pts.emplace_back(n.x[axis], sign * n.shear);
+    err["shear_profile_l2"] = number(cattaneo_mindlin_error(
+        pts, ref.at("coefficient"), ref.at("p_max"), ref.at("contact_length") / 2,
+        ref.at("stick_length") / 2));
+  }
   return err;
 }
 

@@ -1,6 +1,7 @@
 #include "app/report/trace_charts.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <iomanip>
@@ -78,6 +79,57 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
   return err;
 }
 
+/// Friction: the stick and slip zones per load step (slave node position × load factor,
+/// coloured by state) and the stick and slip counts per step, from contact_steps.csv's state.
+std::string friction_charts(const std::string& dir, const CsvTable& t, TraceCharts& out) {
+  const int c_step = t.column("step"), c_lf = t.column("load_factor"), c_x = t.column("x"),
+            c_y = t.column("y"), c_state = t.column("state"), c_q = t.column("shear");
+  const int axis = spread_axis(t.points("x", "y"));
+  const int c_pos = axis ? c_y : c_x;
+  std::ostringstream zones;
+  zones << std::setprecision(12);
+  std::map<int, std::array<double, 3>> per_step;  // step -> (load factor, stick, slip)
+  for (size_t r = 0; r < t.rows.size(); ++r) {
+    const std::string& state = t.rows[r][c_state];
+    if (state != "open" && state != "stick" && state != "slip")
+      throw InputError(t.path + ":" + std::to_string(r + 2) +
+                       ": state: expected open, stick or slip, found '" + state + "'");
+    const int code = state == "stick" ? 1 : state == "slip" ? 2 : 0;
+    zones << t.number(r, c_pos) << ' ' << t.number(r, c_lf) << ' ' << code << ' '
+          << std::abs(t.number(r, c_q)) << '\n';
+    auto& s = per_step[static_cast<int>(t.number(r, c_step))];
+    s[0] = t.number(r, c_lf);
+    s[1] += code == 1;
+    s[2] += code == 2;
+  }
+  const std::string zones_path = dir + "/stick_slip.dat";
+  std::ostringstream cmd;
+  cmd << "set title 'Stick and slip per load step'\nset xlabel 'slave node position "
+      << (axis ? "y" : "x") << " (reference)'\nset ylabel 'load factor'\nset grid\n"
+      << "set key outside bottom center horizontal\nset yrange [0:1.05]\n"
+      << "plot " << gp_file(zones_path) << " using 1:($3 == 0 ? $2 : 1/0) with points pt 6 "
+      << "ps 0.6 lc rgb 'gray60' title 'open', \\\n     '' using 1:($3 == 1 ? $2 : 1/0) with "
+      << "points pt 5 ps 1.2 lc rgb '#21918c' title 'stick', \\\n     '' using 1:($3 == 2 ? "
+      << "$2 : 1/0) with points pt 5 ps 1.2 lc rgb '#e66101' title 'slip'\n";
+  std::string err = plot_with_data(dir, "stick_slip", cmd.str(), {{zones_path, zones.str()}});
+  if (!err.empty()) return err;
+  out.written.emplace_back("stick_slip", "slave node position x load factor: open, stick, slip");
+  std::ostringstream counts;
+  counts << std::setprecision(12) << "0 0 0\n";
+  for (const auto& [step, s] : per_step) counts << s[0] << ' ' << s[1] << ' ' << s[2] << '\n';
+  const std::string counts_path = dir + "/stick_slip_counts.dat";
+  std::ostringstream cc;
+  cc << "set title 'Sticking and slipping slave nodes against load factor'\n"
+     << "set xlabel 'load factor'\nset ylabel 'slave nodes'\nset grid\nset key top left\n"
+     << "set xrange [0:1]\nset yrange [0:*]\nplot " << gp_file(counts_path)
+     << " using 1:2 with linespoints pt 5 lw 2 lc rgb '#21918c' title 'stick', '' using 1:3 "
+     << "with linespoints pt 7 lw 2 lc rgb '#e66101' title 'slip'\n";
+  err = plot_with_data(dir, "stick_slip_counts", cc.str(), {{counts_path, counts.str()}});
+  if (err.empty())
+    out.written.emplace_back("stick_slip_counts", "sticking and slipping nodes per step");
+  return err;
+}
+
 /// Newton residual history: one line per load step attempt, in the order of the trace.
 std::string residual_chart(const std::string& dir, const CsvTable& t, TraceCharts& out) {
   const int c_step = t.column("step"), c_attempt = t.column("attempt"),
@@ -131,6 +183,10 @@ TraceCharts draw_trace_charts(const std::string& dir) {
   if (std::filesystem::exists(steps_path)) {
     const CsvTable steps = read_csv(steps_path);
     if (!steps.rows.empty()) out.error = contact_charts(dir, steps, out);
+    const bool friction = std::find(steps.columns.begin(), steps.columns.end(), "state") !=
+                          steps.columns.end();
+    if (!steps.rows.empty() && friction && out.error.empty())
+      out.error = friction_charts(dir, steps, out);
   }
   if (out.error.empty()) out.error = residual_chart(dir, trace, out);
   return out;

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/spd_solver.hpp"
+#include "constraints/friction_solver.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
@@ -341,6 +342,37 @@ void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
   }
 }
 
+/// The crossover of an interior point: the sets Ipopt's solution identifies (closed rows, stick,
+/// slip and its direction) solved exactly, and confirmed by the primal-dual rule. An interior
+/// point stops a barrier parameter away from the solution; a sticking row's degenerate faces and
+/// the slip forces' bound keep O(tol) errors that move from one solve to the next, so a load
+/// step's outer iterations, which ask for the same state twice, would not settle. When the
+/// exact solve changes the sets, Ipopt's own solution stays and the message says so.
+void crossover(const ConstrainedProblem& p, ConstraintSolution& s) {
+  FrictionalOptions o;
+  o.rule = FrictionalOptions::Rule::kPrimalDual;
+  o.max_iterations = 1;
+  o.start = &s;
+  ConstraintSolution exact;
+  solve_frictional(p, o, exact);
+  if (exact.status != SolveStatus::kConverged) {
+    s.message = "the exact solve of Ipopt's sets did not confirm them (" + exact.message +
+                "): Ipopt's solution, to its tolerance";
+    return;
+  }
+  s.u = exact.u;
+  s.contact_force = exact.contact_force;
+  s.tangent_force = exact.tangent_force;
+  s.eq_multiplier = exact.eq_multiplier;
+  s.friction_state = exact.friction_state;
+  s.active = exact.active;
+  s.factorizations += exact.factorizations;
+  s.numeric_seconds += exact.numeric_seconds;
+  s.symbolic_seconds += exact.symbolic_seconds;
+  s.solve_seconds += exact.solve_seconds;
+  s.symbolic_analyses += exact.symbolic_analyses;
+}
+
 }  // namespace
 
 ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
@@ -430,17 +462,16 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
                  std::to_string(base.dropped_duplicate) + " duplicate constraint rows";
   settle_active_set(p, options_, s);
   if (friction) {
-    // Stick where the row did not slip (within the penetration tolerance), slip elsewhere.
-    const VecX slip = p.slip0 + p.slip_jacobian * s.u;
-    const double tol = penetration_tolerance(options_, p);
+    // A row slips where its friction force reached the bound (to the solve's precision, 1e-6),
+    // and sticks where it stayed inside.
     s.friction_state.assign(p.num_gaps(), FrictionState::kOpen);
     for (int i = 0; i < p.num_gaps(); ++i)
       if (s.active[i])
-        s.friction_state[i] =
-            std::abs(slip[i]) <= tol && p.friction_coefficient[i] + (p.friction_bound.size() ? p.friction_bound[i] : 0.0) > 0
-                ? FrictionState::kStick
-                : FrictionState::kSlip;
+        s.friction_state[i] = bound[i] > 0 && std::abs(s.tangent_force[i]) < (1 - 1e-6) * bound[i]
+                                  ? FrictionState::kStick
+                                  : FrictionState::kSlip;
   }
+  if (friction && s.status == SolveStatus::kConverged) crossover(p, s);
   IterationRecord& last = s.history.back();
   last.active = count_active(s.active);
   last.entering = last.active;
