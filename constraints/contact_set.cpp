@@ -496,6 +496,10 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
     m.shear = 0.5 * (a.shear + b.shear);
     m.gap = 0.5 * (a.gap + b.gap);
     m.active = a.active || b.active;  // inside the support of an active multiplier
+    m.slip = 0.5 * (a.slip + b.slip);
+    m.accumulated_slip = 0.5 * (a.accumulated_slip + b.accumulated_slip);
+    // sticking where both corners stick, slipping where either slips
+    m.state = a.state == b.state ? a.state : std::max(a.state, b.state);
   }
 }
 

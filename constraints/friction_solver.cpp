@@ -1,6 +1,7 @@
 #include "constraints/friction_solver.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <set>
 #include <string>
@@ -45,19 +46,23 @@ std::vector<std::vector<std::pair<int, double>>> row_lists(const SpMat& a, doubl
   return rows;
 }
 
+}  // namespace
+
 class FrictionalSolve {
  public:
-  FrictionalSolve(const ConstrainedProblem& p, const FrictionalOptions& o)
-      : p_(p), o_(o), n_(p.num_unknowns()), me_(p.num_equalities()), m_(p.num_gaps()),
+  explicit FrictionalSolve(const ConstrainedProblem& p)
+      : p_(p), n_(p.num_unknowns()), me_(p.num_equalities()), m_(p.num_gaps()),
         s_(saddle_point_scale(p)), eq_rows_(row_lists(p.eq_jacobian, 1.0)),
         gap_rows_(row_lists(p.gap_jacobian, 1.0)), slip_rows_(row_lists(p.slip_jacobian, -1.0)) {
-    penalised_ = o.rule == Rule::kPenalised;
-    rule_ = o.rule;
     mu_ = p.friction_coefficient;
     bound_ = p.friction_bound.size() == m_ ? p.friction_bound : VecX::Zero(m_);
   }
 
-  void run(ConstraintSolution& s) {
+  void run(const FrictionalOptions& options, ConstraintSolution& s) {
+    o_ = &options;
+    penalised_ = o_->rule == Rule::kPenalised;
+    rule_ = o_->rule;
+    const KktSolveReport before = kkt_.report();
     // Cold start: the problem's closed rows, every frictional one sticking.
     std::vector<char> cold(2 * m_, kFree);
     const std::vector<char> closed = initially_closed(p_);
@@ -71,7 +76,7 @@ class FrictionalSolve {
       if (code[m_ + i] == kStick && static_cast<int>(p_.initial_friction.size()) == m_ &&
           p_.initial_friction[i] >= 1 && p_.initial_friction[i] <= 3)
         code[m_ + i] = p_.initial_friction[i];  // the same codes
-    if (const ConstraintSolution* st = o_.start;
+    if (const ConstraintSolution* st = o_->start;
         st && static_cast<int>(st->active.size()) == m_ &&
         static_cast<int>(st->friction_state.size()) == m_ && st->tangent_force.size() == m_) {
       for (int i = 0; i < m_; ++i) {
@@ -88,14 +93,21 @@ class FrictionalSolve {
     std::set<std::vector<char>> seen{code};
     s.status = SolveStatus::kMaxIterations;
     s.message = "stick, slip and contact sets still changing after " +
-                std::to_string(o_.max_iterations) + " iterations";
+                std::to_string(o_->max_iterations) + " iterations";
     bool solved = false;
     int it = 0;
-    for (int k = 0; k < o_.max_iterations; ++k) {
-      it = o_.first_iteration + k;
+    for (int k = 0; k < o_->max_iterations; ++k) {
+      it = o_->first_iteration + k;
       if (const SolveStatus st = solve(code, s); st != SolveStatus::kConverged) {
         s.status = st;
         s.message = kkt_.report().message;
+        bool sticks = false, slips = false;
+        for (int i = 0; i < m_; ++i)
+          if (code[i] && frictional(i))
+            sticks = sticks || code[m_ + i] == kStick, slips = slips || code[m_ + i] >= kSlipPlus;
+        if (st == SolveStatus::kSingular && slips && !sticks)
+          s.message += "; every closed frictional row slips, so nothing holds the bodies along "
+                       "the surface: friction cannot carry the load";
         break;
       }
       solved = true;
@@ -131,11 +143,11 @@ class FrictionalSolve {
     }
     // Summed: a method may call repeatedly (stiffness raises, multiplier updates).
     const KktSolveReport& r = kkt_.report();
-    s.factorizations += r.numeric_factorizations;
-    s.symbolic_analyses += r.symbolic_analyses;
-    s.symbolic_seconds += r.symbolic_seconds;
-    s.numeric_seconds += r.numeric_seconds;
-    s.solve_seconds += r.solve_seconds;
+    s.factorizations += r.numeric_factorizations - before.numeric_factorizations;
+    s.symbolic_analyses += r.symbolic_analyses - before.symbolic_analyses;
+    s.symbolic_seconds += r.symbolic_seconds - before.symbolic_seconds;
+    s.numeric_seconds += r.numeric_seconds - before.numeric_seconds;
+    s.solve_seconds += r.solve_seconds - before.solve_seconds;
     s.pivot_ratio = r.rcond;
     finish(code, solved, s);
   }
@@ -167,17 +179,17 @@ class FrictionalSolve {
     for (int j = 0; j < me_; ++j) {
       const int r = n_ + j;
       add_row(r, eq_rows_[j], true);
-      const double cmp = penalised_ ? 1.0 / o_.k_eq[j] : 0.0;
+      const double cmp = penalised_ ? 1.0 / o_->k_eq[j] : 0.0;
       t.emplace_back(r, r, -s * s * cmp);
-      rhs[r] = -s * p_.eq_rhs[j] - (penalised_ ? s * cmp * o_.mu_hat[j] : 0.0);
+      rhs[r] = -s * p_.eq_rhs[j] - (penalised_ ? s * cmp * o_->mu_hat[j] : 0.0);
     }
     for (int i = 0; i < m_; ++i) {
       const int rn = n_ + me_ + i, rt = n_ + me_ + m_ + i;
       const bool on = code[i];
       add_row(rn, gap_rows_[i], on);
-      const double cn = compliance(o_.k_gap, i);
+      const double cn = compliance(o_->k_gap, i);
       t.emplace_back(rn, rn, on ? -s * s * cn : s);
-      rhs[rn] = on ? s * p_.gap0[i] - (penalised_ ? s * cn * o_.lambda_hat[i] : 0.0) : 0.0;
+      rhs[rn] = on ? s * p_.gap0[i] - (penalised_ ? s * cn * o_->lambda_hat[i] : 0.0) : 0.0;
       // The tangential row: held when sticking (with a tangential row to hold), a slip
       // condition when slipping, λ_t = 0 otherwise.
       const char ts = code[m_ + i];
@@ -185,19 +197,30 @@ class FrictionalSolve {
       const bool slip = ts == kSlipPlus || ts == kSlipMinus;
       const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
       add_row(rt, slip_rows_[i], stick);
-      const double ct = compliance(o_.k_tangent, i);
+      const double ct = compliance(o_->k_tangent, i);
       t.emplace_back(rt, rt, stick ? -s * s * ct : s);
       const bool coulomb = bound_[i] <= 0 && mu_[i] > 0;
       if (coulomb) t.emplace_back(rt, rn, slip ? -s * mu_[i] * sigma : 0.0);
       if (stick)
-        rhs[rt] = -s * p_.slip0[i] - (penalised_ ? s * ct * o_.tangent_hat[i] : 0.0);
+        rhs[rt] = -s * p_.slip0[i] - (penalised_ ? s * ct * o_->tangent_hat[i] : 0.0);
       else if (slip && !coulomb)
         rhs[rt] = sigma * bound_[i];
     }
-    SpMat a(size, size);
-    a.setFromTriplets(t.begin(), t.end());
-    SolveStatus st = kkt_.factorize(a, analysed_);
-    analysed_ = true;
+    // The matrix depends on the sets and the stiffnesses only: an augmented Lagrangian's next
+    // multiplier update with the same sets needs a new right-hand side, not a new factor.
+    const bool same = factored_ && code == factored_code_ && (!penalised_ ||
+                      (o_->k_gap == factored_k_[0] && o_->k_tangent == factored_k_[1] &&
+                       o_->k_eq == factored_k_[2]));
+    SolveStatus st = SolveStatus::kConverged;
+    if (!same) {
+      SpMat a(size, size);
+      a.setFromTriplets(t.begin(), t.end());
+      st = kkt_.factorize(a, analysed_);
+      analysed_ = true;
+      factored_ = st == SolveStatus::kConverged;
+      factored_code_ = code;
+      if (penalised_) factored_k_ = {o_->k_gap, o_->k_tangent, o_->k_eq};
+    }
     VecX x;
     if (st == SolveStatus::kConverged) st = kkt_.solve(rhs, x);
     if (st != SolveStatus::kConverged) return st;
@@ -241,9 +264,9 @@ class FrictionalSolve {
           residual = std::max(residual, std::abs(lambda[i] - std::max(0.0, normal)));
           break;
         case Rule::kPenalised:
-          normal = o_.lambda_hat[i] - o_.k_gap[i] * g[i];
+          normal = o_->lambda_hat[i] - o_->k_gap[i] * g[i];
           on = normal > 0;
-          trial_t = o_.tangent_hat[i] + o_.k_tangent[i] * sl[i];
+          trial_t = o_->tangent_hat[i] + o_->k_tangent[i] * sl[i];
           break;
       }
       next[i] = on;
@@ -321,7 +344,7 @@ class FrictionalSolve {
   }
 
   const ConstrainedProblem& p_;
-  const FrictionalOptions& o_;
+  const FrictionalOptions* o_ = nullptr;
   int n_, me_, m_;
   double s_;
   bool penalised_ = false;
@@ -330,13 +353,22 @@ class FrictionalSolve {
   std::vector<std::vector<std::pair<int, double>>> eq_rows_, gap_rows_, slip_rows_;
   KktSolver kkt_;
   bool analysed_ = false;
+  bool factored_ = false;                 ///< kkt_ holds the factor of factored_code_'s system
+  std::vector<char> factored_code_;
+  std::array<VecX, 3> factored_k_;        ///< and of these stiffnesses (penalised rows)
 };
 
-}  // namespace
+FrictionalSolver::FrictionalSolver(const ConstrainedProblem& p)
+    : impl_(std::make_unique<FrictionalSolve>(p)) {}
+FrictionalSolver::~FrictionalSolver() = default;
+
+void FrictionalSolver::solve(const FrictionalOptions& options, ConstraintSolution& s) {
+  impl_->run(options, s);
+}
 
 void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
                       ConstraintSolution& s) {
-  FrictionalSolve(p, options).run(s);
+  FrictionalSolver(p).solve(options, s);
 }
 
 }  // namespace c2d::constraints

@@ -29,6 +29,8 @@
 // limit c → 0) continues from them.
 #pragma once
 
+#include <memory>
+
 #include "constraints/constrained_problem.hpp"
 
 namespace c2d::constraints {
@@ -48,6 +50,23 @@ struct FrictionalOptions {
   const ConstraintSolution* start = nullptr;
   /// Number of the first iteration in the history (a method that calls repeatedly numbers on).
   int first_iteration = 1;
+};
+
+class FrictionalSolve;
+
+/// The solver of one problem, kept across calls: a call whose sets and stiffnesses repeat the
+/// last factorised system's (an augmented Lagrangian's multiplier update) reuses its factor.
+class FrictionalSolver {
+ public:
+  explicit FrictionalSolver(const ConstrainedProblem& p);  ///< `p` must outlive the solver
+  ~FrictionalSolver();
+  FrictionalSolver(const FrictionalSolver&) = delete;
+  FrictionalSolver& operator=(const FrictionalSolver&) = delete;
+  /// As solve_frictional().
+  void solve(const FrictionalOptions& options, ConstraintSolution& s);
+
+ private:
+  std::unique_ptr<FrictionalSolve> impl_;
 };
 
 /// Solves the frictional problem with the method's rule: fills u, λ, λ_t, μ, the slip, the

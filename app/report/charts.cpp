@@ -1,7 +1,9 @@
 #include "app/report/charts.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 
 #include "app/report/gnuplot.hpp"
@@ -19,25 +21,47 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   const Units units = parse_units(scene.units);
   int axis = 0;
   const auto pts = pressure_profile(c, &axis);
+  // With friction, the shear traction beside the pressure (node by node, the same order).
+  std::vector<std::pair<double, double>> shear;
+  for (const auto& n : c.nodes) shear.emplace_back(n.x[axis], n.shear);
+  std::sort(shear.begin(), shear.end());
   std::ostringstream data;
   data << std::setprecision(12);
-  for (const auto& [x, p] : pts) data << x << ' ' << p << '\n';
+  for (size_t k = 0; k < pts.size(); ++k)
+    data << pts[k].first << ' ' << pts[k].second << ' ' << shear[k].second << '\n';
   const std::string data_path = dir + "/pressure.dat";
   std::ostringstream cmd;
   cmd << std::setprecision(10) << "set title "
-      << gp_text("Contact pressure (" + c.method + ", recovered from nodal forces)")
+      << gp_text((c.friction ? "Contact pressure and shear (" : "Contact pressure (") + c.method +
+                 ", recovered from nodal forces)")
       << "\nset xlabel " << gp_text(axis_label(axis ? "y" : "x", units.length))
-      << "\nset ylabel " << gp_text(axis_label("pressure", units.stress))
+      << "\nset ylabel "
+      << gp_text(axis_label(c.friction ? "pressure, shear" : "pressure", units.stress))
       << "\nset grid\nset key top left\n";
-  const auto hertz = hertz_reference(scene);
+  std::optional<HertzReference> hertz = hertz_reference(scene);
+  // A Cattaneo–Mindlin reference: Hertz's pressure and the shear of a partial slip.
+  const auto& ref = scene.reference;
+  const bool cattaneo = scene.reference_kind == "cattaneo_mindlin" && ref.count("p_max") &&
+                        ref.count("contact_length") && ref.count("stick_length") &&
+                        ref.count("coefficient");
+  if (cattaneo) hertz = HertzReference{ref.at("p_max"), ref.at("contact_length") / 2};
   // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
   if (hertz) write_hertz_window(cmd, *hertz, pts.front().first, pts.back().first);
   cmd << "plot " << gp_file(data_path)
-      << " using 1:2 with linespoints pt 7 ps 0.6 title 'contact2d'";
+      << " using 1:2 with linespoints pt 7 ps 0.6 title 'pressure'";
+  if (c.friction)
+    cmd << ", \\\n     '' using 1:3 with linespoints pt 5 ps 0.6 title 'shear (on the slave, along t)'";
   if (hertz) {
     cmd << ", \\\n     ";
     write_hertz_curve(cmd, *hertz);
     cmd << " with lines lw 2 dt 2 title 'Hertz'";
+  }
+  if (cattaneo && c.friction) {
+    const double mu = ref.at("coefficient"), p0 = hertz->p0, b = hertz->b,
+                 cs = ref.at("stick_length") / 2, sign = c.tangent_force < 0 ? -1.0 : 1.0;
+    cmd << ", \\\n     " << sign << "*((abs(x) < " << b << " ? " << mu * p0 << "*sqrt(1-(x/" << b
+        << ")**2) : 0) - (abs(x) < " << cs << " ? " << mu * p0 * cs / b << "*sqrt(1-(x/" << cs
+        << ")**2) : 0)) with lines lw 2 dt 3 title 'Cattaneo-Mindlin'";
   }
   cmd << "\n";
   return plot_with_data(dir, "pressure", cmd.str(), {{data_path, data.str()}});

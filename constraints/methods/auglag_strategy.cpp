@@ -25,9 +25,15 @@ ConstraintSolution solve_with_friction(const ConstrainedProblem& p, const Strate
   s.status = SolveStatus::kMaxIterations;
   std::string why = "penetration above tolerance or multipliers still changing after " +
                     std::to_string(opt.max_iterations) + " multiplier updates";
+  ConstraintSolution previous;  // each round starts from the last round's sets
+  FrictionalSolver solver(p);   // and reuses its factor while they hold
   for (int round = 0; round < opt.max_iterations; ++round) {
     o.first_iteration = s.history.empty() ? 1 : s.history.back().iteration + 1;
-    solve_frictional(p, o, s);
+    if (round > 0) {
+      previous = s;
+      o.start = &previous;
+    }
+    solver.solve(o, s);
     if (s.status != SolveStatus::kConverged) {
       why = s.message;
       break;

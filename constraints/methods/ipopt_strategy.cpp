@@ -208,7 +208,8 @@ SolveStatus map_status(Ipopt::ApplicationReturnStatus s, std::string& message) {
 
 /// Whether K + Σ_rows ρ_r c_r c_rᵀ (the held gap rows and every equality row, ρ_r their local
 /// stiffness) is positive definite: no rigid motion is left free.
-bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<char>& held) {
+bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<char>& held,
+                              const std::vector<FrictionState>* friction = nullptr) {
   const VecX rho_gap = p.row_stiffness(p.gap_jacobian), rho_eq = p.row_stiffness(p.eq_jacobian);
   VecX w_gap = VecX::Zero(p.num_gaps());
   for (int i = 0; i < p.num_gaps(); ++i)
@@ -217,6 +218,13 @@ bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<cha
   SpMat k = p.stiffness + SpMat(gt * w_gap.asDiagonal() * p.gap_jacobian);
   if (p.num_equalities() > 0)
     k += SpMat(at * rho_eq.cwiseMax(1e-300).asDiagonal() * p.eq_jacobian);
+  if (friction) {  // a sticking row holds its tangential direction too
+    const VecX rho_t = p.row_stiffness(p.slip_jacobian);
+    VecX w_t = VecX::Zero(p.num_gaps());
+    for (int i = 0; i < p.num_gaps(); ++i)
+      if ((*friction)[i] == FrictionState::kStick) w_t[i] = rho_t[i] > 0 ? rho_t[i] : 1.0;
+    k += SpMat(SpMat(p.slip_jacobian.transpose()) * w_t.asDiagonal() * p.slip_jacobian);
+  }
   core::SpdSolver spd(core::SpdSolver::Backend::kCholmod, true);
   return spd.factorize(k) == SolveStatus::kConverged;
 }
@@ -228,7 +236,7 @@ bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<cha
 /// arbitrary rigid motion): the rows that hold the solution (touching ones included) must leave
 /// no rigid motion free, as the multiplier methods require of their active sets.
 void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
-                       ConstraintSolution& s) {
+                       ConstraintSolution& s, bool check_rigid_motion = true) {
   s.active.assign(p.num_gaps(), 0);
   const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
   const VecX gap = p.gap0 + p.gap_jacobian * s.u;
@@ -239,7 +247,8 @@ void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
     if (!s.active[i]) s.contact_force[i] = 0.0;
     holding[i] = s.active[i] || gap[i] <= touch;
   }
-  if (s.status == SolveStatus::kConverged && !holds_every_rigid_motion(p, holding)) {
+  if (check_rigid_motion && s.status == SolveStatus::kConverged &&
+      !holds_every_rigid_motion(p, holding, p.has_friction() ? &s.friction_state : nullptr)) {
     s.status = SolveStatus::kSingular;
     s.message = "the minimiser is not unique: with the rows that hold it the structure is "
                 "free to move (a body pulled off its supports, or unsupported)";
@@ -319,6 +328,34 @@ VecX add_tresca_rows(const ConstrainedProblem& p, const VecX& bound, RowSet& row
   return Eigen::Map<const VecX>(cost.data(), static_cast<Eigen::Index>(cost.size()));
 }
 
+/// The first problem of a Coulomb fixed point without normal forces to start from: the rows
+/// closed at the start stick (T_i u = −s0_i, an equality; friction_sign 2), which holds a body
+/// that only friction holds sideways (a frictionless first problem would let it slide away).
+void add_stick_rows(const ConstrainedProblem& p, RowSet& rows, std::vector<int>& friction_sign) {
+  const SpMat tt = p.slip_jacobian.transpose();
+  const std::vector<char> closed = initially_closed(p);
+  friction_sign.resize(rows.rows.size(), 0);
+  for (int i = 0; i < p.num_gaps(); ++i) {
+    if (!closed[i] || tt.col(i).nonZeros() == 0 ||
+        !(p.friction_coefficient[i] > 0 ||
+          (p.friction_bound.size() == p.num_gaps() && p.friction_bound[i] > 0)))
+      continue;
+    KeptRow k;
+    k.equality = true;
+    k.source = i;
+    double n2 = 0.0;
+    for (SpMat::InnerIterator it(tt, i); it; ++it) {
+      k.terms.emplace_back(static_cast<int>(it.row()), it.value());
+      n2 += it.value() * it.value();
+    }
+    k.norm = std::sqrt(n2);
+    for (auto& [c, v] : k.terms) v /= k.norm;
+    k.lower = k.upper = -p.slip0[i] / k.norm;
+    rows.rows.push_back(k);
+    friction_sign.push_back(2);
+  }
+}
+
 /// Forces from Ipopt's multipliers (its Lagrangian is f + gᵀλ: a row exerts −λ / |row|): the
 /// gap rows' λ ≥ 0, the equality rows' μ, and λ_t = φ⁺ − φ⁻ from a Tresca row pair.
 void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
@@ -333,7 +370,9 @@ void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
   for (size_t r = 0; r < rows.rows.size(); ++r) {
     const KeptRow& k = rows.rows[r];
     const double force = -qp.lambda[static_cast<int>(r)] / k.norm;
-    if (r < friction_sign.size() && friction_sign[r] != 0)
+    if (r < friction_sign.size() && friction_sign[r] == 2)  // a sticking equality: −T_iᵀ λ_t
+      s.tangent_force[k.source] = -force;
+    else if (r < friction_sign.size() && friction_sign[r] != 0)
       s.tangent_force[k.source] += friction_sign[r] * std::max(0.0, force);
     else if (k.equality)
       s.eq_multiplier[k.source] = force;
@@ -400,6 +439,8 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   if (friction)
     bound = coulomb_bounds(p.initial_force.size() == p.num_gaps() ? p.initial_force
                                                                  : VecX(VecX::Zero(p.num_gaps())));
+  // No normal force to start from: the first problem holds the closed rows sticking.
+  bool stick_first = friction && bound.lpNorm<Eigen::Infinity>() == 0.0;
   const int rounds = friction ? options_.max_iterations : 1;
   int total_iterations = 0;
   s.status = SolveStatus::kMaxIterations;
@@ -409,11 +450,13 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
     RowSet rows = base;
     std::vector<int> friction_sign;
     const VecX cost = friction ? add_tresca_rows(p, bound, rows, friction_sign) : VecX();
+    if (stick_first) add_stick_rows(p, rows, friction_sign);
     // A sticking row holds p = |s| = 0 with both faces active (degenerate): the barrier leaves
     // a slip of O(tol) there, which its tangential stiffness turns into force errors of 1e-4
-    // at tol = 1e-10, so the Tresca problems are solved to 1e-4 of the tolerance.
+    // at tol = 1e-10. The crossover below makes the forces exact once the sets are right; the
+    // Tresca problems are solved to 1e-2 of the tolerance so that they are.
     const QpOutcome qp =
-        run_ipopt(p, rows, cost, options_, friction ? 1e-4 * options_.ipopt_tolerance
+        run_ipopt(p, rows, cost, options_, friction ? 1e-2 * options_.ipopt_tolerance
                                                     : options_.ipopt_tolerance);
     total_iterations += qp.iterations;
     extract_forces(p, rows, friction_sign, qp, s);
@@ -449,6 +492,10 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
     const bool settled = change <= 1e-9 * std::max(next.lpNorm<Eigen::Infinity>(), 1e-300) ||
                          next.lpNorm<Eigen::Infinity>() == 0.0;
     bound = next;
+    if (stick_first) {  // the sticking problem gave the first normal forces
+      stick_first = false;
+      continue;
+    }
     if (settled && round > 1) {
       s.status = SolveStatus::kConverged;
       message.clear();
@@ -460,7 +507,7 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
     s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +
                  std::to_string(base.dropped_zero) + " zero and " +
                  std::to_string(base.dropped_duplicate) + " duplicate constraint rows";
-  settle_active_set(p, options_, s);
+  settle_active_set(p, options_, s, !friction);
   if (friction) {
     // A row slips where its friction force reached the bound (to the solve's precision, 1e-6),
     // and sticks where it stayed inside.
@@ -471,7 +518,12 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
                                   ? FrictionState::kStick
                                   : FrictionState::kSlip;
   }
-  if (friction && s.status == SolveStatus::kConverged) crossover(p, s);
+  if (friction && s.status == SolveStatus::kConverged) {
+    crossover(p, s);
+    // With the friction states known: the rows that hold it (sticking ones along t too) must
+    // leave no rigid motion free.
+    settle_active_set(p, options_, s);
+  }
   IterationRecord& last = s.history.back();
   last.active = count_active(s.active);
   last.entering = last.active;
