@@ -371,4 +371,14 @@ void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& opti
   FrictionalSolver(p).solve(options, s);
 }
 
+ConstraintSolution solve_frictional(const ConstrainedProblem& p, FrictionalOptions::Rule rule,
+                                    int max_iterations) {
+  FrictionalOptions o;
+  o.rule = rule;
+  o.max_iterations = max_iterations;
+  ConstraintSolution s;
+  solve_frictional(p, o, s);
+  return s;
+}
+
 }  // namespace c2d::constraints

@@ -76,6 +76,10 @@ class FrictionalSolver {
 void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
                       ConstraintSolution& s);
 
+/// The same for an exact rule (kPrimalDual, kSemiSmooth) from the problem's warm start.
+ConstraintSolution solve_frictional(const ConstrainedProblem& p, FrictionalOptions::Rule rule,
+                                    int max_iterations);
+
 /// The tangential stiffness of penalty-type methods: k_t = ratio × k per row.
 VecX tangent_penalties(const ConstrainedProblem& p, const VecX& k_gap);
 

@@ -38,11 +38,13 @@ const char* kRunHelp =
     "  nodes.csv      displacements, smoothed stresses and reactions per node\n"
     "  deformed.png   deformed mesh coloured by von Mises (and .svg)\n"
     "  run.log        what was printed\n"
-    "  contact.csv    gap, force and recovered pressure per slave node (contact scenes)\n"
+    "  contact.csv    gap, force and recovered pressure per slave node (contact scenes); with\n"
+    "                 friction also tangential force, shear, slip, accumulated slip, state\n"
     "  constraints.csv  per [[constraint]] row: its constraint, multiplier (force), residual\n"
     "  trace.csv      one row per Newton / active-set iteration of every load step: residual,\n"
-    "                 active set, entering, leaving, penetration, pressure, status\n"
-    "  contact_steps.csv  per load step and slave node: gap, force, pressure, active\n"
+    "                 active set, entering, leaving, penetration, pressure, status, stick, slip\n"
+    "  contact_steps.csv  per load step and slave node: gap, force, pressure, active (and the\n"
+    "                 friction columns of contact.csv)\n"
     "  adapt.csv      adaptive runs: per cycle DOFs, xi_g, max xi_e, error, time, probes;\n"
     "                 cycle_NN.vtu (listed in adapt.pvd) holds each cycle's mesh and fields\n"
     "\n"
@@ -72,7 +74,9 @@ const char* kTraceHelp =
     "SVG in OUTDIR:\n"
     "  activation     slave node position x load factor, active nodes coloured by pressure\n"
     "  contact_force  total contact force and active node count against load factor\n"
-    "  residuals      Newton residual history of every load step\n";
+    "  residuals      Newton residual history of every load step\n"
+    "  stick_slip     (friction) slave node position x load factor: open, stick, slip\n"
+    "  stick_slip_counts  (friction) sticking and slipping nodes against load factor\n";
 
 const char* kCompareHelp =
     "usage: contact2d compare SCENE [--methods a,b,...] [--levels N] [--jobs J]\n"

@@ -15,9 +15,12 @@ std::optional<HertzReference> hertz_reference(const core::Scene& scene) {
   return HertzReference{p0->second, b->second};
 }
 
-double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b) {
-  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
-  std::vector<std::pair<double, double>> pts = x_p;
+namespace {
+
+/// Relative L2 error of a sampled profile (linear between its points) against `exact` over
+/// [−1.5 b, 1.5 b] ∩ the points' span: 4000 trapezoid samples. NaN without a span.
+template <class Exact>
+double profile_l2_error(std::vector<std::pair<double, double>> pts, double b, Exact exact) {
   std::sort(pts.begin(), pts.end());
   const double lo = std::max(pts.front().first, -1.5 * b), hi = std::min(pts.back().first, 1.5 * b);
   if (!(hi > lo)) return std::nan("");
@@ -31,41 +34,32 @@ double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, do
     const auto& c = pts[k + 1];
     const double t =
         c.first > a.first ? std::clamp((x - a.first) / (c.first - a.first), 0.0, 1.0) : 0.0;
-    const double ph = a.second + t * (c.second - a.second);
-    const double pa = std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
+    const double vh = a.second + t * (c.second - a.second), va = exact(x);
     const double w = (i == 0 || i == kSamples) ? 0.5 : 1.0;
-    err2 += w * (ph - pa) * (ph - pa);
-    ref2 += w * pa * pa;
+    err2 += w * (vh - va) * (vh - va);
+    ref2 += w * va * va;
   }
   return ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan("");
+}
+
+}  // namespace
+
+double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b) {
+  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
+  return profile_l2_error(x_p, b, [&](double x) {
+    return std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
+  });
 }
 
 double cattaneo_mindlin_error(const std::vector<std::pair<double, double>>& x_q, double mu,
                               double p0, double b, double c) {
   if (x_q.size() < 2 || !(b > 0) || !(p0 > 0) || !(mu > 0) || !(c >= 0) || c > b)
     return std::nan("");
-  std::vector<std::pair<double, double>> pts = x_q;
-  std::sort(pts.begin(), pts.end());
-  const double lo = std::max(pts.front().first, -1.5 * b), hi = std::min(pts.back().first, 1.5 * b);
-  if (!(hi > lo)) return std::nan("");
-  constexpr int kSamples = 4000;
-  double err2 = 0.0, ref2 = 0.0;
-  size_t k = 0;
-  for (int i = 0; i <= kSamples; ++i) {
-    const double x = lo + (hi - lo) * i / kSamples;
-    while (k + 2 < pts.size() && pts[k + 1].first < x) ++k;
-    const auto& a = pts[k];
-    const auto& d = pts[k + 1];
-    const double t =
-        d.first > a.first ? std::clamp((x - a.first) / (d.first - a.first), 0.0, 1.0) : 0.0;
-    const double qh = a.second + t * (d.second - a.second);
-    double qa = std::abs(x) < b ? mu * p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
-    if (std::abs(x) < c) qa -= mu * p0 * (c / b) * std::sqrt(1.0 - (x / c) * (x / c));
-    const double w = (i == 0 || i == kSamples) ? 0.5 : 1.0;
-    err2 += w * (qh - qa) * (qh - qa);
-    ref2 += w * qa * qa;
-  }
-  return ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan("");
+  return profile_l2_error(x_q, b, [&](double x) {
+    double q = std::abs(x) < b ? mu * p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
+    if (std::abs(x) < c) q -= mu * p0 * (c / b) * std::sqrt(1.0 - (x / c) * (x / c));
+    return q;
+  });
 }
 
 namespace {

@@ -8,14 +8,9 @@
 namespace c2d::constraints {
 
 ConstraintSolution LagrangeStrategy::solve_problem(const ConstrainedProblem& p) {
+  if (p.has_friction())
+    return solve_frictional(p, FrictionalOptions::Rule::kPrimalDual, options_.max_iterations);
   ConstraintSolution s;
-  if (p.has_friction()) {
-    FrictionalOptions o;
-    o.rule = FrictionalOptions::Rule::kPrimalDual;
-    o.max_iterations = options_.max_iterations;
-    solve_frictional(p, o, s);
-    return s;
-  }
   const double gap_tol = 1e-12 * p.model_size;
   // The reduced system changes size with the active set, so each iteration analyses anew.
   // Rows in tension leave, penetrating rows enter.

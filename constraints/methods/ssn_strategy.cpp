@@ -9,14 +9,9 @@
 namespace c2d::constraints {
 
 ConstraintSolution SsnStrategy::solve_problem(const ConstrainedProblem& p) {
+  if (p.has_friction())
+    return solve_frictional(p, FrictionalOptions::Rule::kSemiSmooth, options_.max_iterations);
   ConstraintSolution s;
-  if (p.has_friction()) {
-    FrictionalOptions o;
-    o.rule = FrictionalOptions::Rule::kSemiSmooth;
-    o.max_iterations = options_.max_iterations;
-    solve_frictional(p, o, s);
-    return s;
-  }
   // c has the units of a stiffness, so λ − c g compares a force with a force.
   const double c = saddle_point_scale(p);
   solve_active_set(
