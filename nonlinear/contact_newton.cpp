@@ -156,22 +156,29 @@ class ConstrainedStep {
     qp.eq_rhs -= qp.eq_jacobian * u_;
     if (qp.slip0.size() == qp.num_gaps()) {  // friction: the slip since the last step, and
       qp.slip0 += qp.slip_jacobian * u_;      // the penalty's tangential spring force there
-      // A row that was open at the step's start slips from where it first closed: from the
-      // state of the outer iteration that found it closed (its slip while it was still
-      // approaching is not slip). Without this, a node entering contact in a step would be
-      // charged the step's whole tangential motion (loading a Hertz contact with P and Q
-      // together made the newly touching edge nodes slip, where the analysis has none).
-      slip_since_.resize(contact_.num_slots(), std::nan(""));
-      for (int i = 0; i < qp.num_gaps(); ++i) {
-        const int k = rows_[i].slot;
-        if (static_cast<int>(in_.memory.size()) > k && in_.memory[k]) continue;
-        if (std::isnan(slip_since_[k]) && previous_[k]) slip_since_[k] = qp.slip0[i];
-        if (!std::isnan(slip_since_[k])) qp.slip0[i] -= slip_since_[k];
-      }
       qp.tangent_force0 = VecX::Zero(qp.num_gaps());
       if (in_.tangent_memory.size() == contact_.num_slots())
         for (int i = 0; i < qp.num_gaps(); ++i)
           qp.tangent_force0[i] = in_.tangent_memory[rows_[i].slot];
+      // A row that was open at the step's start slips from where it first closed: from the
+      // state of the outer iteration that found it closed, with the friction force it held
+      // there (a penalty's spring keeps its stretch). Its slip while it was still approaching
+      // is not slip: without this, a node entering contact in a step was charged the step's
+      // whole tangential motion (loading a Hertz contact with P and Q together made the newly
+      // touching edge nodes slip, where the analysis has none).
+      slip_since_.resize(contact_.num_slots(), std::nan(""));
+      force_since_.resize(contact_.num_slots(), 0.0);
+      for (int i = 0; i < qp.num_gaps(); ++i) {
+        const int k = rows_[i].slot;
+        if (static_cast<int>(in_.memory.size()) > k && in_.memory[k]) continue;
+        if (std::isnan(slip_since_[k]) && previous_[k]) {
+          slip_since_[k] = qp.slip0[i];
+          force_since_[k] = tangent_by_slot_.size() > k ? tangent_by_slot_[k] : 0.0;
+        }
+        if (std::isnan(slip_since_[k])) continue;
+        qp.slip0[i] -= slip_since_[k];
+        qp.tangent_force0[i] = force_since_[k];
+      }
     }
     keep_local_stiffness(qp);
     warm_start(qp);
@@ -446,6 +453,7 @@ class ConstrainedStep {
   /// Friction: per slot open at the step's start, its slip (from the last step) at the state
   /// where it was first found closed; NaN while it has not closed.
   std::vector<double> slip_since_;
+  std::vector<double> force_since_;  ///< and the friction force it held there
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
   double coordinate_scale_ = 0.0;      ///< the lengths a gap is computed from, for round-off
