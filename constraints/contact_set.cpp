@@ -10,13 +10,9 @@
 
 namespace c2d::constraints {
 
-namespace {
-
 double chord(const std::vector<Vec2>& x, const MasterEdge& e) {
   return (x[e.nodes[1]] - x[e.nodes[0]]).norm();
 }
-
-}  // namespace
 
 ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
                        const core::Scene& scene)
@@ -45,25 +41,10 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
   for (const auto& e : slave_edges_) shortest = std::min(shortest, chord(mesh.nodes, e));
   if (shortest == 1e300) shortest = mesh.edge_length_range().first;
   length_scale_ = shortest > 0 && shortest < 1e300 ? shortest : model.model_size * 1e-3;
-  // Each slave node's share of the slave surface (a Tresca bound is a traction over it).
-  tributary_.assign(mesh.num_nodes(), 0.0);
-  for (size_t k = 0; k < slave_edges_.size(); ++k) {
-    const MasterEdge& e = slave_edges_[k];
-    const double a = chord(mesh.nodes, e) * slave_edge_thickness_[k];
-    if (e.count == 3) {
-      tributary_[e.nodes[0]] += a / 6, tributary_[e.nodes[1]] += a / 6;
-      tributary_[e.nodes[2]] += 2 * a / 3;
-    } else {
-      tributary_[e.nodes[0]] += a / 2, tributary_[e.nodes[1]] += a / 2;
-    }
-  }
+  add_tributary();
+
 }
 
-bool ContactSet::has_friction() const {
-  for (const ContactPairSpec& c : spec_.pairs)
-    if (c.friction.enabled()) return true;
-  return false;
-}
 
 void ContactSet::add_slave_edges(const ContactPairSpec& cs, bool required) {
   const core::Mesh& mesh = model_.mesh;
@@ -167,44 +148,6 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   p.length_scale = length_scale_;
   p.model_size = model_.model_size;
   return p;
-}
-
-void ContactSet::add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
-                                   const VecX* u_reference, ConstrainedProblem& p) const {
-  // The tangential row of a gap row: each coefficient turned clockwise (c → (c_y, −c_x)), so
-  // its slip is along the normal turned clockwise; the slip is measured from u_reference.
-  const core::DofMap& dofs = model_.dofs;
-  const int m = static_cast<int>(rows.size());
-  std::vector<Eigen::Triplet<double>> t;
-  p.slip0 = VecX::Zero(m);
-  p.friction_coefficient = VecX::Zero(m);
-  p.friction_bound = VecX::Zero(m);
-  p.tangent_penalty_ratio = VecX::Ones(m);
-  for (int i = 0; i < m; ++i) {
-    const GapRow& r = rows[i];
-    double s0 = 0.0;
-    for (const auto& [node, coefficient] : r.terms) {
-      const Vec2 a(coefficient.y(), -coefficient.x());
-      for (int c = 0; c < 2; ++c) {
-        const int dof = 2 * node + c;
-        if (a[c] == 0.0) continue;
-        const double ref = u_reference ? (*u_reference)[dof] : 0.0;
-        const int eq = dofs.equation(dof);
-        if (eq >= 0)
-          t.emplace_back(i, eq, a[c]), s0 -= a[c] * ref;
-        else
-          s0 += a[c] * (u_full[dof] - ref);
-      }
-    }
-    p.slip0[i] = s0;
-    if (r.pair >= static_cast<int>(spec_.pairs.size())) continue;  // the seed's gap elements
-    const FrictionSpec& f = spec_.pairs[r.pair].friction;
-    p.friction_coefficient[i] = f.coefficient;
-    p.tangent_penalty_ratio[i] = f.penalty_ratio;
-    if (f.bound > 0) p.friction_bound[i] = f.bound * (r.weight > 0 ? r.weight : tributary_[r.slave]);
-  }
-  p.slip_jacobian = SpMat(m, dofs.num_free());
-  p.slip_jacobian.setFromTriplets(t.begin(), t.end());
 }
 
 SpMat ContactSet::gap_jacobian(const std::vector<GapRow>& rows) const {

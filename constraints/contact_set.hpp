@@ -151,6 +151,8 @@ class ContactSet {
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
+  /// Each slave node's share of the slave surface (tributary_).
+  void add_tributary();
   /// The tangential rows of `rows` and their friction laws into `p` (see ConstrainedProblem).
   void add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
                          const VecX* u_reference, ConstrainedProblem& p) const;
@@ -180,6 +182,9 @@ class ContactSet {
   double length_scale_ = 1.0;
   int num_slots_ = 0;
 };
+
+/// The straight distance between a master or slave edge's end nodes.
+double chord(const std::vector<Vec2>& x, const MasterEdge& e);
 
 /// Consistent recovery of a pressure field from nodal normal forces on a line of boundary
 /// edges: solves M p = f with the edge mass matrix M = Σ t ∫ N_a N_b ds, so a pressure the

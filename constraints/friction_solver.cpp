@@ -63,32 +63,8 @@ class FrictionalSolve {
     penalised_ = o_->rule == Rule::kPenalised;
     rule_ = o_->rule;
     const KktSolveReport before = kkt_.report();
-    // Cold start: the problem's closed rows, every frictional one sticking.
-    std::vector<char> cold(2 * m_, kFree);
-    const std::vector<char> closed = initially_closed(p_);
-    for (int i = 0; i < m_; ++i) {
-      cold[i] = closed[i] && (penalised_ || !gap_rows_[i].empty());
-      if (frictional(i) && (cold[i] || tresca(i))) cold[m_ + i] = kStick;
-    }
-    // Warm start: the previous state's friction states, or a solution's sets.
-    std::vector<char> code = cold;
-    for (int i = 0; i < m_; ++i)
-      if (code[m_ + i] == kStick && static_cast<int>(p_.initial_friction.size()) == m_ &&
-          p_.initial_friction[i] >= 1 && p_.initial_friction[i] <= 3)
-        code[m_ + i] = p_.initial_friction[i];  // the same codes
-    if (const ConstraintSolution* st = o_->start;
-        st && static_cast<int>(st->active.size()) == m_ &&
-        static_cast<int>(st->friction_state.size()) == m_ && st->tangent_force.size() == m_) {
-      for (int i = 0; i < m_; ++i) {
-        code[i] = st->active[i] && (penalised_ || !gap_rows_[i].empty());
-        code[m_ + i] = kFree;
-        if (!frictional(i) || (!code[i] && !tresca(i))) continue;
-        // (an open Tresca row carries friction: it slips when its force reached the bound)
-        const bool slips = st->friction_state[i] == FrictionState::kSlip ||
-                           (!code[i] && std::abs(st->tangent_force[i]) >= (1 - 1e-6) * bound_[i]);
-        code[m_ + i] = slips ? (st->tangent_force[i] >= 0 ? kSlipPlus : kSlipMinus) : kStick;
-      }
-    }
+    const std::vector<char> cold = cold_start();
+    std::vector<char> code = warm_start(cold);
     bool warm = code != cold;
     std::set<std::vector<char>> seen{code};
     s.status = SolveStatus::kMaxIterations;
@@ -153,6 +129,40 @@ class FrictionalSolve {
   }
 
  private:
+  /// The problem's closed rows, every frictional one (and every Tresca row) sticking.
+  std::vector<char> cold_start() const {
+    std::vector<char> cold(2 * m_, kFree);
+    const std::vector<char> closed = initially_closed(p_);
+    for (int i = 0; i < m_; ++i) {
+      cold[i] = closed[i] && (penalised_ || !gap_rows_[i].empty());
+      if (frictional(i) && (cold[i] || tresca(i))) cold[m_ + i] = kStick;
+    }
+    return cold;
+  }
+
+  /// The cold start with the previous state's friction states, or a given solution's sets.
+  std::vector<char> warm_start(const std::vector<char>& cold) const {
+    std::vector<char> code = cold;
+    for (int i = 0; i < m_; ++i)
+      if (code[m_ + i] == kStick && static_cast<int>(p_.initial_friction.size()) == m_ &&
+          p_.initial_friction[i] >= 1 && p_.initial_friction[i] <= 3)
+        code[m_ + i] = p_.initial_friction[i];  // the same codes
+    const ConstraintSolution* st = o_->start;
+    if (!st || static_cast<int>(st->active.size()) != m_ ||
+        static_cast<int>(st->friction_state.size()) != m_ || st->tangent_force.size() != m_)
+      return code;
+    for (int i = 0; i < m_; ++i) {
+      code[i] = st->active[i] && (penalised_ || !gap_rows_[i].empty());
+      code[m_ + i] = kFree;
+      if (!frictional(i) || (!code[i] && !tresca(i))) continue;
+      // (an open Tresca row carries friction: it slips when its force reached the bound)
+      const bool slips = st->friction_state[i] == FrictionState::kSlip ||
+                         (!code[i] && std::abs(st->tangent_force[i]) >= (1 - 1e-6) * bound_[i]);
+      code[m_ + i] = slips ? (st->tangent_force[i] >= 0 ? kSlipPlus : kSlipMinus) : kStick;
+    }
+    return code;
+  }
+
   bool frictional(int i) const { return mu_[i] > 0 || bound_[i] > 0; }
   bool tresca(int i) const { return bound_[i] > 0; }
   double compliance(const VecX& k, int i) const { return penalised_ ? 1.0 / k[i] : 0.0; }

@@ -180,8 +180,10 @@ void add_gap_element(LineReader& r, const ElementLine& e, int nn, ExplicitModel&
   if (gap.node_a == gap.node_b) r.fail("gap element from a node to itself");
   if (!(gap.stiffness > 0) || !std::isfinite(gap.stiffness))
     r.fail("gap element with a stiffness k > 0, found " + std::to_string(gap.stiffness));
-  if (!(gap.direction.norm() > 0) || !gap.direction.allFinite())
-    r.fail("gap element with a zero direction (nx, ny)");
+  if (!gap.direction.allFinite())
+    r.fail("gap element with a finite direction (nx, ny), found (" + std::to_string(e.p1) + ", " +
+           std::to_string(e.p2) + ")");
+  if (!(gap.direction.norm() > 0)) r.fail("gap element with a non-zero direction (nx, ny), found (0, 0)");
   model.gaps.push_back(gap);
 }
 

@@ -108,19 +108,44 @@ RefineSpec parse_refine(const TomlView& v) {
   return r;
 }
 
+namespace {
+
+/// Loads, prescribed displacements and shape coordinates: finite (the reader's) and at most 1e30
+/// in size, where E is bounded too: beyond, K u, the load vector or a body's extent overflows
+/// (1e300 coordinates were blamed on the mesh size).
+double bounded(const TomlView& v) {
+  const double x = v.number();
+  if (!(std::abs(x) <= 1e30)) v.fail("a value of at most 1e30 in magnitude");
+  return x;
+}
+
+Vec2 bounded_vec2(const TomlView& v) {
+  const Vec2 x = v.vec2();
+  if (!(x.cwiseAbs().maxCoeff() <= 1e30)) v.fail("components of at most 1e30 in magnitude");
+  return x;
+}
+
+std::vector<Vec2> bounded_points(const TomlView& v) {
+  std::vector<Vec2> pts = v.points();
+  for (const auto& item : v.items()) bounded_vec2(item);
+  return pts;
+}
+
+}  // namespace
+
 ShapeSpec parse_shape(const TomlView& v) {
   v.require_table();
   ShapeSpec s;
   s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment", "points"});
   if (s.type == "rectangle") {
     v.check_keys({"type", "min", "max"});
-    s.min = v["min"].vec2();
-    s.max = v["max"].vec2();
+    s.min = bounded_vec2(v["min"]);
+    s.max = bounded_vec2(v["max"]);
     if (!(s.max.array() > s.min.array()).all())
       v["max"].fail("max > min in both coordinates");
   } else if (s.type == "polygon") {
     v.check_keys({"type", "points"});
-    s.points = v["points"].points();
+    s.points = bounded_points(v["points"]);
     if (s.points.size() < 3) v["points"].fail("at least 3 points");
     if (const std::string why = polygon_problem(s.points); !why.empty())
       v["points"].fail("a simple polygon of positive area (" + why + ")");
@@ -128,10 +153,10 @@ ShapeSpec parse_shape(const TomlView& v) {
     // A point cloud triangulated as it is (Delaunay): the seed's pre-processor. The checks of
     // the cloud itself (duplicates, collinear, outside the boundary) are the mesher's.
     v.check_keys({"type", "points", "boundary"});
-    s.points = v["points"].points();
+    s.points = bounded_points(v["points"]);
     if (s.points.size() < 3) v["points"].fail("at least 3 points");
     if (v.has("boundary")) {
-      s.boundary = v["boundary"].points();
+      s.boundary = bounded_points(v["boundary"]);
       if (s.boundary.size() < 3) v["boundary"].fail("a polygon of at least 3 points");
       if (const std::string why = polygon_problem(s.boundary); !why.empty())
         v["boundary"].fail("a simple polygon of positive area (" + why + ")");
@@ -141,8 +166,9 @@ ShapeSpec parse_shape(const TomlView& v) {
       v.check_keys({"type", "center", "radius"});
     else
       v.check_keys({"type", "center", "radius", "from_deg", "to_deg"});
-    s.center = v["center"].vec2();
+    s.center = bounded_vec2(v["center"]);
     s.radius = v["radius"].positive();
+    if (!(s.radius <= 1e30)) v["radius"].fail("a radius of at most 1e30");
     if (s.type == "disk_segment") {
       s.from_deg = v["from_deg"].number();
       s.to_deg = v["to_deg"].number();
@@ -203,24 +229,6 @@ void parse_adapt(const TomlView& v, AdaptSpec& a) {
   a.limits.max_growth = v["max_growth"].number_or(a.limits.max_growth);
   if (!(a.limits.max_growth >= 1)) v["max_growth"].fail("a factor >= 1: the largest h_new / h per cycle");
 }
-
-namespace {
-
-/// Loads and prescribed displacements: finite (the reader's) and at most 1e30 in size, where
-/// E is bounded too: beyond, K u or the load vector overflows in any unit system.
-double bounded(const TomlView& v) {
-  const double x = v.number();
-  if (!(std::abs(x) <= 1e30)) v.fail("a value of at most 1e30 in magnitude");
-  return x;
-}
-
-Vec2 bounded_vec2(const TomlView& v) {
-  const Vec2 x = v.vec2();
-  if (!(x.cwiseAbs().maxCoeff() <= 1e30)) v.fail("components of at most 1e30 in magnitude");
-  return x;
-}
-
-}  // namespace
 
 ProbeSpec parse_probe(const TomlView& v) {
   v.check_keys({"name", "quantity", "at", "on", "reduce", "plate"});

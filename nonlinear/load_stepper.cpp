@@ -63,6 +63,7 @@ class LoadStepper {
     const VecX trial = attempt(target, rec, cstep);
     rec.seconds = step_clock.elapsed();
     const bool ok = rec.newton.status == SolveStatus::kConverged;
+    if (!ok && inverted_at_.empty()) inverted_at_ = inversion(target, rec, cstep);
     bool give_up = false;
     if (ok) accept(target, trial, cstep, rec);
     else if (rec.newton.status == SolveStatus::kIllConditioned)
@@ -77,15 +78,12 @@ class LoadStepper {
     if (!ok && give_up) {
       r_.status = rec.newton.status;
       std::string why = rec.newton.message;
-      // A contact method that stopped on the linearised problem (a penalty out of range, an
-      // iteration cap) may have stopped because the load crushes an element: its trial state
-      // says so.
-      VecX f;
-      if (r_.status != SolveStatus::kInvertedElement && with_contact_ &&
-          cstep.u_free.size() == u_free_.size() &&
-          !system_.internal_force(system_.full(cstep.u_free), f)) {
+      // The load crushes an element: an attempt of this step inverted one (its Newton solve, or
+      // the contact method's trial state), and the smaller steps then stopped on what comes
+      // before inversion (a singular tangent at the limit point, a method's iteration cap).
+      if (r_.status != SolveStatus::kInvertedElement && !inverted_at_.empty()) {
         r_.status = SolveStatus::kInvertedElement;
-        why = "in the method's last trial state " + system_.evaluation_failure() + "; " + why;
+        why = inverted_at_ + "; the smaller steps ended: " + why;
       }
       r_.message = "load step to λ = " + std::to_string(target) + " failed after " +
                    std::to_string(cutbacks_) + " cutbacks (" + why + ")";
@@ -126,7 +124,23 @@ class LoadStepper {
     return trial;
   }
 
+  /// What a failed attempt says of inverted elements ("" when none inverted): its Newton solve
+  /// met one, or the contact method's last trial state has one.
+  std::string inversion(double target, const StepRecord& rec, const ContactStepResult& cstep) {
+    const std::string at = "at the step to λ = " + std::to_string(target) + ", ";
+    if (rec.newton.status == SolveStatus::kInvertedElement) {
+      const std::string which = system_.evaluation_failure();
+      return at + (which.empty() ? std::string("an element inverted") : which);
+    }
+    VecX f;
+    if (with_contact_ && cstep.u_free.size() == u_free_.size() &&
+        !system_.internal_force(system_.full(cstep.u_free), f))
+      return at + "in the method's last trial state " + system_.evaluation_failure();
+    return "";
+  }
+
   void accept(double target, const VecX& trial, const ContactStepResult& cstep, StepRecord& rec) {
+    inverted_at_.clear();
     ++converged_steps_;
     u_free_ = trial;
     u_prev_full_ = system_.full(u_free_);
@@ -253,6 +267,7 @@ class LoadStepper {
   double lambda_ = 0.0;
   ContactMemory memory_;
   VecX tangent_memory_;                 ///< friction: per slot, the last converged λ_t
+  std::string inverted_at_;  ///< the first attempt of the current step that inverted an element
   std::vector<double> accumulated_slip_;  ///< friction: Σ |slip| per slave node
   constraints::ContactReport last_contact_;
   Results r_, last_state_;

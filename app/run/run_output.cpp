@@ -48,7 +48,11 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   remove_stale_work_folders(folder);
   dir_ = folder.string() + ".part." + std::to_string(::getpid());
   fs::remove_all(dir_, ec);
-  create_output_folder(dir_);
+  // The work folder is this run's detail: a failure to create it names the target the user gave.
+  fs::create_directories(dir_, ec);
+  if (ec)
+    throw InputError(target_ + ": expected an output folder that can be created, found: " +
+                     ec.message());
   log_.open(dir_ + "/run.log");
 }
 

@@ -8,29 +8,15 @@
 #include <sstream>
 
 #include "core/spd_solver.hpp"
-#include "constraints/friction_solver.hpp"
+#include "constraints/methods/ipopt_qp.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
 
-namespace {
+namespace ipopt_detail {
 
 using Ipopt::Index;
 using Ipopt::Number;
-
-/// A constraint row kept for Ipopt: normalised coefficients, bounds, and where it came from.
-struct KeptRow {
-  std::vector<std::pair<int, double>> terms;
-  double lower = 0, upper = 0, norm = 1;
-  bool equality = false;
-  int source = 0;  ///< index into the problem's equality or gap rows
-};
-
-struct RowSet {
-  std::vector<KeptRow> rows;
-  int dropped_zero = 0, dropped_duplicate = 0;
-  std::string inconsistent;  ///< non-empty: contradictory duplicate rows
-};
 
 /// Normalises the rows and drops zero rows and duplicates (the tightest copy of a gap row is
 /// kept; duplicate equalities must agree).
@@ -236,7 +222,7 @@ bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<cha
 /// arbitrary rigid motion): the rows that hold the solution (touching ones included) must leave
 /// no rigid motion free, as the multiplier methods require of their active sets.
 void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
-                       ConstraintSolution& s, bool check_rigid_motion = true) {
+                       ConstraintSolution& s, bool check_rigid_motion) {
   s.active.assign(p.num_gaps(), 0);
   const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
   const VecX gap = p.gap0 + p.gap_jacobian * s.u;
@@ -255,16 +241,6 @@ void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
   }
 }
 
-}  // namespace
-
-namespace {
-
-struct QpOutcome {
-  SolveStatus status = SolveStatus::kFailed;
-  std::string message;
-  VecX x, lambda;  ///< [u; p] and Ipopt's multipliers of the rows
-  int iterations = 0;
-};
 
 /// Ipopt on the QP of `rows` with auxiliary costs `cost`.
 QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX& cost,
@@ -296,66 +272,6 @@ QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX&
   return out;
 }
 
-/// A Tresca problem's rows: for each gap row i with a bound b_i > 0 and a tangential row, an
-/// auxiliary p_k ≥ |s_i| as p_k − s_i ≥ 0 (kept with friction = +1) and p_k + s_i ≥ 0 (−1),
-/// over x = [u; p], normalised like the others. Returns the costs b of the p.
-VecX add_tresca_rows(const ConstrainedProblem& p, const VecX& bound, RowSet& rows,
-                     std::vector<int>& friction_sign) {
-  const SpMat tt = p.slip_jacobian.transpose();
-  std::vector<double> cost;
-  friction_sign.assign(rows.rows.size(), 0);
-  for (int i = 0; i < p.num_gaps(); ++i) {
-    if (!(bound[i] > 0) || tt.col(i).nonZeros() == 0) continue;
-    const int aux = p.num_unknowns() + static_cast<int>(cost.size());
-    cost.push_back(bound[i]);
-    for (const int sign : {+1, -1}) {
-      KeptRow k;
-      k.source = i;
-      k.terms.emplace_back(aux, 1.0);
-      double n2 = 1.0;
-      for (SpMat::InnerIterator it(tt, i); it; ++it) {
-        k.terms.emplace_back(static_cast<int>(it.row()), -sign * it.value());
-        n2 += it.value() * it.value();
-      }
-      k.norm = std::sqrt(n2);
-      for (auto& [c, v] : k.terms) v /= k.norm;
-      k.lower = sign * p.slip0[i] / k.norm;  // p − sign·(s0 + T u) ≥ 0
-      k.upper = 2e19;
-      rows.rows.push_back(k);
-      friction_sign.push_back(sign);
-    }
-  }
-  return Eigen::Map<const VecX>(cost.data(), static_cast<Eigen::Index>(cost.size()));
-}
-
-/// The first problem of a Coulomb fixed point without normal forces to start from: the rows
-/// closed at the start stick (T_i u = −s0_i, an equality; friction_sign 2), which holds a body
-/// that only friction holds sideways (a frictionless first problem would let it slide away).
-void add_stick_rows(const ConstrainedProblem& p, RowSet& rows, std::vector<int>& friction_sign) {
-  const SpMat tt = p.slip_jacobian.transpose();
-  const std::vector<char> closed = initially_closed(p);
-  friction_sign.resize(rows.rows.size(), 0);
-  for (int i = 0; i < p.num_gaps(); ++i) {
-    if (!closed[i] || tt.col(i).nonZeros() == 0 ||
-        !(p.friction_coefficient[i] > 0 ||
-          (p.friction_bound.size() == p.num_gaps() && p.friction_bound[i] > 0)))
-      continue;
-    KeptRow k;
-    k.equality = true;
-    k.source = i;
-    double n2 = 0.0;
-    for (SpMat::InnerIterator it(tt, i); it; ++it) {
-      k.terms.emplace_back(static_cast<int>(it.row()), it.value());
-      n2 += it.value() * it.value();
-    }
-    k.norm = std::sqrt(n2);
-    for (auto& [c, v] : k.terms) v /= k.norm;
-    k.lower = k.upper = -p.slip0[i] / k.norm;
-    rows.rows.push_back(k);
-    friction_sign.push_back(2);
-  }
-}
-
 /// Forces from Ipopt's multipliers (its Lagrangian is f + gᵀλ: a row exerts −λ / |row|): the
 /// gap rows' λ ≥ 0, the equality rows' μ, and λ_t = φ⁺ − φ⁻ from a Tresca row pair.
 void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
@@ -381,38 +297,9 @@ void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
   }
 }
 
-/// The crossover of an interior point: the sets Ipopt's solution identifies (closed rows, stick,
-/// slip and its direction) solved exactly, and confirmed by the primal-dual rule. An interior
-/// point stops a barrier parameter away from the solution; a sticking row's degenerate faces and
-/// the slip forces' bound keep O(tol) errors that move from one solve to the next, so a load
-/// step's outer iterations, which ask for the same state twice, would not settle. When the
-/// exact solve changes the sets, Ipopt's own solution stays and the message says so.
-void crossover(const ConstrainedProblem& p, ConstraintSolution& s) {
-  FrictionalOptions o;
-  o.rule = FrictionalOptions::Rule::kPrimalDual;
-  o.max_iterations = 1;
-  o.start = &s;
-  ConstraintSolution exact;
-  solve_frictional(p, o, exact);
-  if (exact.status != SolveStatus::kConverged) {
-    s.message = "the exact solve of Ipopt's sets did not confirm them (" + exact.message +
-                "): Ipopt's solution, to its tolerance";
-    return;
-  }
-  s.u = exact.u;
-  s.contact_force = exact.contact_force;
-  s.tangent_force = exact.tangent_force;
-  s.eq_multiplier = exact.eq_multiplier;
-  s.friction_state = exact.friction_state;
-  s.active = exact.active;
-  s.factorizations += exact.factorizations;
-  s.numeric_seconds += exact.numeric_seconds;
-  s.symbolic_seconds += exact.symbolic_seconds;
-  s.solve_seconds += exact.solve_seconds;
-  s.symbolic_analyses += exact.symbolic_analyses;
-}
+}  // namespace ipopt_detail
 
-}  // namespace
+using namespace ipopt_detail;
 
 ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
@@ -422,108 +309,32 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
     s.message = "inconsistent constraints: " + base.inconsistent;
     return s;
   }
-  // Friction: a fixed point of Tresca problems. Each is a QP (the friction cone's two faces as
-  // the linear inequalities p ≥ ±s, cost b p); a Coulomb row's bound b = μ λ comes from the
-  // normal force of the previous QP (the first sees the warm start's forces, or none), and the
-  // iteration ends when no bound changes by more than 1e-9 of the largest.
   const bool friction = p.has_friction();
-  VecX bound = VecX::Zero(p.num_gaps());
-  auto coulomb_bounds = [&](const VecX& normal) {
-    VecX b(p.num_gaps());
-    for (int i = 0; i < p.num_gaps(); ++i)
-      b[i] = p.friction_bound.size() == p.num_gaps() && p.friction_bound[i] > 0
-                 ? p.friction_bound[i]
-                 : p.friction_coefficient[i] * std::max(0.0, normal[i]);
-    return b;
-  };
-  if (friction)
-    bound = coulomb_bounds(p.initial_force.size() == p.num_gaps() ? p.initial_force
-                                                                 : VecX(VecX::Zero(p.num_gaps())));
-  // No normal force to start from: the first problem holds the closed rows sticking.
-  bool stick_first = friction && bound.lpNorm<Eigen::Infinity>() == 0.0;
-  const int rounds = friction ? options_.max_iterations : 1;
   int total_iterations = 0;
-  s.status = SolveStatus::kMaxIterations;
-  std::string message = "friction bounds still changing after " + std::to_string(rounds) +
-                        " Tresca problems";
-  for (int round = 1; round <= rounds; ++round) {
-    RowSet rows = base;
-    std::vector<int> friction_sign;
-    const VecX cost = friction ? add_tresca_rows(p, bound, rows, friction_sign) : VecX();
-    if (stick_first) add_stick_rows(p, rows, friction_sign);
-    // A sticking row holds p = |s| = 0 with both faces active (degenerate): the barrier leaves
-    // a slip of O(tol) there, which its tangential stiffness turns into force errors of 1e-4
-    // at tol = 1e-10. The crossover below makes the forces exact once the sets are right; the
-    // Tresca problems are solved to 1e-2 of the tolerance so that they are.
-    const QpOutcome qp =
-        run_ipopt(p, rows, cost, options_, friction ? 1e-2 * options_.ipopt_tolerance
-                                                    : options_.ipopt_tolerance);
-    total_iterations += qp.iterations;
-    extract_forces(p, rows, friction_sign, qp, s);
+  VecX bound;
+  std::string message;
+  if (friction) {
+    message = solve_tresca_fixed_point(p, options_, base, s, total_iterations, bound);
+  } else {
+    const QpOutcome qp = run_ipopt(p, base, VecX(), options_, options_.ipopt_tolerance);
+    total_iterations = qp.iterations;
+    extract_forces(p, base, {}, qp, s);
+    s.status = qp.status;
+    message = qp.message;
     IterationRecord rec;
     rec.iteration = total_iterations;
     rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
-    if (qp.status != SolveStatus::kConverged) {
-      s.status = qp.status;
-      message = qp.message;
-      s.history.push_back(rec);
-      break;
-    }
-    if (!friction) {
-      s.status = SolveStatus::kConverged;
-      message = qp.message;
-      s.history.push_back(rec);
-      break;
-    }
-    // The bounds from the contact forces of touching rows only: an interior point leaves
-    // O(μ_barrier / gap) forces on open rows, which would otherwise keep the bounds moving.
-    VecX normal = s.contact_force;
-    {
-      const VecX gap = p.gap0 + p.gap_jacobian * s.u;
-      const double touch = penetration_tolerance(options_, p);
-      const double fmax = normal.size() ? normal.maxCoeff() : 0.0;
-      for (int i = 0; i < normal.size(); ++i)
-        if (!(normal[i] > 1e-6 * fmax && gap[i] <= touch)) normal[i] = 0.0;
-    }
-    const VecX next = coulomb_bounds(normal);
-    const double change = (next - bound).lpNorm<Eigen::Infinity>();
-    rec.residual = change;
     s.history.push_back(rec);
-    const bool settled = change <= 1e-9 * std::max(next.lpNorm<Eigen::Infinity>(), 1e-300) ||
-                         next.lpNorm<Eigen::Infinity>() == 0.0;
-    bound = next;
-    if (stick_first) {  // the sticking problem gave the first normal forces
-      stick_first = false;
-      continue;
-    }
-    if (settled && round > 1) {
-      s.status = SolveStatus::kConverged;
-      message.clear();
-      break;
-    }
   }
   s.message = message;
   if (base.dropped_zero + base.dropped_duplicate > 0)
     s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +
                  std::to_string(base.dropped_zero) + " zero and " +
                  std::to_string(base.dropped_duplicate) + " duplicate constraint rows";
-  settle_active_set(p, options_, s, !friction);
-  if (friction) {
-    // A row slips where its friction force reached the bound (to the solve's precision, 1e-6),
-    // and sticks where it stayed inside.
-    s.friction_state.assign(p.num_gaps(), FrictionState::kOpen);
-    for (int i = 0; i < p.num_gaps(); ++i)
-      if (s.active[i])
-        s.friction_state[i] = bound[i] > 0 && std::abs(s.tangent_force[i]) < (1 - 1e-6) * bound[i]
-                                  ? FrictionState::kStick
-                                  : FrictionState::kSlip;
-  }
-  if (friction && s.status == SolveStatus::kConverged) {
-    crossover(p, s);
-    // With the friction states known: the rows that hold it (sticking ones along t too) must
-    // leave no rigid motion free.
+  if (friction)
+    finish_friction(p, options_, bound, s);
+  else
     settle_active_set(p, options_, s);
-  }
   IterationRecord& last = s.history.back();
   last.active = count_active(s.active);
   last.entering = last.active;

@@ -57,11 +57,15 @@ FrictionalOptions penalised_friction(const ConstrainedProblem& p, const VecX& k_
 
 namespace {
 // Largest ratio of a row's penalty to its local stiffness: how many digits the penalty costs.
+// Rows whose local stiffness is not positive (a tangent that lost definiteness around a
+// collapsing element) have no such measure and are left out: their trouble is not the penalty.
 double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX& k_eq) {
   double r = 0.0;
   const VecX lg = p.gap_local_stiffness(), le = p.row_stiffness(p.eq_jacobian);
-  for (int i = 0; i < k_gap.size(); ++i) r = std::max(r, k_gap[i] / std::max(lg[i], 1e-300));
-  for (int j = 0; j < k_eq.size(); ++j) r = std::max(r, k_eq[j] / std::max(le[j], 1e-300));
+  for (int i = 0; i < k_gap.size(); ++i)
+    if (lg[i] > 0) r = std::max(r, k_gap[i] / lg[i]);
+  for (int j = 0; j < k_eq.size(); ++j)
+    if (le[j] > 0) r = std::max(r, k_eq[j] / le[j]);
   return r;
 }
 }  // namespace
