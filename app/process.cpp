@@ -8,12 +8,25 @@
 
 #include <cerrno>
 #include <cstring>
+#include <string_view>
 
 namespace c2d::app {
 
 ProcessOutcome run_process(const std::string& program, const std::vector<std::string>& args,
-                           const std::string& log_path) {
+                           const std::string& log_path, const std::vector<std::string>& env) {
   ProcessOutcome out;
+  // The child's environment: this process's, with the entries of `env` replacing theirs.
+  std::vector<std::string> settings = env;
+  std::vector<char*> envp;
+  for (auto& e : settings) envp.push_back(e.data());
+  for (char** e = environ; *e; ++e) {
+    const std::string_view entry(*e);
+    const auto name = entry.substr(0, entry.find('='));
+    bool replaced = false;
+    for (const auto& s : env) replaced = replaced || s.compare(0, name.size() + 1, std::string(name) + "=") == 0;
+    if (!replaced) envp.push_back(*e);
+  }
+  envp.push_back(nullptr);
   std::vector<std::string> words{program};
   words.insert(words.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -26,7 +39,7 @@ ProcessOutcome run_process(const std::string& program, const std::vector<std::st
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   pid_t pid = 0;
-  const int rc = posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  const int rc = posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
     out.error = program + " could not be started (" + std::strerror(rc) + ")";

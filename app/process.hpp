@@ -15,8 +15,9 @@ struct ProcessOutcome {
 };
 
 /// Runs `program` (a path, or a name looked up on PATH) with `args` as argv[1..], stdin from
-/// /dev/null and stdout and stderr into `log_path`, and waits for it.
+/// /dev/null and stdout and stderr into `log_path`, and waits for it. `env` entries
+/// ("NAME=value") are set in the child's environment on top of this process's.
 ProcessOutcome run_process(const std::string& program, const std::vector<std::string>& args,
-                           const std::string& log_path);
+                           const std::string& log_path, const std::vector<std::string>& env = {});
 
 }  // namespace c2d::app

@@ -193,7 +193,7 @@ std::string compare_md(const CompareOptions& o, const std::vector<CompareRow>& r
   os << "# contact2d compare: " << o.scene << "\n\n" << verdict(rows, methods, metric) << "\n\n"
      << orders_md(rows, methods, metric);
   os << "Times are the solve phase (contact iterations included), from each run's summary.json; "
-     << "errors are against the scene's [reference].\n\n";
+     << "errors are against the scene's [reference]. " << timing_note(o.jobs) << "\n\n";
   os << "Fitted p0 and b: the Hertz form p0 √(1 − ((x − x0)/b)²) fitted to the nodal pressures "
         "(Ceres), a contact width that does not depend on where the nodes fall.\n\n";
   os << "| level | method | DOFs | status | iterations | solve | total | p_max | contact length | "

@@ -2,6 +2,7 @@
 #include "app/output_folder.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <atomic>
 #include <chrono>
 #include <exception>
@@ -21,13 +22,14 @@ namespace c2d::app {
 
 namespace {
 
-CaseOutcome run_one(const std::string& exe, const StudyCase& c) {
+CaseOutcome run_one(const std::string& exe, const StudyCase& c,
+                    const std::vector<std::string>& env) {
   CaseOutcome out;
   fs::create_directories(c.out_dir);
   std::vector<std::string> args{"run"};
   args.insert(args.end(), c.args.begin(), c.args.end());
   const auto t0 = std::chrono::steady_clock::now();
-  const ProcessOutcome run = run_process(exe, args, c.out_dir + "/stdout.log");
+  const ProcessOutcome run = run_process(exe, args, c.out_dir + "/stdout.log", env);
   if (run.started) out.exit_code = run.exit_code, out.peak_rss_mb = run.peak_rss_mb;
   out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ifstream in(c.out_dir + "/summary.json");
@@ -42,18 +44,46 @@ CaseOutcome run_one(const std::string& exe, const StudyCase& c) {
   return out;
 }
 
+/// The thread-count variables a case's process gets (those the user set are left as set).
+std::vector<std::string> case_environment(int jobs) {
+  std::vector<std::string> env;
+  const std::string threads = std::to_string(threads_per_case(jobs));
+  for (const char* name : {"OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"})
+    if (!std::getenv(name)) env.push_back(std::string(name) + "=" + threads);
+  return env;
+}
+
 }  // namespace
+
+int threads_per_case(int jobs) {
+  const int cores = std::max(1u, std::thread::hardware_concurrency());
+  return std::max(1, cores / std::max(1, jobs));
+}
+
+std::string timing_note(int jobs) {
+  const int cores = std::max(1u, std::thread::hardware_concurrency());
+  std::string note = "Times: each case ran as its own process, " + std::to_string(jobs) +
+                     " at a time on " + std::to_string(cores) + " cores, ";
+  if (std::getenv("OPENBLAS_NUM_THREADS") || std::getenv("OMP_NUM_THREADS"))
+    return note + "with the thread counts set in the environment (OPENBLAS_NUM_THREADS, "
+                  "OMP_NUM_THREADS); cases running side by side share the machine.";
+  return note + "each with " + std::to_string(threads_per_case(jobs)) +
+         " thread(s) for BLAS and OpenMP (cores / jobs), so no case's factorisation competes "
+         "for another's cores; memory bandwidth is still shared.";
+}
 
 void run_cases(const std::vector<StudyCase>& cases, int jobs,
                const std::function<void(size_t, const CaseOutcome&)>& on_done) {
   const std::string exe = fs::read_symlink("/proc/self/exe").string();
+  const std::vector<std::string> env = case_environment(
+      std::max(1, std::min<int>(jobs, static_cast<int>(cases.size()))));
   std::atomic<size_t> next{0};
   std::mutex done_mutex;
   std::exception_ptr first_error;  // a worker's exception stops the pool, then is rethrown
   auto worker = [&] {
     try {
       for (size_t i = next++; i < cases.size(); i = next++) {
-        const CaseOutcome outcome = run_one(exe, cases[i]);
+        const CaseOutcome outcome = run_one(exe, cases[i], env);
         std::lock_guard<std::mutex> lock(done_mutex);
         if (first_error) return;
         on_done(i, outcome);

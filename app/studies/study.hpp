@@ -27,7 +27,15 @@ struct CaseOutcome {
   double peak_rss_mb = 0.0;  ///< the process's peak resident memory (wait4's ru_maxrss)
 };
 
-/// Runs the cases with at most `jobs` concurrent processes of this executable; `on_done` is
+/// The threads each case of a study gets for BLAS and OpenMP: the machine's cores shared among
+/// the `jobs` cases that run at once, at least 1. OpenBLAS threads of two factorisations on the
+/// same cores slowed a 26k-DOF factorisation 20x and flipped compare's ranking with --jobs 2.
+int threads_per_case(int jobs);
+/// One sentence for a study's report: how its times were taken.
+std::string timing_note(int jobs);
+
+/// Runs the cases with at most `jobs` concurrent processes of this executable (each with
+/// threads_per_case(jobs) threads unless the environment sets them); `on_done` is
 /// called once per case as it finishes, never concurrently.
 void run_cases(const std::vector<StudyCase>& cases, int jobs,
                const std::function<void(size_t, const CaseOutcome&)>& on_done);

@@ -299,7 +299,7 @@ int run_sweep(const SweepOptions& o) {
   const std::string chart_error = chart_sweep(out, k.key, rows, seed, drawn);
   core::write_file_atomic(out + "/sweep.md",
                           "# contact2d sweep: " + k.key + " on " + o.scene + "\n\n" + verdict +
-                              "\n\n" + sweep_table(k.key, rows) +
+                              "\n\n" + timing_note(o.jobs) + "\n\n" + sweep_table(k.key, rows) +
                               (chart_error.empty() && drawn ? "\n![sweep](sweep.png)\n" : ""));
   if (!o.quiet) {
     std::cout << "\n" << verdict << "\n\nwrote " << out << "/sweep.csv, sweep.md, sweep.png/svg\n";

@@ -5,6 +5,7 @@
 #include "app/report/units.hpp"
 #include "app/report/field_plot.hpp"
 #include "app/process.hpp"
+#include "app/studies/study.hpp"
 #include "app/report/hertz.hpp"
 #include "app/report/csv_table.hpp"
 #include "constraints/method_registry.hpp"
@@ -874,4 +875,31 @@ TEST(Cli, RunChartsLabelAxesWithTheSceneUnits) {
   EXPECT_NE(pressure.find("x [mm]"), std::string::npos);
   EXPECT_NE(deformed.find("y [mm]"), std::string::npos);
   EXPECT_NE(deformed.find("von Mises [MPa]"), std::string::npos);
+}
+
+// A study's cases get cores / jobs threads for BLAS and OpenMP through their environment (issue
+// 19, item 4): two factorisations' OpenBLAS threads on the same cores had slowed one 20x and
+// flipped compare's ranking with --jobs 2. The child sees the value given, replacing the
+// parent's, and the rest of the parent's environment.
+TEST(Cli, StudyCasesGetTheirThreadCountsThroughTheEnvironment) {
+  const auto dir = std::filesystem::temp_directory_path() / "c2d_env_test";
+  std::filesystem::create_directories(dir);
+  const std::string log = (dir / "env.log").string();
+  ::setenv("C2D_ENV_TEST_KEEP", "kept", 1);
+  ::setenv("OMP_NUM_THREADS", "7", 1);
+  const c2d::app::ProcessOutcome p =
+      c2d::app::run_process("/usr/bin/env", {}, log, {"OMP_NUM_THREADS=1"});
+  ::unsetenv("OMP_NUM_THREADS");
+  ASSERT_TRUE(p.started) << p.error;
+  std::ifstream in(log);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("OMP_NUM_THREADS=1\n"), std::string::npos) << text;
+  EXPECT_EQ(text.find("OMP_NUM_THREADS=7"), std::string::npos) << text;
+  EXPECT_NE(text.find("C2D_ENV_TEST_KEEP=kept"), std::string::npos);
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  EXPECT_EQ(c2d::app::threads_per_case(1), cores);
+  EXPECT_EQ(c2d::app::threads_per_case(2), std::max(1, cores / 2));
+  EXPECT_EQ(c2d::app::threads_per_case(1000), 1);
+  EXPECT_NE(c2d::app::timing_note(2).find("thread(s) for BLAS and OpenMP"), std::string::npos);
+  std::filesystem::remove_all(dir);
 }
