@@ -65,6 +65,8 @@ struct ConstrainedProblem {
   int num_unknowns() const { return static_cast<int>(load.size()); }
   int num_equalities() const { return static_cast<int>(eq_rhs.size()); }
   int num_gaps() const { return static_cast<int>(gap0.size()); }
+  /// Whether gap row i has friction (a coefficient or a Tresca bound).
+  bool frictional(int i) const;
   /// Whether some gap row has friction.
   bool has_friction() const;
 

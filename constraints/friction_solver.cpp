@@ -11,11 +11,14 @@
 
 namespace c2d::constraints {
 
-bool ConstrainedProblem::has_friction() const {
+bool ConstrainedProblem::frictional(int i) const {
   if (friction_coefficient.size() != num_gaps() || slip0.size() != num_gaps()) return false;
+  return friction_coefficient[i] > 0 || (friction_bound.size() == num_gaps() && friction_bound[i] > 0);
+}
+
+bool ConstrainedProblem::has_friction() const {
   for (int i = 0; i < num_gaps(); ++i)
-    if (friction_coefficient[i] > 0 || (friction_bound.size() == num_gaps() && friction_bound[i] > 0))
-      return true;
+    if (frictional(i)) return true;
   return false;
 }
 
@@ -163,7 +166,7 @@ class FrictionalSolve {
     return code;
   }
 
-  bool frictional(int i) const { return mu_[i] > 0 || bound_[i] > 0; }
+  bool frictional(int i) const { return p_.frictional(i); }
   bool tresca(int i) const { return bound_[i] > 0; }
   double compliance(const VecX& k, int i) const { return penalised_ ? 1.0 / k[i] : 0.0; }
 
@@ -189,7 +192,7 @@ class FrictionalSolve {
     for (int j = 0; j < me_; ++j) {
       const int r = n_ + j;
       add_row(r, eq_rows_[j], true);
-      const double cmp = penalised_ ? 1.0 / o_->k_eq[j] : 0.0;
+      const double cmp = compliance(o_->k_eq, j);
       t.emplace_back(r, r, -s * s * cmp);
       rhs[r] = -s * p_.eq_rhs[j] - (penalised_ ? s * cmp * o_->mu_hat[j] : 0.0);
     }
@@ -350,7 +353,6 @@ class FrictionalSolve {
       s.friction_state[i] =
           frictional(i) && code[m_ + i] == kStick ? FrictionState::kStick : FrictionState::kSlip;
     }
-    s.slip = p_.slip0 + p_.slip_jacobian * s.u;
   }
 
   const ConstrainedProblem& p_;

@@ -18,7 +18,7 @@ HeldFriction::HeldFriction(const ConstrainedProblem& p, const VecX& c0,
       stick.push_back(i);
       slip_force[i] = 0.0;
     }
-  fixed_force = -(p.slip_jacobian.transpose() * slip_force);
+  fixed_force = -(tt * slip_force);
   const int ms = static_cast<int>(stick.size());
   std::vector<Triplet> t;
   for (int k = 0; k < ms; ++k)

@@ -1,6 +1,7 @@
 #include "app/report/charts.hpp"
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <iomanip>
 #include <optional>
@@ -19,16 +20,17 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
                                    const core::Scene& scene) {
   // Abscissa: the reference coordinate along which the slave nodes spread most.
   const Units units = parse_units(scene.units);
-  int axis = 0;
-  const auto pts = pressure_profile(c, &axis);
-  // With friction, the shear traction beside the pressure (node by node, the same order).
-  std::vector<std::pair<double, double>> shear;
-  for (const auto& n : c.nodes) shear.emplace_back(n.x[axis], n.shear);
-  std::sort(shear.begin(), shear.end());
+  std::vector<Vec2> positions;
+  for (const auto& n : c.nodes) positions.push_back(n.x);
+  const int axis = spread_axis(positions);
+  // Position, pressure and (with friction) shear per slave node, sorted along the surface once
+  // (two sorts of pairs could pair nodes at the same position crosswise).
+  std::vector<std::array<double, 3>> pts;
+  for (const auto& n : c.nodes) pts.push_back({n.x[axis], n.pressure, n.shear});
+  std::sort(pts.begin(), pts.end());
   std::ostringstream data;
   data << std::setprecision(12);
-  for (size_t k = 0; k < pts.size(); ++k)
-    data << pts[k].first << ' ' << pts[k].second << ' ' << shear[k].second << '\n';
+  for (const auto& [x, p, q] : pts) data << x << ' ' << p << ' ' << q << '\n';
   const std::string data_path = dir + "/pressure.dat";
   std::ostringstream cmd;
   cmd << std::setprecision(10) << "set title "
@@ -40,13 +42,10 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
       << "\nset grid\nset key top left\n";
   std::optional<HertzReference> hertz = hertz_reference(scene);
   // A Cattaneo–Mindlin reference: Hertz's pressure and the shear of a partial slip.
-  const auto& ref = scene.reference;
-  const bool cattaneo = scene.reference_kind == "cattaneo_mindlin" && ref.count("p_max") &&
-                        ref.count("contact_length") && ref.count("stick_length") &&
-                        ref.count("coefficient");
-  if (cattaneo) hertz = HertzReference{ref.at("p_max"), ref.at("contact_length") / 2};
+  const auto cattaneo = cattaneo_reference(scene);
+  if (cattaneo) hertz = cattaneo->hertz;
   // The analytic profile is centred on the origin; show the data within 1.6 half-widths.
-  if (hertz) write_hertz_window(cmd, *hertz, pts.front().first, pts.back().first);
+  if (hertz) write_hertz_window(cmd, *hertz, pts.front()[0], pts.back()[0]);
   cmd << "plot " << gp_file(data_path)
       << " using 1:2 with linespoints pt 7 ps 0.6 title 'pressure'";
   if (c.friction)
@@ -57,8 +56,8 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
     cmd << " with lines lw 2 dt 2 title 'Hertz'";
   }
   if (cattaneo && c.friction) {
-    const double mu = ref.at("coefficient"), p0 = hertz->p0, b = hertz->b,
-                 cs = ref.at("stick_length") / 2, sign = c.tangent_force < 0 ? -1.0 : 1.0;
+    const double mu = cattaneo->mu, p0 = hertz->p0, b = hertz->b, cs = cattaneo->c,
+                 sign = c.tangent_force < 0 ? -1.0 : 1.0;
     cmd << ", \\\n     " << sign << "*((abs(x) < " << b << " ? " << mu * p0 << "*sqrt(1-(x/" << b
         << ")**2) : 0) - (abs(x) < " << cs << " ? " << mu * p0 * cs / b << "*sqrt(1-(x/" << cs
         << ")**2) : 0)) with lines lw 2 dt 3 title 'Cattaneo-Mindlin'";

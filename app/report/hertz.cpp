@@ -44,6 +44,16 @@ double profile_l2_error(std::vector<std::pair<double, double>> pts, double b, Ex
 
 }  // namespace
 
+std::optional<CattaneoReference> cattaneo_reference(const core::Scene& scene) {
+  const auto& ref = scene.reference;
+  if (scene.reference_kind != "cattaneo_mindlin" || !ref.count("p_max") ||
+      !ref.count("contact_length") || !ref.count("stick_length") || !ref.count("coefficient"))
+    return std::nullopt;
+  return CattaneoReference{{ref.at("p_max"), ref.at("contact_length") / 2},
+                           ref.at("coefficient"),
+                           ref.at("stick_length") / 2};
+}
+
 double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b) {
   if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
   return profile_l2_error(x_p, b, [&](double x) {

@@ -22,6 +22,17 @@ struct HertzReference {
 /// p_max and contact_length; nullopt otherwise.
 std::optional<HertzReference> hertz_reference(const core::Scene& scene);
 
+/// A Cattaneo–Mindlin reference: Hertz's p0 and b with the coefficient μ and the stick zone's
+/// half-width c.
+struct CattaneoReference {
+  HertzReference hertz;
+  double mu = 0.0, c = 0.0;
+};
+
+/// The scene's Cattaneo–Mindlin reference: kind "cattaneo_mindlin" with p_max (p0),
+/// contact_length (2b), stick_length (2c) and coefficient (μ); nullopt otherwise.
+std::optional<CattaneoReference> cattaneo_reference(const core::Scene& scene);
+
 /// Relative L2 error of a pressure profile against Hertz's p0 √(1 − x²/b²) over the sampled
 /// range |x| ≤ 1.5 b within the nodes' span (linear interpolation between sorted nodes;
 /// x measured along the surface's main direction from the reference's centre at 0).

@@ -176,20 +176,17 @@ nlohmann::json reference_errors(const core::Scene& scene, const core::Results& r
   if (contact && contact->has_surface && hertz)
     err["pressure_profile_l2"] =
         number(hertz_profile_error(pressure_profile(*contact), hertz->p0, hertz->b));
-  // Cattaneo–Mindlin: the shear profile, from p_max = p0, contact_length = 2b, stick_length =
-  // 2c and the coefficient μ; the shear taken in the direction of the total tangential force.
-  const auto& ref = scene.reference;
-  if (contact && contact->friction && contact->has_surface &&
-      scene.reference_kind == "cattaneo_mindlin" && ref.count("p_max") &&
-      ref.count("contact_length") && ref.count("stick_length") && ref.count("coefficient")) {
-    int axis = 0;
-    pressure_profile(*contact, &axis);
+  // Cattaneo–Mindlin: the shear profile, taken in the direction of the total tangential force.
+  const auto cm = cattaneo_reference(scene);
+  if (contact && contact->friction && contact->has_surface && cm) {
+    std::vector<Vec2> x;
+    for (const auto& n : contact->nodes) x.push_back(n.x);
+    const int axis = spread_axis(x);
     const double sign = contact->tangent_force < 0 ? -1.0 : 1.0;
     std::vector<std::pair<double, double>> pts;
     for (const auto& n : contact->nodes) pts.emplace_back(n.x[axis], sign * n.shear);
-    err["shear_profile_l2"] = number(cattaneo_mindlin_error(
-        pts, ref.at("coefficient"), ref.at("p_max"), ref.at("contact_length") / 2,
-        ref.at("stick_length") / 2));
+    err["shear_profile_l2"] =
+        number(cattaneo_mindlin_error(pts, cm->mu, cm->hertz.p0, cm->hertz.b, cm->c));
   }
   return err;
 }

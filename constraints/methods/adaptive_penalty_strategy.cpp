@@ -25,7 +25,6 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
     PenalizedSolver::Outcome outcome;
     if (p.has_friction()) {
       FrictionalOptions o = penalised_friction(p, k_gap, zero_gap, k_eq, zero_eq);
-      if (p.tangent_force0.size() == p.num_gaps()) o.tangent_hat = p.tangent_force0;
       o.max_iterations = options_.max_iterations;
       o.first_iteration = first;
       solve_frictional(p, o, s);

@@ -20,7 +20,6 @@ ConstraintSolution solve_with_friction(const ConstrainedProblem& p, const Strate
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
   if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
   FrictionalOptions o = penalised_friction(p, k_gap, lambda, k_eq, mu);
-  if (p.tangent_force0.size() == p.num_gaps()) o.tangent_hat = p.tangent_force0;
   o.max_iterations = opt.max_iterations;
   s.status = SolveStatus::kMaxIterations;
   std::string why = "penetration above tolerance or multipliers still changing after " +

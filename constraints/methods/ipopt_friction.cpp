@@ -11,6 +11,22 @@ namespace c2d::constraints::ipopt_detail {
 
 namespace {
 
+/// Gap row i's tangential row times `sign` (column i of tt = Tᵀ), with coefficient 1 on the
+/// auxiliary variable `aux` when it is ≥ 0, normalised to unit length like every kept row.
+KeptRow tangential_row(const SpMat& tt, int i, double sign, int aux) {
+  KeptRow k;
+  k.source = i;
+  double n2 = 0.0;
+  if (aux >= 0) k.terms.emplace_back(aux, 1.0), n2 = 1.0;
+  for (SpMat::InnerIterator it(tt, i); it; ++it) {
+    k.terms.emplace_back(static_cast<int>(it.row()), sign * it.value());
+    n2 += it.value() * it.value();
+  }
+  k.norm = std::sqrt(n2);
+  for (auto& [c, v] : k.terms) v /= k.norm;
+  return k;
+}
+
 /// A Tresca problem's rows: for each gap row i with a bound b_i > 0 and a tangential row, an
 /// auxiliary p_k ≥ |s_i| as p_k − s_i ≥ 0 (kept with friction = +1) and p_k + s_i ≥ 0 (−1),
 /// over x = [u; p], normalised like the others. Returns the costs b of the p.
@@ -24,16 +40,7 @@ VecX add_tresca_rows(const ConstrainedProblem& p, const VecX& bound, RowSet& row
     const int aux = p.num_unknowns() + static_cast<int>(cost.size());
     cost.push_back(bound[i]);
     for (const int sign : {+1, -1}) {
-      KeptRow k;
-      k.source = i;
-      k.terms.emplace_back(aux, 1.0);
-      double n2 = 1.0;
-      for (SpMat::InnerIterator it(tt, i); it; ++it) {
-        k.terms.emplace_back(static_cast<int>(it.row()), -sign * it.value());
-        n2 += it.value() * it.value();
-      }
-      k.norm = std::sqrt(n2);
-      for (auto& [c, v] : k.terms) v /= k.norm;
+      KeptRow k = tangential_row(tt, i, -sign, aux);
       k.lower = sign * p.slip0[i] / k.norm;  // p − sign·(s0 + T u) ≥ 0
       k.upper = 2e19;
       rows.rows.push_back(k);
@@ -51,20 +58,9 @@ void add_stick_rows(const ConstrainedProblem& p, RowSet& rows, std::vector<int>&
   const std::vector<char> closed = initially_closed(p);
   friction_sign.resize(rows.rows.size(), 0);
   for (int i = 0; i < p.num_gaps(); ++i) {
-    if (!closed[i] || tt.col(i).nonZeros() == 0 ||
-        !(p.friction_coefficient[i] > 0 ||
-          (p.friction_bound.size() == p.num_gaps() && p.friction_bound[i] > 0)))
-      continue;
-    KeptRow k;
+    if (!closed[i] || tt.col(i).nonZeros() == 0 || !p.frictional(i)) continue;
+    KeptRow k = tangential_row(tt, i, 1.0, -1);
     k.equality = true;
-    k.source = i;
-    double n2 = 0.0;
-    for (SpMat::InnerIterator it(tt, i); it; ++it) {
-      k.terms.emplace_back(static_cast<int>(it.row()), it.value());
-      n2 += it.value() * it.value();
-    }
-    k.norm = std::sqrt(n2);
-    for (auto& [c, v] : k.terms) v /= k.norm;
     k.lower = k.upper = -p.slip0[i] / k.norm;
     rows.rows.push_back(k);
     friction_sign.push_back(2);
@@ -117,11 +113,9 @@ VecX friction_bounds(const ConstrainedProblem& p, const VecX& normal) {
 VecX touching_forces(const ConstrainedProblem& p, const StrategyOptions& o,
                      const ConstraintSolution& s) {
   VecX normal = s.contact_force;
-  const VecX gap = p.gap0 + p.gap_jacobian * s.u;
-  const double touch = penetration_tolerance(o, p);
-  const double fmax = normal.size() ? normal.maxCoeff() : 0.0;
+  const std::vector<char> touching = touching_rows(p, o, s);
   for (int i = 0; i < normal.size(); ++i)
-    if (!(normal[i] > 1e-6 * fmax && gap[i] <= touch)) normal[i] = 0.0;
+    if (!touching[i]) normal[i] = 0.0;
   return normal;
 }
 

@@ -46,6 +46,11 @@ void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
                     const std::vector<int>& friction_sign, const QpOutcome& qp,
                     ConstraintSolution& s);
 
+/// The rows of an interior-point solution that carry force (above 1e-6 of the largest) and
+/// touch (gap within the penetration tolerance): the others' forces are the barrier's O(μ/gap).
+std::vector<char> touching_rows(const ConstrainedProblem& p, const StrategyOptions& o,
+                                const ConstraintSolution& s);
+
 /// The active rows of an interior-point solution, and (with `check_rigid_motion`) whether the
 /// rows that hold it leave a rigid motion free (then status singular).
 void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,

@@ -215,6 +215,17 @@ bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<cha
   return spd.factorize(k) == SolveStatus::kConverged;
 }
 
+std::vector<char> touching_rows(const ConstrainedProblem& p, const StrategyOptions& o,
+                                const ConstraintSolution& s) {
+  std::vector<char> touching(p.num_gaps(), 0);
+  const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
+  const VecX gap = p.gap0 + p.gap_jacobian * s.u;
+  const double touch = penetration_tolerance(o, p);
+  for (int i = 0; i < p.num_gaps(); ++i)
+    touching[i] = s.contact_force[i] > 1e-6 * fmax && gap[i] <= touch;
+  return touching;
+}
+
 /// Interior-point iterates leave O(mu / gap) forces on open rows: not contact. A row is active
 /// when it carries force and touches (gap within the penetration tolerance); the others are
 /// open and their residual forces are dropped. An interior-point method returns some minimiser
@@ -223,13 +234,11 @@ bool holds_every_rigid_motion(const ConstrainedProblem& p, const std::vector<cha
 /// no rigid motion free, as the multiplier methods require of their active sets.
 void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
                        ConstraintSolution& s, bool check_rigid_motion) {
-  s.active.assign(p.num_gaps(), 0);
-  const double fmax = p.num_gaps() ? s.contact_force.maxCoeff() : 0.0;
+  s.active = touching_rows(p, o, s);
   const VecX gap = p.gap0 + p.gap_jacobian * s.u;
   const double touch = penetration_tolerance(o, p);
   std::vector<char> holding(p.num_gaps(), 0);
   for (int i = 0; i < p.num_gaps(); ++i) {
-    s.active[i] = s.contact_force[i] > 1e-6 * fmax && gap[i] <= touch;
     if (!s.active[i]) s.contact_force[i] = 0.0;
     holding[i] = s.active[i] || gap[i] <= touch;
   }

@@ -51,7 +51,9 @@ FrictionalOptions penalised_friction(const ConstrainedProblem& p, const VecX& k_
   o.k_eq = k_eq;
   o.lambda_hat = lambda;
   o.mu_hat = mu;
-  o.tangent_hat = VecX::Zero(p.num_gaps());
+  // The return map's tangential spring starts from the force of the last converged state.
+  o.tangent_hat = p.tangent_force0.size() == p.num_gaps() ? p.tangent_force0
+                                                          : VecX(VecX::Zero(p.num_gaps()));
   return o;
 }
 
@@ -76,9 +78,7 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   default_penalties(p, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
   if (p.has_friction()) {
-    // The return map: the tangential spring starts from the force of the last converged state.
     FrictionalOptions o = penalised_friction(p, k_gap, zero_gap, k_eq, zero_eq);
-    if (p.tangent_force0.size() == p.num_gaps()) o.tangent_hat = p.tangent_force0;
     o.max_iterations = options_.max_iterations;
     solve_frictional(p, o, s);
   } else {
