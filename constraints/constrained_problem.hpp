@@ -11,9 +11,11 @@
 #pragma once
 
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "constraints/friction_law.hpp"
 #include "core/solver_status.hpp"
 #include "core/types.hpp"
 
@@ -44,12 +46,13 @@ struct ConstrainedProblem {
   /// the tangential row T_i: the slave's displacement relative to the master along the tangent
   /// t (the normal turned clockwise), so s = slip0 + T u is the row's slip in the step (from the
   /// last converged state). The friction force λ_t opposes it: the structure receives −T_iᵀ λ_t,
-  /// |λ_t| ≤ μ_i λ_i (Coulomb) or ≤ friction_bound_i (Tresca, when > 0), and a row that slips
+  /// |λ_t| ≤ the bound of the row's friction law at its normal force λ_i, and a row that slips
   /// carries the bound in the direction of its slip.
   SpMat slip_jacobian;        ///< T: m x n
   VecX slip0;                 ///< m
-  VecX friction_coefficient;  ///< m: μ (0 with no bound: a frictionless row)
-  VecX friction_bound;        ///< m: Tresca bound as a force (0: Coulomb)
+  /// m: each row's friction law (null: a frictionless row), shared with the scene's pairs.
+  std::vector<std::shared_ptr<const FrictionLaw>> friction_law;
+  VecX friction_area;         ///< m: each row's share of the slave surface (traction bounds)
   VecX tangent_penalty_ratio; ///< m: k_t / k of penalty-type methods
   /// m: the friction force each row carried at the last converged state (the penalty's
   /// elastic tangential spring: its return map starts from it); empty: none.
@@ -65,8 +68,12 @@ struct ConstrainedProblem {
   int num_unknowns() const { return static_cast<int>(load.size()); }
   int num_equalities() const { return static_cast<int>(eq_rhs.size()); }
   int num_gaps() const { return static_cast<int>(gap0.size()); }
-  /// Whether gap row i has friction (a coefficient or a Tresca bound).
+  /// Whether gap row i has friction (a law).
   bool frictional(int i) const;
+  /// The piece of frictional row i's bound at normal force λ (clamped at 0).
+  FrictionBound friction_bound(int i, double normal_force) const;
+  /// Whether frictional row i carries friction while open (a Tresca bound).
+  bool friction_binds_open(int i) const;
   /// Whether some gap row has friction.
   bool has_friction() const;
 

@@ -1,5 +1,7 @@
 #include "constraints/contact_scene.hpp"
 
+#include <algorithm>
+
 
 #include "constraints/discretization.hpp"
 #include "constraints/method_registry.hpp"
@@ -86,22 +88,42 @@ EqualitySpec parse_equality(const TomlView& v, int index) {
 
 namespace {
 
+/// The law a `friction` table names: its `law`, or the law whose keys it gives, exactly.
+const FrictionLawInfo& friction_law_of(const TomlView& v) {
+  if (v.has("law")) return *find_friction_law(v["law"].choice(friction_law_names()));
+  std::vector<std::string> keys = {"law", "penalty_ratio"}, given;
+  for (const auto& law : friction_law_registry())
+    for (const std::string& k : law.key_names)
+      if (std::find(keys.begin(), keys.end(), k) == keys.end()) {
+        keys.push_back(k);
+        if (v.has(k)) given.push_back(k);
+      }
+  v.check_keys(keys);
+  std::string options;
+  for (const auto& law : friction_law_registry()) {
+    std::vector<std::string> own = law.key_names;
+    std::sort(own.begin(), own.end());
+    std::sort(given.begin(), given.end());
+    if (own == given) return law;
+    std::string list;
+    for (const std::string& k : law.key_names) list.append(list.empty() ? "" : " and ").append(k);
+    options.append(options.empty() ? "" : ", ").append(list).append(" (").append(law.name).append(")");
+  }
+  v.fail("a `law` or the keys of one: " + options);
+}
+
 FrictionSpec parse_friction(const TomlView& v, const ContactPairSpec& c) {
   v.require_table();
-  v.check_keys({"coefficient", "bound", "penalty_ratio"});
+  const FrictionLawInfo& law = friction_law_of(v);
+  std::vector<std::string> keys = {"law", "penalty_ratio"};
+  keys.insert(keys.end(), law.key_names.begin(), law.key_names.end());
+  v.check_keys(keys);
   FrictionSpec f;
-  if (v.has("coefficient") == v.has("bound"))
-    v.fail("one of coefficient (Coulomb) or bound (Tresca)");
-  if (v.has("coefficient")) {
-    f.coefficient = v["coefficient"].number();
-    if (!(f.coefficient >= 0 && f.coefficient <= 1e6))
-      v["coefficient"].fail("a friction coefficient >= 0");
-  } else {
-    f.bound = v["bound"].positive();
-    if (c.detection == "node_to_node")
-      v["bound"].fail("a coefficient: a Tresca bound is a shear traction and node_to_node has "
-                      "no slave surface to spread it over");
-  }
+  f.law = law.name;
+  f.model = law.parse(v);
+  if (law.traction && c.detection == "node_to_node")
+    v.fail("a law without a traction bound (" + law.name + " bounds the shear traction, and "
+           "node_to_node has no slave surface to spread it over)");
   if (v.has("penalty_ratio")) f.penalty_ratio = v["penalty_ratio"].positive();
   return f;
 }

@@ -10,17 +10,18 @@
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_detection.hpp"
 #include "constraints/equality.hpp"
+#include "constraints/friction_law.hpp"
 #include "core/scene.hpp"
 
 namespace c2d::constraints {
 
-/// A pair's friction (docs/scene.md): Coulomb with `coefficient`, or Tresca with a fixed bound
-/// on the shear traction; neither: frictionless.
+/// A pair's friction (docs/scene.md): a law from the friction-law registry with its parameters;
+/// none: frictionless.
 struct FrictionSpec {
-  double coefficient = 0.0;    ///< Coulomb μ
-  double bound = 0.0;          ///< Tresca: the largest shear traction (force per unit area)
-  double penalty_ratio = 1.0;  ///< penalty-type methods: k_t / k
-  bool enabled() const { return coefficient > 0 || bound > 0; }
+  std::string law;                          ///< the registry's name
+  std::shared_ptr<const FrictionLaw> model;  ///< null: frictionless
+  double penalty_ratio = 1.0;               ///< penalty-type methods: k_t / k
+  bool enabled() const { return model != nullptr; }
 };
 
 struct ContactPairSpec {

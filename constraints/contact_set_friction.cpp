@@ -35,8 +35,8 @@ void ContactSet::add_friction_rows(const std::vector<GapRow>& rows, const VecX& 
   const int m = static_cast<int>(rows.size());
   std::vector<Eigen::Triplet<double>> t;
   p.slip0 = VecX::Zero(m);
-  p.friction_coefficient = VecX::Zero(m);
-  p.friction_bound = VecX::Zero(m);
+  p.friction_law.assign(m, nullptr);
+  p.friction_area = VecX::Zero(m);
   p.tangent_penalty_ratio = VecX::Ones(m);
   for (int i = 0; i < m; ++i) {
     const GapRow& r = rows[i];
@@ -57,9 +57,9 @@ void ContactSet::add_friction_rows(const std::vector<GapRow>& rows, const VecX& 
     p.slip0[i] = s0;
     if (r.pair >= static_cast<int>(spec_.pairs.size())) continue;  // the seed's gap elements
     const FrictionSpec& f = spec_.pairs[r.pair].friction;
-    p.friction_coefficient[i] = f.coefficient;
+    p.friction_law[i] = f.model;
     p.tangent_penalty_ratio[i] = f.penalty_ratio;
-    if (f.bound > 0) p.friction_bound[i] = f.bound * (r.weight > 0 ? r.weight : tributary_[r.slave]);
+    p.friction_area[i] = r.weight > 0 ? r.weight : tributary_[r.slave];
   }
   p.slip_jacobian = SpMat(m, dofs.num_free());
   p.slip_jacobian.setFromTriplets(t.begin(), t.end());

@@ -12,8 +12,17 @@
 namespace c2d::constraints {
 
 bool ConstrainedProblem::frictional(int i) const {
-  if (friction_coefficient.size() != num_gaps() || slip0.size() != num_gaps()) return false;
-  return friction_coefficient[i] > 0 || (friction_bound.size() == num_gaps() && friction_bound[i] > 0);
+  return static_cast<int>(friction_law.size()) == num_gaps() && slip0.size() == num_gaps() &&
+         friction_law[i] != nullptr;
+}
+
+FrictionBound ConstrainedProblem::friction_bound(int i, double normal_force) const {
+  const double area = friction_area.size() == num_gaps() ? friction_area[i] : 0.0;
+  return friction_law[i]->bound(std::max(0.0, normal_force), area);
+}
+
+bool ConstrainedProblem::friction_binds_open(int i) const {
+  return frictional(i) && friction_bound(i, 0.0).at(0.0) > 0;
 }
 
 bool ConstrainedProblem::has_friction() const {
@@ -34,8 +43,9 @@ namespace {
 using Rule = FrictionalOptions::Rule;
 
 // The sets, as the iteration tracks them: entry i (a gap row) is 1 when the row is held, entry
-// m + i its tangential row's state. A Coulomb row's tangential row is free while its normal row
-// is; a Tresca row's is not tied to it (the classical Tresca problem bounds the friction on the
+// m + i its tangential row's state, entry 2m + i the piece of its friction law that bounds it.
+// A Coulomb row's tangential row is free while its normal row is; a Tresca row's (a law whose
+// bound is positive at zero normal force) is not tied to it (the classical Tresca problem bounds the friction on the
 // whole candidate surface, which keeps it convex: tying it to contact made the bound switch on
 // and off with the contact and the sets cycle).
 enum Tangential : char { kFree = 0, kStick = 1, kSlipPlus = 2, kSlipMinus = 3 };
@@ -57,8 +67,9 @@ class FrictionalSolve {
       : p_(p), n_(p.num_unknowns()), me_(p.num_equalities()), m_(p.num_gaps()),
         s_(saddle_point_scale(p)), eq_rows_(row_lists(p.eq_jacobian, 1.0)),
         gap_rows_(row_lists(p.gap_jacobian, 1.0)), slip_rows_(row_lists(p.slip_jacobian, -1.0)) {
-    mu_ = p.friction_coefficient;
-    bound_ = p.friction_bound.size() == m_ ? p.friction_bound : VecX::Zero(m_);
+    pieces_.resize(m_);
+    binds_open_.assign(m_, 0);
+    for (int i = 0; i < m_; ++i) binds_open_[i] = p.friction_binds_open(i);
   }
 
   void run(const FrictionalOptions& options, ConstraintSolution& s) {
@@ -132,15 +143,34 @@ class FrictionalSolve {
   }
 
  private:
-  /// The problem's closed rows, every frictional one (and every Tresca row) sticking.
+  /// The problem's closed rows, every frictional one (and every Tresca row) sticking, each on
+  /// its law's piece at the warm start's normal force (or none).
   std::vector<char> cold_start() const {
-    std::vector<char> cold(2 * m_, kFree);
+    std::vector<char> cold(3 * m_, kFree);
     const std::vector<char> closed = initially_closed(p_);
+    const bool forces = p_.initial_force.size() == m_;
     for (int i = 0; i < m_; ++i) {
       cold[i] = closed[i] && (penalised_ || !gap_rows_[i].empty());
       if (frictional(i) && (cold[i] || tresca(i))) cold[m_ + i] = kStick;
+      if (frictional(i)) cold[2 * m_ + i] = piece_code(i, forces ? p_.initial_force[i] : 0.0);
     }
     return cold;
+  }
+
+  /// The code of row i's law piece at normal force `normal` (and the piece remembered).
+  char piece_code(int i, double normal) const {
+    const FrictionBound b = p_.friction_bound(i, normal);
+    std::vector<FrictionBound>& known = pieces_[i];
+    if (std::none_of(known.begin(), known.end(), [&](const FrictionBound& k) { return k.piece == b.piece; }))
+      known.push_back(b);
+    return static_cast<char>(b.piece);
+  }
+
+  /// Row i's law piece of code `piece` (one piece_code() returned).
+  const FrictionBound& piece_of(int i, char piece) const {
+    for (const FrictionBound& b : pieces_[i])
+      if (b.piece == piece) return b;
+    return pieces_[i].front();  // (unreachable: every code comes from piece_code)
   }
 
   /// The cold start with the previous state's friction states, or a given solution's sets.
@@ -157,17 +187,20 @@ class FrictionalSolve {
     for (int i = 0; i < m_; ++i) {
       code[i] = st->active[i] && (penalised_ || !gap_rows_[i].empty());
       code[m_ + i] = kFree;
-      if (!frictional(i) || (!code[i] && !tresca(i))) continue;
+      if (!frictional(i)) continue;
+      code[2 * m_ + i] = piece_code(i, st->contact_force.size() == m_ ? st->contact_force[i] : 0.0);
+      if (!code[i] && !tresca(i)) continue;
       // (an open Tresca row carries friction: it slips when its force reached the bound)
+      const double open_bound = p_.friction_bound(i, 0.0).at(0.0);
       const bool slips = st->friction_state[i] == FrictionState::kSlip ||
-                         (!code[i] && std::abs(st->tangent_force[i]) >= (1 - 1e-6) * bound_[i]);
+                         (!code[i] && std::abs(st->tangent_force[i]) >= (1 - 1e-6) * open_bound);
       code[m_ + i] = slips ? (st->tangent_force[i] >= 0 ? kSlipPlus : kSlipMinus) : kStick;
     }
     return code;
   }
 
   bool frictional(int i) const { return p_.frictional(i); }
-  bool tresca(int i) const { return bound_[i] > 0; }
+  bool tresca(int i) const { return binds_open_[i] != 0; }
   double compliance(const VecX& k, int i) const { return penalised_ ? 1.0 / k[i] : 0.0; }
 
   /// Assembles and solves the system of the sets `code` into s.u, λ, λ_t, μ.
@@ -212,12 +245,13 @@ class FrictionalSolve {
       add_row(rt, slip_rows_[i], stick);
       const double ct = compliance(o_->k_tangent, i);
       t.emplace_back(rt, rt, stick ? -s * s * ct : s);
-      const bool coulomb = bound_[i] <= 0 && mu_[i] > 0;
-      if (coulomb) t.emplace_back(rt, rn, slip ? -s * mu_[i] * sigma : 0.0);
+      // slipping: λ_t = σ (offset + slope λ) on the row's piece of its law
+      const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
+      t.emplace_back(rt, rn, slip ? -s * b.slope * sigma : 0.0);
       if (stick)
         rhs[rt] = -s * p_.slip0[i] - (penalised_ ? s * ct * o_->tangent_hat[i] : 0.0);
-      else if (slip && !coulomb)
-        rhs[rt] = sigma * bound_[i];
+      else if (slip)
+        rhs[rt] = sigma * b.offset;
     }
     // The matrix depends on the sets and the stiffnesses only: an augmented Lagrangian's next
     // multiplier update with the same sets needs a new right-hand side, not a new factor.
@@ -287,7 +321,11 @@ class FrictionalSolve {
         next[m_ + i] = kFree;
         continue;
       }
-      const double bound = tresca(i) ? bound_[i] : mu_[i] * std::max(0.0, normal);
+      // A row that enters takes the piece at zero normal force, the one it closes on (an open
+      // row's trial force measures its penetration, not its force: starting a capped law's row
+      // on its cap from it made the sets cycle); a held row the piece at its force.
+      next[2 * m_ + i] = piece_code(i, was ? normal : 0.0);
+      const double bound = p_.friction_bound(i, normal).at(std::max(0.0, normal));
       if (rule_ == Rule::kPrimalDual) {
         // A stick row slips when its force exceeds the bound; a slipping row sticks when its
         // slip turns against its force. A row that enters (λ = λ_t = 0, g < 0) slips along its
@@ -299,7 +337,8 @@ class FrictionalSolve {
                    (now == kSlipMinus && sl[i] > gap_tol)) {
           next[m_ + i] = kStick;
         } else if (now == kFree) {
-          const double allowed = tresca(i) ? gap_tol : mu_[i] * std::abs(g[i]);
+          const double allowed =
+              tresca(i) ? gap_tol : p_.friction_bound(i, 0.0).slope * std::abs(g[i]);
           next[m_ + i] =
               std::abs(sl[i]) > allowed ? (sl[i] > 0 ? kSlipPlus : kSlipMinus) : kStick;
         }
@@ -307,7 +346,13 @@ class FrictionalSolve {
         continue;
       }
       const double excess = std::abs(trial_t) - bound;
-      if (excess > ftol)
+      // A penalised row whose trial force turns against its slip passes through stick (the
+      // return map alone can flip such a row between the two slip directions for ever).
+      const bool turned = rule_ == Rule::kPenalised &&
+                          ((now == kSlipPlus && trial_t < 0) || (now == kSlipMinus && trial_t > 0));
+      if (turned)
+        next[m_ + i] = kStick;
+      else if (excess > ftol)
         next[m_ + i] = trial_t > 0 ? kSlipPlus : kSlipMinus;
       else if (excess < -ftol || now == kFree)
         next[m_ + i] = kStick;
@@ -361,7 +406,9 @@ class FrictionalSolve {
   double s_;
   bool penalised_ = false;
   Rule rule_;  ///< the rule in use (ssn's falls back to the primal-dual one on a cycle)
-  VecX mu_, bound_;
+  std::vector<char> binds_open_;  ///< per row: its law bounds it while open (Tresca)
+  /// Per row: the pieces of its law seen so far (the sets name a piece by its number).
+  mutable std::vector<std::vector<FrictionBound>> pieces_;
   std::vector<std::vector<std::pair<int, double>>> eq_rows_, gap_rows_, slip_rows_;
   KktSolver kkt_;
   bool analysed_ = false;

@@ -98,13 +98,13 @@ void crossover(const ConstrainedProblem& p, ConstraintSolution& s) {
   s.symbolic_analyses += exact.symbolic_analyses;
 }
 
-/// Each row's bound: its Tresca bound, or μ × the given normal force.
+/// Each frictional row's bound at the given normal force (its law's).
 VecX friction_bounds(const ConstrainedProblem& p, const VecX& normal) {
-  VecX b(p.num_gaps());
-  for (int i = 0; i < p.num_gaps(); ++i)
-    b[i] = p.friction_bound.size() == p.num_gaps() && p.friction_bound[i] > 0
-               ? p.friction_bound[i]
-               : p.friction_coefficient[i] * std::max(0.0, normal[i]);
+  VecX b = VecX::Zero(p.num_gaps());
+  for (int i = 0; i < p.num_gaps(); ++i) {
+    const double n = std::max(0.0, normal[i]);
+    if (p.frictional(i)) b[i] = p.friction_bound(i, n).at(n);
+  }
   return b;
 }
 
@@ -125,7 +125,7 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
                                      const RowSet& base, ConstraintSolution& s,
                                      int& total_iterations, VecX& bound) {
   // Each problem is a QP (the friction cone's two faces as the linear inequalities p ≥ ±s, cost
-  // b p); a Coulomb row's bound b = μ λ comes from the normal force of the previous QP (the
+  // b p); a row's bound b (μ λ for Coulomb) comes from the normal force of the previous QP (the
   // first sees the warm start's forces, or none), and the iteration ends when no bound changes
   // by more than 1e-9 of the largest.
   bound = friction_bounds(p, p.initial_force.size() == p.num_gaps()

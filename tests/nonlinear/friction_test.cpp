@@ -28,7 +28,7 @@ const std::vector<std::string> kMethods = {"lagrange", "ssn",    "ipopt",
 // A 2 × 1 block (E = 1000, ν = 0.3, plane strain) on a rigid floor, pressed by p = 1 on its top
 // (N = 2), with Coulomb μ = 0.3; `top` adds the top edge's tangential drive.
 std::string block(const std::string& top, const std::string& friction = "{ coefficient = 0.3 }",
-                  double shear = 0.0) {
+                  double shear = 0.0, double pressure = 1.0) {
   std::string s = R"([analysis]
 kind = "plane_strain"
 element = "T3"
@@ -49,7 +49,7 @@ normal = [0.0, 1.0]
 [[load]]
 on = { body = "block", edge = "top" }
 traction = [)";
-  s.append(std::to_string(shear)).append(R"(, -1.0]
+  s.append(std::to_string(shear)).append(", ").append(std::to_string(-pressure)).append(R"(]
 [[contact]]
 name = "base"
 slave = { body = "block", edge = "bottom" }
@@ -105,6 +105,23 @@ TEST(Friction, BlockUnderATangentialLoadSticksBelowMuNAndIsRefusedAbove) {
     EXPECT_NE(slides.results.status, SolveStatus::kConverged);
     EXPECT_FALSE(slides.results.message.empty());
     EXPECT_TRUE(std::isfinite(slides.report.tangent_force));
+  }
+}
+
+// Coulomb with a shear limit, μ = 0.3 and τ = 0.5: at p = 0.5 the block slides with μN = 0.3 (the
+// base pressure stays below τ/μ everywhere); at p = 20 with τW = 1.0 (above it everywhere).
+TEST(Friction, CoulombLimitedSlidesWithTheSmallerOfMuNAndTheShearLimit) {
+  for (const std::string& m : kMethods) {
+    SCOPED_TRACE(m);
+    const std::string law = "{ coefficient = 0.3, bound = 0.5 }";
+    const test::SceneRun low =
+        test::run_scene(core::parse_scene(block(kDriven, law, 0.0, 0.5), "l.toml"), m);
+    ASSERT_EQ(low.results.status, SolveStatus::kConverged) << low.results.message;
+    EXPECT_NEAR(probe(low, "rx"), 0.3, 1e-8);
+    const test::SceneRun high =
+        test::run_scene(core::parse_scene(block(kDriven, law, 0.0, 20.0), "h.toml"), m);
+    ASSERT_EQ(high.results.status, SolveStatus::kConverged) << high.results.message;
+    EXPECT_NEAR(probe(high, "rx"), 1.0, 1e-8);
   }
 }
 
