@@ -41,7 +41,7 @@ const char* kCompareHeader =
     "level,method,mesh_scale,dofs,status,exit_code,iterations,newton_iterations,time_mesh,"
     "time_assemble,time_solve,time_total,wall,p_max,contact_length,total_force,max_penetration,"
     "error_p_max,error_contact_length,error_profile_l2,zz_error,fit_p0,fit_b,error_fit_p0,"
-    "error_fit_b\n";
+    "error_fit_b,stick_length,tangential_force,error_stick_length,error_shear_profile_l2\n";
 
 std::string compare_csv(const std::vector<CompareRow>& rows) {
   std::ostringstream os;
@@ -54,7 +54,9 @@ std::string compare_csv(const std::vector<CompareRow>& rows) {
        << cell(r.t_total) << ',' << cell(r.wall) << ',' << cell(r.p_max) << ',' << cell(r.length)
        << ',' << cell(r.force) << ',' << cell(r.penetration) << ',' << cell(r.err_p0) << ','
        << cell(r.err_b) << ',' << cell(r.err_profile) << ',' << cell(r.zz) << ',' << cell(r.fit_p0)
-       << ',' << cell(r.fit_b) << ',' << cell(r.err_fit_p0) << ',' << cell(r.err_fit_b) << '\n';
+       << ',' << cell(r.fit_b) << ',' << cell(r.err_fit_p0) << ',' << cell(r.err_fit_b) << ','
+       << cell(r.stick_length) << ',' << cell(r.tangent_force) << ',' << cell(r.err_stick) << ','
+       << cell(r.err_shear) << '\n';
   }
   return os.str();
 }
@@ -63,12 +65,14 @@ std::string compare_csv(const std::vector<CompareRow>& rows) {
 double accuracy(const CompareRow& r, const std::string& metric) {
   if (!r.converged()) return std::nan("");
   if (metric == "profile") return r.err_profile;
+  if (metric == "shear") return r.err_shear;
   if (metric == "p_max") return std::abs(r.err_p0);
   return std::nan("");
 }
 
 std::string metric_name(const std::string& metric) {
   return metric == "profile" ? "relative L2 error of the pressure profile"
+         : metric == "shear" ? "relative L2 error of the shear profile (Cattaneo–Mindlin)"
                              : "relative error of p_max";
 }
 
@@ -280,7 +284,11 @@ CompareStudy plan_compare(const CompareOptions& o) {
     throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
   s.out = study_out(o, "compare");
   s.hertz = hertz_reference(scene);
-  s.metric = s.hertz ? "profile" : scene.reference.count("p_max") ? "p_max" : "";
+  // A frictional Hertz case (Cattaneo–Mindlin) is judged on its shear profile, which depends
+  // on the stick and slip zones as well as the pressure.
+  s.metric = s.hertz ? "profile"
+             : scene.reference_kind == "cattaneo_mindlin" ? "shear"
+             : scene.reference.count("p_max") ? "p_max" : "";
   for (int level = 0; level < o.levels; ++level) {
     const double scale = scene.analysis.mesh_scale / std::pow(2.0, level);
     for (const auto& m : s.methods) {

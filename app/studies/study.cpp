@@ -155,6 +155,10 @@ bool RunFigures::read(const CaseOutcome& c) {
     penetration = json_number(s, {"contact", "max_penetration"});
     err_p0 = json_number(s, {"reference", "relative_error", "p_max"});
     err_b = json_number(s, {"reference", "relative_error", "contact_length"});
+    stick_length = json_number(s, {"contact", "friction", "stick_length"});
+    tangent_force = json_number(s, {"contact", "friction", "tangential_force"});
+    err_stick = json_number(s, {"reference", "relative_error", "stick_length"});
+    err_shear = json_number(s, {"reference", "relative_error", "shear_profile_l2"});
   }
   return true;
 }

@@ -52,6 +52,10 @@ struct RunFigures {
          penetration = std::nan("");
   double err_p0 = std::nan(""), err_b = std::nan(""), zz = std::nan("");
   double pivot = std::nan(""), penalty = std::nan(""), stiffness_max = std::nan("");
+  /// Friction (NaN without): the stick zone's length, the total tangential force, and their
+  /// errors against a Cattaneo–Mindlin reference (the stick length's and the shear profile's).
+  double stick_length = std::nan(""), tangent_force = std::nan("");
+  double err_stick = std::nan(""), err_shear = std::nan("");
 
   double peak_rss_mb = std::nan("");
   bool converged() const { return status == "converged"; }
