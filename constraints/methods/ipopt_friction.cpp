@@ -67,23 +67,39 @@ void add_stick_rows(const ConstrainedProblem& p, RowSet& rows, std::vector<int>&
   }
 }
 
-/// The crossover of an interior point: the sets Ipopt's solution identifies (closed rows, stick,
-/// slip and its direction) solved exactly, and confirmed by the primal-dual rule. An interior
-/// point stops a barrier parameter away from the solution; a sticking row's degenerate faces and
-/// the slip forces' bound keep O(tol) errors that move from one solve to the next, so a load
-/// step's outer iterations, which ask for the same state twice, would not settle. When the
-/// exact solve changes the sets, Ipopt's own solution stays and the message says so.
-void crossover(const ConstrainedProblem& p, ConstraintSolution& s) {
+/// The largest number of exact solves in a crossover.
+constexpr int kCrossoverIterations = 4;
+
+/// The crossover of an interior point, as an LP barrier's crossover pivots to a basis: the sets
+/// Ipopt's solution identifies (closed rows, stick, slip and its direction) solved exactly and
+/// confirmed by the primal-dual rule, whose exact solution must reproduce them (which checks
+/// every complementarity condition of the Coulomb problem). An interior point stops a barrier
+/// parameter away from the solution, so a row at the edge of its cone can be classified on the
+/// wrong side of it; the rule may move such rows for up to kCrossoverIterations − 1 further
+/// solves (each one is counted in the history). Without the crossover, a sticking row's
+/// degenerate faces and the slip forces' bound keep O(tol) errors that move from one solve to
+/// the next, so a load step's outer iterations, which ask for the same state twice, would not
+/// settle. Returns whether the sets were confirmed (then s holds the exact solution); otherwise
+/// s keeps Ipopt's solution and `why` says what the exact solves found.
+bool crossover(const ConstrainedProblem& p, ConstraintSolution& s, std::string& why) {
   FrictionalOptions o;
   o.rule = FrictionalOptions::Rule::kPrimalDual;
-  o.max_iterations = 1;
+  o.max_iterations = kCrossoverIterations;
   o.start = &s;
   ConstraintSolution exact;
   solve_frictional(p, o, exact);
+  s.factorizations += exact.factorizations;
+  s.numeric_seconds += exact.numeric_seconds;
+  s.symbolic_seconds += exact.symbolic_seconds;
+  s.solve_seconds += exact.solve_seconds;
+  s.symbolic_analyses += exact.symbolic_analyses;
   if (exact.status != SolveStatus::kConverged) {
-    s.message = "the exact solve of Ipopt's sets did not confirm them (" + exact.message +
-                "): Ipopt's solution, to its tolerance";
-    return;
+    why = exact.message;
+    return false;
+  }
+  for (IterationRecord r : exact.history) {
+    r.iteration = (s.history.empty() ? 0 : s.history.back().iteration) + 1;
+    s.history.push_back(r);
   }
   s.u = exact.u;
   s.contact_force = exact.contact_force;
@@ -91,11 +107,41 @@ void crossover(const ConstrainedProblem& p, ConstraintSolution& s) {
   s.eq_multiplier = exact.eq_multiplier;
   s.friction_state = exact.friction_state;
   s.active = exact.active;
-  s.factorizations += exact.factorizations;
-  s.numeric_seconds += exact.numeric_seconds;
-  s.symbolic_seconds += exact.symbolic_seconds;
-  s.solve_seconds += exact.solve_seconds;
-  s.symbolic_analyses += exact.symbolic_analyses;
+  return true;
+}
+
+/// The active rows of an Ipopt solution and each one's stick or slip: slip where its force
+/// reached `bound` (to 1e-6).
+void classify(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
+              ConstraintSolution& s) {
+  settle_active_set(p, o, s, false);
+  s.friction_state.assign(p.num_gaps(), FrictionState::kOpen);
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (s.active[i])
+      s.friction_state[i] = bound[i] > 0 && std::abs(s.tangent_force[i]) < (1 - 1e-6) * bound[i]
+                                ? FrictionState::kStick
+                                : FrictionState::kSlip;
+}
+
+/// Whether the sets of a QP's solution, classified against the bounds at its own normal forces,
+/// are the Coulomb problem's: the crossover confirms them (then s is its exact solution). This
+/// ends the fixed point as soon as a QP has found the sets, whether or not its bounds have
+/// settled to 1e-9 or the QP reached its own tolerance (a certificate, not a tolerance).
+bool certified(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
+               ConstraintSolution& s) {
+  ConstraintSolution c = s;
+  classify(p, o, bound, c);
+  std::string why;
+  if (!crossover(p, c, why)) {
+    s.factorizations = c.factorizations;
+    s.numeric_seconds = c.numeric_seconds;
+    s.symbolic_seconds = c.symbolic_seconds;
+    s.solve_seconds = c.solve_seconds;
+    s.symbolic_analyses = c.symbolic_analyses;
+    return false;
+  }
+  s = std::move(c);
+  return true;
 }
 
 /// Each frictional row's bound at the given normal force (its law's).
@@ -123,7 +169,7 @@ VecX touching_forces(const ConstrainedProblem& p, const StrategyOptions& o,
 
 std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const StrategyOptions& o,
                                      const RowSet& base, ConstraintSolution& s,
-                                     int& total_iterations, VecX& bound) {
+                                     int& total_iterations, VecX& bound, bool& exact) {
   // Each problem is a QP (the friction cone's two faces as the linear inequalities p ≥ ±s, cost
   // b p); a row's bound b (μ λ for Coulomb) comes from the normal force of the previous QP (the
   // first sees the warm start's forces, or none), and the iteration ends when no bound changes
@@ -134,6 +180,7 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
   // No normal force to start from: the first problem holds the closed rows sticking.
   bool stick_first = bound.lpNorm<Eigen::Infinity>() == 0.0;
   total_iterations = 0;
+  exact = false;
   s.status = SolveStatus::kMaxIterations;
   for (int round = 1; round <= o.max_iterations; ++round) {
     RowSet rows = base;
@@ -142,23 +189,28 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
     if (stick_first) add_stick_rows(p, rows, friction_sign);
     // A sticking row holds p = |s| = 0 with both faces active (degenerate): the barrier leaves
     // a slip of O(tol) there, which its tangential stiffness turns into force errors of 1e-4
-    // at tol = 1e-10. The crossover makes the forces exact once the sets are right; the Tresca
-    // problems are solved to 1e-2 of the tolerance so that they are.
-    const QpOutcome qp = run_ipopt(p, rows, cost, o, 1e-2 * o.ipopt_tolerance);
+    // at tol = 1e-10. The crossover after each problem makes the forces exact once its sets
+    // are right. (Solving the problems to 1e-2 of the tolerance instead, as before, ended the
+    // Cattaneo–Mindlin example's first QP with "search direction too small".)
+    const QpOutcome qp = run_ipopt(p, rows, cost, o, o.ipopt_tolerance);
     total_iterations += qp.iterations;
     extract_forces(p, rows, friction_sign, qp, s);
     IterationRecord rec;
     rec.iteration = total_iterations;
     rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
+    s.history.push_back(rec);
+    const VecX next = friction_bounds(p, touching_forces(p, o, s));
+    if (certified(p, o, next, s)) {
+      s.status = SolveStatus::kConverged;
+      exact = true;
+      return "";
+    }
     if (qp.status != SolveStatus::kConverged) {
       s.status = qp.status;
-      s.history.push_back(rec);
       return qp.message;
     }
-    const VecX next = friction_bounds(p, touching_forces(p, o, s));
     const double change = (next - bound).lpNorm<Eigen::Infinity>();
-    rec.residual = change;
-    s.history.push_back(rec);
+    s.history.back().residual = change;
     const double largest = next.lpNorm<Eigen::Infinity>();
     const bool settled = change <= 1e-9 * std::max(largest, 1e-300) || largest == 0.0;
     bound = next;
@@ -176,16 +228,15 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
 }
 
 void finish_friction(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
-                     ConstraintSolution& s) {
-  settle_active_set(p, o, s, false);
-  s.friction_state.assign(p.num_gaps(), FrictionState::kOpen);
-  for (int i = 0; i < p.num_gaps(); ++i)
-    if (s.active[i])
-      s.friction_state[i] = bound[i] > 0 && std::abs(s.tangent_force[i]) < (1 - 1e-6) * bound[i]
-                                ? FrictionState::kStick
-                                : FrictionState::kSlip;
-  if (s.status != SolveStatus::kConverged) return;
-  crossover(p, s);
+                     bool exact, ConstraintSolution& s) {
+  if (!exact) {
+    classify(p, o, bound, s);
+    if (s.status != SolveStatus::kConverged) return;
+    std::string why;
+    if (!crossover(p, s, why))
+      s.message = "the exact solve of Ipopt's sets did not confirm them (" + why +
+                  "): Ipopt's solution, to its tolerance";
+  }
   settle_active_set(p, o, s);
 }
 

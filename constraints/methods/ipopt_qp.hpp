@@ -56,16 +56,18 @@ std::vector<char> touching_rows(const ConstrainedProblem& p, const StrategyOptio
 void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
                        ConstraintSolution& s, bool check_rigid_motion = true);
 
-/// Friction: the fixed point of Tresca problems and its crossover (ipopt_friction.cpp). Fills
-/// s (its history and status), the QP iterations, and the last bounds; returns the message.
+/// Friction: the fixed point of Tresca problems (ipopt_friction.cpp), which ends as soon as a
+/// QP's sets pass the crossover (`exact`: s is then the exact solution of those sets). Fills s
+/// (its history and status), the QP iterations, and the last bounds; returns the message.
 std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const StrategyOptions& o,
                                      const RowSet& base, ConstraintSolution& s,
-                                     int& total_iterations, VecX& bound);
+                                     int& total_iterations, VecX& bound, bool& exact);
 
-/// After the fixed point: the active rows, each one's stick or slip (slip where its force
-/// reached the bound, to 1e-6), the crossover that solves those sets exactly, and the check
-/// that the rows holding the solution (sticking ones along t too) leave no rigid motion free.
+/// After the fixed point: unless it ended exact, the active rows, each one's stick or slip
+/// (slip where its force reached the bound, to 1e-6) and the crossover that solves those sets
+/// exactly; then the check that the rows holding the solution (sticking ones along t too) leave
+/// no rigid motion free.
 void finish_friction(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
-                     ConstraintSolution& s);
+                     bool exact, ConstraintSolution& s);
 
 }  // namespace c2d::constraints::ipopt_detail

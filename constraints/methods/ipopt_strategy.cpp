@@ -321,9 +321,10 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   const bool friction = p.has_friction();
   int total_iterations = 0;
   VecX bound;
+  bool exact = false;
   std::string message;
   if (friction) {
-    message = solve_tresca_fixed_point(p, options_, base, s, total_iterations, bound);
+    message = solve_tresca_fixed_point(p, options_, base, s, total_iterations, bound, exact);
   } else {
     const QpOutcome qp = run_ipopt(p, base, VecX(), options_, options_.ipopt_tolerance);
     total_iterations = qp.iterations;
@@ -341,7 +342,7 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
                  std::to_string(base.dropped_zero) + " zero and " +
                  std::to_string(base.dropped_duplicate) + " duplicate constraint rows";
   if (friction)
-    finish_friction(p, options_, bound, s);
+    finish_friction(p, options_, bound, exact, s);
   else
     settle_active_set(p, options_, s);
   IterationRecord& last = s.history.back();
