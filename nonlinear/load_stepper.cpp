@@ -106,6 +106,7 @@ class LoadStepper {
       in.newton.residual_scale = load_scale;
       in.floor_scale = floor_scale_;
       cstep = solve_contact_step(system_, *contact_, *strategy_, in);
+      add_totals(cstep);
       rec.newton = cstep.newton;
       rec.newton.status = cstep.status;
       rec.newton.message = cstep.message;
@@ -122,6 +123,20 @@ class LoadStepper {
     VecX trial = guess;
     rec.newton = solve_newton_with_fallback(system_, trial, newton);
     return trial;
+  }
+
+  /// Adds an attempt's method work to the run's totals.
+  void add_totals(const ContactStepResult& cstep) {
+    const StrategyTotals& t = cstep.strategy;
+    totals_.iterations += t.iterations;
+    totals_.factorizations += t.factorizations;
+    totals_.symbolic_analyses += t.symbolic_analyses;
+    totals_.seconds += t.seconds;
+    totals_.symbolic_seconds += t.symbolic_seconds;
+    totals_.numeric_seconds += t.numeric_seconds;
+    totals_.solve_seconds += t.solve_seconds;
+    if (std::isfinite(t.pivot_ratio)) totals_.pivot_ratio = t.pivot_ratio;
+    detection_seconds_ += cstep.detection_seconds;
   }
 
   /// What a failed attempt says of inverted elements ("" when none inverted): its Newton solve
@@ -245,7 +260,19 @@ class LoadStepper {
     if (with_contact_) {
       last_contact_.status = r_.status;
       last_contact_.message = r_.message;
+      last_contact_.seconds = totals_.seconds;
+      last_contact_.detection_seconds = detection_seconds_;
+      // The run's linear solves: the structural system's own and the method's, over every
+      // attempt (cut back ones too), under the run's status.
       r_.solver.backend = last_contact_.method;
+      r_.solver.status = r_.status;
+      r_.solver.message = r_.message;
+      r_.solver.numeric_factorizations += totals_.factorizations;
+      r_.solver.symbolic_analyses += totals_.symbolic_analyses;
+      r_.solver.symbolic_seconds += totals_.symbolic_seconds;
+      r_.solver.numeric_seconds += totals_.numeric_seconds;
+      r_.solver.solve_seconds += totals_.solve_seconds;
+      if (std::isfinite(totals_.pivot_ratio)) r_.solver.pivot_ratio = totals_.pivot_ratio;
       if (contact_report) *contact_report = last_contact_;
     }
     r_.time.recovery = recovery_seconds_ + recovery_clock.elapsed();
@@ -273,6 +300,8 @@ class LoadStepper {
   Results r_, last_state_;
   bool have_state_ = false;
   double recovery_seconds_ = 0.0, output_seconds_ = 0.0;  // spent on on_state, not on solving
+  StrategyTotals totals_;            ///< the method's work over every attempt (no history kept)
+  double detection_seconds_ = 0.0;   ///< contact search over every attempt
   const double nominal_;
   double increment_;
   int converged_steps_ = 0, cutbacks_ = 0;

@@ -1,7 +1,8 @@
 // Audits every summary.json under a folder (the outputs the test suite wrote): no run may say
 // "converged" while the penetration measured at its final positions exceeds the bound it
-// reports. Usage: summary_audit DIR MIN_CONTACT_RUNS. Exit 0 when every file passes and at
-// least MIN_CONTACT_RUNS converged contact runs were audited (so the audit cannot pass vacuously).
+// reports, or while its solver section says otherwise. Usage: summary_audit DIR
+// MIN_CONTACT_RUNS. Exit 0 when every file passes and at least MIN_CONTACT_RUNS converged
+// contact runs were audited (so the audit cannot pass vacuously).
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -27,6 +28,13 @@ int main(int argc, char** argv) {
     const nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
     if (s.is_discarded() || !s.is_object()) continue;  // a test of refused input may leave none
     if (!s.contains("status") || s["status"] != "converged") continue;
+    // The solver section of a converged run says so (load-stepped contact runs had left it
+    // at "failed" with no figures).
+    if (s.contains("solver") && s["solver"].is_object() && s["solver"].value("status", "") != "converged") {
+      std::cerr << it->path().string() << ": converged, but its solver section says "
+                << s["solver"].value("status", "nothing") << '\n';
+      ++failures;
+    }
     if (!s.contains("contact") || !s["contact"].is_object()) continue;
     const auto& c = s["contact"];
     ++audited;
