@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <numbers>
 #include <unordered_map>
 
@@ -447,6 +448,10 @@ void add_physical_node_groups(Mesh& mesh) {
 }  // namespace
 
 Mesh mesh_body(const BodySpec& body, int order) {
+  // gmsh's model is process-wide: one body at a time, whatever the calling thread (the Python
+  // module runs scenes in several threads).
+  static std::mutex gmsh_mutex;
+  const std::lock_guard<std::mutex> lock(gmsh_mutex);
   ensure_gmsh();
   gmsh::clear();
   gmsh::model::add(body.name);

@@ -6,6 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libsundials-dev libceres-dev
   libgmsh-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libopenblas0-pthread gnuplot-nox
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,0 +1,106 @@
+"""contact2d from Python: solve a 2D elastic contact scene in process, compare methods, sweep.
+
+    import contact2d
+    s = contact2d.run("examples/hertz_rigid_fast.toml", method="ssn",
+                      set=["analysis.mesh_scale=2"])
+    s["contact"]["p_max"]          # the summary, as summary.json
+    s["fields"]["displacement"]    # NumPy arrays: nodes, elements, displacement, reaction,
+                                   # stress (σxx, σyy, σxy per node), contact, steps
+
+A scene is a path to a .toml (or the seed's .dat) file, or a dict with the same tables
+(docs/scene.md). `set` overrides keys as `contact2d run --set` does. Bad input raises
+contact2d.InputError (a ValueError) with the command line's located message; a run that does
+not converge returns its summary with that status. compare() and sweep() run the command
+line's studies (one `contact2d run` process per case) and return their tables.
+"""
+
+import csv
+import os
+import shutil
+import subprocess
+import tempfile
+
+from ._contact2d import InputError, executable
+from ._contact2d import run as _run
+
+__all__ = ["run", "compare", "sweep", "InputError", "executable"]
+
+
+def run(scene, method="", set=(), out=None):
+    """Solves `scene` (a path or a dict) with `method` (default: the scene's) in this process.
+
+    Returns the summary as a dict (summary.json's keys) with the fields as NumPy arrays under
+    "fields". With `out`, the run's files are written there as `contact2d run --out` writes
+    them. The GIL is released while solving.
+    """
+    return _run(scene if isinstance(scene, dict) else os.fspath(scene), method, list(set),
+                None if out is None else os.fspath(out))
+
+
+def _number(cell):
+    try:
+        return float(cell)
+    except ValueError:
+        return cell
+
+
+def _read_table(path):
+    """A study's CSV as a dict of columns (numbers as floats, empty cells as NaN)."""
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    columns = rows[0].keys() if rows else []
+    return {c: [_number(r[c]) if r[c] != "" else float("nan") for r in rows] for c in columns}
+
+
+def _study(verb, scene, args, out, table, report):
+    if isinstance(scene, dict):
+        raise InputError(verb + ": expected a scene file (studies run the command line on it)")
+    keep = out is not None
+    folder = os.fspath(out) if keep else tempfile.mkdtemp(prefix="contact2d_" + verb + "_")
+    try:
+        p = subprocess.run([executable(), verb, os.fspath(scene), *args, "--out", folder,
+                            "--quiet"], capture_output=True, text=True)
+        if p.returncode == 2:
+            lines = (p.stderr or p.stdout).strip().splitlines()
+            raise InputError(lines[-1] if lines else verb + ": refused its input")
+        if not os.path.exists(os.path.join(folder, table)):
+            raise RuntimeError(verb + " wrote no " + table + " (exit " + str(p.returncode) +
+                               "): " + p.stderr.strip())
+        result = {"table": _read_table(os.path.join(folder, table)),
+                  "exit_code": p.returncode}
+        with open(os.path.join(folder, report)) as f:
+            result["report"] = f.read()
+        if keep:
+            result["out"] = folder
+        return result
+    finally:
+        if not keep:
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+def compare(scene, methods=None, levels=1, jobs=1, set=(), out=None):
+    """`contact2d compare`: every chosen method (default: all) on `levels` meshes.
+
+    Returns {"table": compare.csv as columns, "report": compare.md (verdict first),
+    "exit_code": ..., "out": the folder when `out` is given}.
+    """
+    args = ["--levels", str(levels), "--jobs", str(jobs)]
+    if methods:
+        args += ["--methods", ",".join(methods)]
+    for s in set:
+        args += ["--set", s]
+    return _study("compare", scene, args, out, "compare.csv", "compare.md")
+
+
+def sweep(scene, key, values, method=None, jobs=1, set=(), out=None):
+    """`contact2d sweep`: one run per value of `key` (a list of numbers, or "a:b:log:n").
+
+    Returns {"table": sweep.csv as columns, "report": sweep.md, "exit_code": ..., "out": ...}.
+    """
+    spec = values if isinstance(values, str) else ",".join(repr(float(v)) for v in values)
+    args = ["--set", key + "=" + spec, "--jobs", str(jobs)]
+    if method:
+        args += ["--method", method]
+    for s in set:
+        args += ["--set", s]
+    return _study("sweep", scene, args, out, "sweep.csv", "sweep.md")
