@@ -6,6 +6,7 @@ packages=(
   build-essential cmake pkg-config
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libsundials-dev libceres-dev
   libgmsh-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libopenblas0-pthread gnuplot-nox
+  parallel  # GNU parallel: runs a study's jobs.txt (README; tests/app/job_list_test.cpp)
 )
 missing=()
 for p in "${packages[@]}"; do
