@@ -51,7 +51,8 @@ std::vector<size_t> read_finished_cases(
 /// case's folder and its line in jobs.txt.
 std::string missing_cases_md(const std::vector<StudyCase>& cases,
                              const std::vector<size_t>& missing);
-/// The same for the terminal: one line per missing case.
+/// The same for the terminal ("" when none): a line per missing case, then how to run them
+/// again (their jobs.txt lines through parallel, or an sbatch --array of them).
 std::string missing_cases_text(const std::vector<StudyCase>& cases,
                                const std::vector<size_t>& missing);
 
