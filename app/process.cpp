@@ -13,7 +13,8 @@
 namespace c2d::app {
 
 ProcessOutcome run_process(const std::string& program, const std::vector<std::string>& args,
-                           const std::string& log_path, const std::vector<std::string>& env) {
+                           const std::string& log_path, const std::vector<std::string>& env,
+                           const ProcessPlace& place) {
   ProcessOutcome out;
   // The child's environment: this process's, with the entries of `env` replacing theirs.
   std::vector<std::string> settings = env;
@@ -34,10 +35,13 @@ ProcessOutcome run_process(const std::string& program, const std::vector<std::st
   argv.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  // The files are opened before the change of folder, so relative paths are this process's.
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, place.stdin_path.c_str(), O_RDONLY, 0);
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_path.c_str(),
                                    O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  if (!place.work_dir.empty())
+    posix_spawn_file_actions_addchdir_np(&actions, place.work_dir.c_str());
   pid_t pid = 0;
   const int rc = posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), envp.data());
   posix_spawn_file_actions_destroy(&actions);

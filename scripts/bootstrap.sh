@@ -7,6 +7,7 @@ packages=(
   libeigen3-dev libsuitesparse-dev coinor-libipopt-dev libsundials-dev libceres-dev
   libgmsh-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libopenblas0-pthread gnuplot-nox
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  parallel  # GNU parallel: runs a study's jobs.txt (README; tests/app/job_list_test.cpp)
 )
 missing=()
 for p in "${packages[@]}"; do

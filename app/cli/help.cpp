@@ -24,6 +24,12 @@ const char* kMainHelp =
     "                 bench.md with targets against measured figures, charts\n"
     "  plot OUTDIR    pictures of a finished run: filled contours of a field on the (deformed)\n"
     "                 mesh, the ZZ error map, meshes of adaptive cycles side by side\n"
+    "  merge DIR      a compare, sweep or bench study's table, verdict and charts from the\n"
+    "                 case folders that have finished, wherever they ran; lists missing cases\n"
+    "\n"
+    "compare, sweep and bench --job-list write their cases as a job list (DIR/jobs.txt, one\n"
+    "`contact2d run` per line; DIR/slurm.sh, an sbatch array; DIR/study.json) instead of\n"
+    "running them: run it with GNU parallel or Slurm, then `contact2d merge DIR`.\n"
     "\n"
     "Every verb has --help. Exit codes: 0 ok, 1 solve failed (partial results kept),\n"
     "2 bad input.\n";
@@ -80,7 +86,7 @@ const char* kTraceHelp =
 
 const char* kCompareHelp =
     "usage: contact2d compare SCENE [--methods a,b,...] [--levels N] [--jobs J]\n"
-    "                        [--set key=value ...] [--out DIR] [--quiet]\n"
+    "                        [--set key=value ...] [--out DIR] [--quiet] [--job-list]\n"
     "\nRuns every chosen contact method (default: all six) on the same scene, on N meshes:\n"
     "level 0 is the scene's, each further level halves every mesh size (analysis.mesh_scale).\n"
     "Each run is a `contact2d run` in DIR/levelK/METHOD; J of them at a time. Writes:\n"
@@ -90,11 +96,12 @@ const char* kCompareHelp =
     "  accuracy_time    accuracy against solve time, one line per method (PNG, SVG)\n"
     "  pressure_profiles  every method's pressure on the finest level (with Hertz's)\n"
     "  penetration      largest penetration per method and level\n"
-    "The table is rewritten after every finished run, so an interrupted study keeps its rows.\n";
+    "The table is rewritten after every finished run, so an interrupted study keeps its rows.\n"
+    "@JOBLIST@";
 
 const char* kSweepHelp =
     "usage: contact2d sweep SCENE --set key=a:b:log:n [--method M] [--accuracy 0.01]\n"
-    "                      [--jobs J] [--set key=value ...] [--out DIR] [--quiet]\n"
+    "                      [--jobs J] [--set key=value ...] [--out DIR] [--quiet] [--job-list]\n"
     "\nRuns SCENE once per value of one key (a:b:log:n, a:b:lin:n or v1,v2,...), e.g.\n"
     "  contact2d sweep examples/hertz_rigid.toml --method penalty \\\n"
     "      --set contact.penalty.k=1e3:1e13:log:11\n"
@@ -103,10 +110,11 @@ const char* kSweepHelp =
     "              force, the factorisation's pivot ratio, penalty, max|K_ij|\n"
     "  sweep.md    the range of values that converge with |p_max error| <= accuracy, and (for\n"
     "              penalty.k) where the seed's rule k = 1e4 max|K_ij| falls; then the table\n"
-    "  sweep.png   error, penetration, iterations, time and pivot ratio against the value\n";
+    "  sweep.png   error, penetration, iterations, time and pivot ratio against the value\n"
+    "@JOBLIST@";
 
 const char* kBenchHelp =
-    "usage: contact2d bench [--quick] [--out DIR] [--examples DIR] [--quiet]\n"
+    "usage: contact2d bench [--quick] [--out DIR] [--examples DIR] [--quiet] [--job-list]\n"
     "\n"
     "Runs a fixed ladder of the bundled scenes, one `contact2d run` process at a time, and\n"
     "reports speed and accuracy. Full ladder (run by hand; about 15 minutes on 2 cores): linear\n"
@@ -124,7 +132,8 @@ const char* kBenchHelp =
     "  accuracy_vs_time   pressure-profile error against time per method (PNG, SVG)\n"
     "  NN_<case>/         each run's own outputs (summary.json, ...)\n"
     "Assembly throughput is measured in process on structured grids. Timings are figures,\n"
-    "not pass/fail: the exit code is 1 only when a run crashed or a chart failed.\n";
+    "not pass/fail: the exit code is 1 only when a run crashed or a chart failed.\n"
+    "@JOBLIST@";
 
 const char* kCalibrateHelp =
     "usage: contact2d calibrate SCENE --data measured.csv --fit key[,key...] [--method M]\n"
@@ -137,6 +146,31 @@ const char* kCalibrateHelp =
     "                 (default: the scene value / 100 .. x 100, log scale)\n"
     "Writes calibrate.json and calibrate.md: fitted values with standard deviations from the\n"
     "covariance, residuals, and the solver's summary.\n";
+
+// Every study's help ends with this in place of @JOBLIST@.
+const char* kJobListHelp =
+    "Every study also writes DIR/jobs.txt, DIR/slurm.sh and DIR/study.json (below).\n"
+    "  --job-list  write them and stop, instead of running the cases: jobs.txt holds one\n"
+    "              `contact2d run` command line per case (absolute paths of the program and\n"
+    "              the scene, every argument single-quoted; BLAS/OpenMP threads 1 unless set),\n"
+    "              to be run from DIR, each writing its case folder inside DIR:\n"
+    "                cd DIR && parallel -j 4 < jobs.txt       (GNU parallel)\n"
+    "                cd DIR && sbatch slurm.sh                (Slurm: task K runs line K)\n"
+    "              then `contact2d merge DIR` writes the report from the finished cases.\n"
+    "              DIR must not hold the case folders yet.\n";
+
+const char* kMergeHelp =
+    "usage: contact2d merge DIR [--quiet]\n"
+    "\nWrites the report of the compare, sweep or bench study in DIR (its tables, verdict and\n"
+    "charts, as the study itself would) from every case folder that holds a summary.json,\n"
+    "wherever and whenever it ran. DIR/study.json (written by the study, with or without\n"
+    "--job-list) names the study, its options and its cases; nothing else is needed, not even\n"
+    "the scene. Cases without a summary.json (not run, running, crashed) are listed on the\n"
+    "terminal and in the markdown with their line in jobs.txt, so they can be run again\n"
+    "(sed -n '3p;7p' jobs.txt | parallel, or sbatch --array=3,7 slurm.sh).\n"
+    "Process wall time and peak memory are not known to a merge (their columns are empty).\n"
+    "Exit codes: 0 every case finished, 1 some are missing (or a chart failed), 2 DIR holds no\n"
+    "study.json or a malformed one.\n";
 
 const char* kPlotHelp =
     "usage: contact2d plot OUTDIR [--field F[,F...]|all] [--zoom x0,y0,x1,y1] [--deformed S]\n"
@@ -170,16 +204,31 @@ const char* run_help() {
   return text.c_str();
 }
 
+/// A study verb's text with the job-list paragraph in place of @JOBLIST@.
+std::string with_job_list(const char* text) {
+  std::string t = text;
+  t.replace(t.find("@JOBLIST@"), 9, kJobListHelp);
+  return t;
+}
+
+/// compare's, sweep's or bench's text.
+const char* study_help(const std::string& verb) {
+  static const std::string compare = with_job_list(kCompareHelp), sweep = with_job_list(kSweepHelp),
+                           bench = with_job_list(kBenchHelp);
+  return (verb == "compare" ? compare : verb == "sweep" ? sweep : bench).c_str();
+}
+
 const char* verb_help(const std::string& verb) {
   return verb == "run"         ? run_help()
          : verb == "mesh"      ? kMeshHelp
          : verb == "info"      ? kInfoHelp
          : verb == "trace"     ? kTraceHelp
          : verb == "plot"      ? kPlotHelp
-         : verb == "compare"   ? kCompareHelp
-         : verb == "sweep"     ? kSweepHelp
+         : verb == "compare"   ? study_help(verb)
+         : verb == "sweep"     ? study_help(verb)
          : verb == "calibrate" ? kCalibrateHelp
-         : verb == "bench"     ? kBenchHelp
+         : verb == "bench"     ? study_help(verb)
+         : verb == "merge"     ? kMergeHelp
                                : nullptr;
 }
 

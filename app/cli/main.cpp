@@ -21,8 +21,8 @@ int dispatch(const app::Options& o) {
   if (!help)
     throw InputError(
         o.verb +
-        ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, bench, trace or plot "
-        "(see --help)");
+        ": unknown verb; expected run, mesh, info, compare, sweep, calibrate, bench, merge, trace "
+        "or plot (see --help)");
   if (o.help) {
     std::cout << help;
     return app::kExitOk;
@@ -30,7 +30,9 @@ int dispatch(const app::Options& o) {
   if (o.verb == "bench") return app::cmd_bench(o);
   if (o.scene.empty())
     throw InputError(o.verb + ": expected " +
-                     (o.verb == "trace" || o.verb == "plot" ? "an output folder" : "a scene file") +
+                     (o.verb == "trace" || o.verb == "plot" ? "an output folder"
+                      : o.verb == "merge"                   ? "a study folder"
+                                                            : "a scene file") +
                      ", found none");
   if (o.verb == "run") return app::cmd_run(o);
   if (o.verb == "trace") return app::cmd_trace(o);
@@ -38,6 +40,7 @@ int dispatch(const app::Options& o) {
   if (o.verb == "compare") return app::cmd_compare(o);
   if (o.verb == "sweep") return app::cmd_sweep(o);
   if (o.verb == "calibrate") return app::cmd_calibrate(o);
+  if (o.verb == "merge") return app::cmd_merge(o);
   if (o.verb == "mesh") return app::cmd_mesh(o);
   return app::cmd_info(o);
 }

@@ -122,6 +122,8 @@ bool take_flag(Options& o, const std::string& a) {
     o.edges = true;
   else if (a == "--quick" && o.verb == "bench")
     o.quick = true;
+  else if (a == "--job-list" && (o.verb == "compare" || o.verb == "sweep" || o.verb == "bench"))
+    o.job_list = true;
   else if (a == "--quiet" || a == "-q")
     o.quiet = true;
   else

@@ -27,6 +27,8 @@ struct Options {
   // run --adapt: overrides of the [adapt] table
   bool adapt = false;
   std::vector<std::string> adapt_sets;
+  // compare, sweep, bench: write the cases as a job list instead of running them
+  bool job_list = false;
   // bench
   bool quick = false;
   std::string examples;

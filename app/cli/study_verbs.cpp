@@ -1,8 +1,10 @@
-// The study verbs: compare, sweep, calibrate and bench, each handing its options to studies/.
+// The study verbs: compare, sweep, calibrate, bench and merge, each handing its options to
+// studies/.
 #include "app/cli/verbs.hpp"
 #include "app/studies/bench.hpp"
 #include "app/studies/calibrate.hpp"
 #include "app/studies/compare.hpp"
+#include "app/studies/merge.hpp"
 #include "app/studies/sweep.hpp"
 #include "core/errors.hpp"
 
@@ -18,6 +20,7 @@ void fill_study(const Options& o, StudyOptions& s) {
   s.jobs = o.jobs;
   s.out = o.out;
   s.quiet = o.quiet;
+  s.job_list = o.job_list;
 }
 
 }  // namespace
@@ -52,7 +55,10 @@ int cmd_bench(const Options& o) {
   b.out = o.out;
   b.examples = o.examples.empty() ? C2D_EXAMPLES_DIR : o.examples;
   b.quiet = o.quiet;
+  b.job_list = o.job_list;
   return run_bench(b);
 }
+
+int cmd_merge(const Options& o) { return run_merge(o.scene, o.quiet); }
 
 }  // namespace c2d::app

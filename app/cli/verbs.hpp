@@ -30,5 +30,7 @@ int cmd_sweep(const Options& o);
 int cmd_calibrate(const Options& o);
 /// `bench`: the benchmark ladder (takes no scene).
 int cmd_bench(const Options& o);
+/// `merge DIR`: a study's report from the case folders that have finished.
+int cmd_merge(const Options& o);
 
 }  // namespace c2d::app

@@ -1,5 +1,4 @@
 #include "app/studies/bench.hpp"
-#include "app/output_folder.hpp"
 
 #include <omp.h>
 
@@ -14,7 +13,9 @@
 #include <map>
 #include <sstream>
 
+#include "app/output_folder.hpp"
 #include "app/studies/bench_report.hpp"
+#include "app/studies/job_list.hpp"
 #include "constraints/method_registry.hpp"
 #include "core/assembler.hpp"
 #include "core/elasticity_kernels.hpp"
@@ -241,25 +242,21 @@ std::string machine_line() {
   return os.str();
 }
 
-/// One `contact2d run` per rung, in its own folder NN_family_scene_element_method.
-std::vector<StudyCase> bench_cases(const std::vector<BenchCase>& ladder, const std::string& out,
+/// One `contact2d run` per rung, in its own folder NN_family_scene_element_method of the study
+/// folder, the scene by its absolute path.
+std::vector<StudyCase> bench_cases(const std::vector<BenchCase>& ladder,
                                    const std::string& examples) {
+  const std::string folder = fs::absolute(examples).lexically_normal().string();
   std::vector<StudyCase> cases;
   for (size_t i = 0; i < ladder.size(); ++i) {
     const BenchCase& c = ladder[i];
     StudyCase s;
     char dir[160];
-    std::snprintf(dir, sizeof dir, "%s/%02zu_%s_%s_%s_%s", out.c_str(), i, c.family.c_str(),
+    std::snprintf(dir, sizeof dir, "%02zu_%s_%s_%s_%s", i, c.family.c_str(),
                   fs::path(c.scene).stem().c_str(), c.element.c_str(),
                   c.method.empty() ? "linear" : c.method.c_str());
-    s.out_dir = dir;
-    s.args = {examples + "/" + c.scene,
-              "--quiet",
-              "--out",
-              s.out_dir,
-              "--set",
-              "analysis.element=" + c.element,
-              "--set",
+    s.folder = dir;
+    s.args = {folder + "/" + c.scene, "--set", "analysis.element=" + c.element, "--set",
               "analysis.mesh_scale=" + bench_cell(c.mesh_scale)};
     if (!c.method.empty()) s.args.insert(s.args.end(), {"--method", c.method});
     for (const auto& set : c.sets) s.args.insert(s.args.end(), {"--set", set});
@@ -276,16 +273,24 @@ void print_row(size_t finished, const std::vector<BenchRow>& rows, const BenchRo
   std::fflush(stdout);
 }
 
+/// What the steps of a bench share: the ladder's kind, the study folder, how its times were
+/// taken (and, merged, where), the cases and their rows (same order).
+struct BenchStudy {
+  bool quick = false;
+  std::string out, timing, runs;  ///< runs: "44 runs in 660 s" or what a merge knows
+  std::vector<StudyCase> cases;
+  std::vector<BenchRow> rows;
+};
+
 /// bench.md: when and where, how the figures were taken, the targets, the tables, the slopes.
-std::string bench_md(const BenchOptions& o, const std::vector<BenchRow>& rows, const Throughput& t,
-                     double seconds, const std::string& slopes, const std::string& chart_error) {
+std::string bench_md(const BenchStudy& s, const std::vector<size_t>& missing, const Throughput& t,
+                     const std::string& slopes, const std::string& chart_error) {
   const std::time_t now = std::time(nullptr);
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
   std::ostringstream md;
-  md << "# contact2d bench" << (o.quick ? " --quick" : "") << "\n\n"
-     << date << "; " << machine_line() << "; " << rows.size() << " runs in " << rounded(seconds)
-     << " s.\n\n"
+  md << "# contact2d bench" << (s.quick ? " --quick" : "") << "\n\n"
+     << date << "; " << machine_line() << "; " << s.runs << ".\n\n"
      << "Every run is a separate `contact2d run` process with charts off (the time-to-accuracy "
         "runs also without VTU/nodes.csv); phase times come from its summary.json, peak memory "
         "from the process (wait4), \"process\" is the wall time including start-up (loading "
@@ -293,15 +298,15 @@ std::string bench_md(const BenchOptions& o, const std::vector<BenchRow>& rows, c
         "relative L2 error over [0, 1.5 b] for Hertz, the tip deflection against Timoshenko "
         "beam theory for the cantilever (the converged 2D value is 0.13 % below it), the "
         "upper tip against the seed for the two cantilevers. "
-     << timing_note(1) << "\n\n"
-     << "## Targets\n\n"
-     << targets_md(rows, t, o.quick) << "\n"
+     << s.timing << "\n\n"
+     << missing_cases_md(s.cases, missing) << "## Targets\n\n"
+     << targets_md(s.rows, t, s.quick) << "\n"
      << "## Ladder\n\n"
-     << ladder_md(rows) << "\n"
+     << ladder_md(s.rows) << "\n"
      << "## Every method on the time-to-accuracy scenes\n\n"
      << "Overhead = contact solve / (symbolic analysis + one numeric factorisation) of the "
         "same mesh.\n\n"
-     << methods_md(rows) << "\n"
+     << methods_md(s.rows) << "\n"
      << "## Cost against size\n\n"
      << slopes << "\n"
      << (chart_error.empty() ? "![time against DOFs](time_vs_dofs.png)\n\n"
@@ -310,46 +315,107 @@ std::string bench_md(const BenchOptions& o, const std::vector<BenchRow>& rows, c
   return md.str();
 }
 
+/// study.json's options and case keys: what the report needs besides the case folders.
+void write_bench_files(const BenchStudy& s) {
+  std::vector<nlohmann::json> keys;
+  for (const auto& r : s.rows)
+    keys.push_back({{"family", r.c.family},
+                    {"scene", r.c.scene},
+                    {"element", r.c.element},
+                    {"method", r.c.method},
+                    {"mesh_scale", r.c.mesh_scale},
+                    {"nominal", r.c.nominal},
+                    {"sets", r.c.sets}});
+  write_study_files(s.out, "bench", {{"quick", s.quick}}, s.cases, keys);
+}
+
+BenchStudy bench_from_manifest(const StudyManifest& m) {
+  BenchStudy s;
+  s.quick = m.options()["quick"].boolean();
+  s.out = m.dir;
+  s.timing = merged_timing_note();
+  s.cases = m.cases;
+  for (size_t i = 0; i < m.cases.size(); ++i) {
+    const ManifestNode k = m.case_keys(i);
+    BenchRow r;
+    r.c = BenchCase{k["family"].text(), k["scene"].text(),        k["element"].text(),
+                    k["method"].text(), k["mesh_scale"].number(), k["nominal"].text(),
+                    k["sets"].texts()};
+    s.rows.push_back(r);
+  }
+  return s;
+}
+
+/// The assembly throughput (measured here, now), bench.md and the charts from the finished
+/// rows, listing the `missing` cases; the targets on the terminal unless quiet. Returns 1 when a
+/// case crashed or is missing or a chart failed, else 0.
+int report_bench(BenchStudy& s, const std::vector<size_t>& missing, bool quiet) {
+  fill_overheads(s.rows);
+  core::write_file_atomic(s.out + "/bench.csv", csv_of(s.rows));
+  if (!quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
+  const Throughput t = measure_assembly(s.quick);
+  std::string slopes;
+  std::string chart_error = chart_time(s.out, s.rows, slopes);
+  if (chart_error.empty()) chart_error = chart_accuracy(s.out, s.rows);
+  core::write_file_atomic(s.out + "/bench.md", bench_md(s, missing, t, slopes, chart_error));
+  bool crashed = false;
+  for (const auto& r : s.rows) crashed = crashed || r.crashed();
+  if (!quiet) {
+    std::cout << "\n"
+              << missing_cases_text(s.cases, missing) << targets_md(s.rows, t, s.quick)
+              << "\nwrote " << s.out
+              << "/bench.csv, bench.md, time_vs_dofs and accuracy_vs_time (.png/.svg)\n";
+    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
+  }
+  return crashed || !missing.empty() || !chart_error.empty() ? 1 : 0;
+}
+
 }  // namespace
 
 int run_bench(const BenchOptions& o) {
-  const std::string out = o.out.empty() ? "out/bench" : o.out;
+  BenchStudy s;
+  s.quick = o.quick;
+  s.out = o.out.empty() ? "out/bench" : o.out;
+  s.timing = timing_note(1);
   const std::vector<BenchCase> ladder = bench_ladder(o.quick);
   for (const auto& c : ladder)
     if (!fs::exists(o.examples + "/" + c.scene))
       throw InputError(o.examples + "/" + c.scene +
                        ": bench scene not found (expected the bundled "
                        "examples folder; pass --examples DIR)");
-  create_output_folder(out);
+  create_output_folder(s.out);
+  s.cases = bench_cases(ladder, o.examples);
+  s.rows.resize(ladder.size());
+  for (size_t i = 0; i < ladder.size(); ++i) s.rows[i].c = ladder[i];
+  if (o.job_list) refuse_existing_cases(s.out, s.cases);
+  write_bench_files(s);
+  if (o.job_list) {
+    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size());
+    return 0;
+  }
   const core::Stopwatch clock;
-  std::vector<BenchRow> rows(ladder.size());
-  for (size_t i = 0; i < ladder.size(); ++i) rows[i].c = ladder[i];
   // One case at a time: timings of concurrent runs would measure each other.
   size_t finished = 0;
-  run_cases(bench_cases(ladder, out, o.examples), 1, [&](size_t i, const CaseOutcome& outcome) {
-    read_row(rows[i], outcome);
+  run_cases(s.cases, s.out, 1, [&](size_t i, const CaseOutcome& outcome) {
+    read_row(s.rows[i], outcome);
     ++finished;
-    if (!o.quiet) print_row(finished, rows, rows[i]);
-    fill_overheads(rows);
-    core::write_file_atomic(out + "/bench.csv", csv_of(rows));  // complete after the last case
+    if (!o.quiet) print_row(finished, s.rows, s.rows[i]);
+    fill_overheads(s.rows);
+    core::write_file_atomic(s.out + "/bench.csv", csv_of(s.rows));  // complete after the last
   });
-  if (!o.quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
-  const Throughput t = measure_assembly(o.quick);
+  s.runs = std::to_string(s.rows.size()) + " runs in " + rounded(clock.elapsed()) + " s";
+  return report_bench(s, {}, o.quiet);
+}
 
-  std::string slopes;
-  std::string chart_error = chart_time(out, rows, slopes);
-  if (chart_error.empty()) chart_error = chart_accuracy(out, rows);
-  core::write_file_atomic(out + "/bench.md",
-                          bench_md(o, rows, t, clock.elapsed(), slopes, chart_error));
-  bool crashed = false;
-  for (const auto& r : rows) crashed = crashed || r.status.rfind("crashed", 0) == 0;
-  if (!o.quiet) {
-    std::cout << "\n"
-              << targets_md(rows, t, o.quick) << "\nwrote " << out
-              << "/bench.csv, bench.md, time_vs_dofs and accuracy_vs_time (.png/.svg)\n";
-    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
-  }
-  return crashed || !chart_error.empty() ? 1 : 0;
+int merge_bench(const StudyManifest& m, bool quiet) {
+  BenchStudy s = bench_from_manifest(m);
+  const std::vector<size_t> missing = read_finished_cases(
+      s.cases, s.out, [&](size_t i, const CaseOutcome& c) { read_row(s.rows[i], c); });
+  s.runs = std::to_string(s.cases.size() - missing.size()) + " of " +
+           std::to_string(s.cases.size()) +
+           " runs merged from their folders (machine and assembly throughput: the merging "
+           "machine's)";
+  return report_bench(s, missing, quiet);
 }
 
 }  // namespace c2d::app

@@ -16,6 +16,7 @@ struct BenchOptions {
   std::string out;       ///< default out/bench
   std::string examples;  ///< folder of the bundled scenes (default: the source tree's)
   bool quiet = false;
+  bool job_list = false;  ///< write the ladder as a job list (job_list.hpp) instead of running it
 };
 
 /// One `contact2d run` of the ladder.
@@ -36,9 +37,17 @@ std::vector<BenchCase> bench_ladder(bool quick);
 /// bench.csv's header (the columns tests check).
 extern const char* const kBenchCsvHeader;
 
-/// Runs the ladder; returns 0 when every case ran and the files were written (a case that did
-/// not converge is a row with its status, not a failure of the benchmark), 1 otherwise.
+/// Writes the ladder's job list and manifest (job_list.hpp), then, unless o.job_list, runs it;
+/// returns 0 when every case ran and the files were written (a case that did not converge is a
+/// row with its status, not a failure of the benchmark), 1 otherwise.
 int run_bench(const BenchOptions& o);
+
+struct StudyManifest;
+
+/// `contact2d merge` of a bench: the same report from the case folders that have finished,
+/// listing the others (process wall time and peak memory are unknown to a merge). Returns 1
+/// when a case is missing (or a chart failed), else 0.
+int merge_bench(const StudyManifest& m, bool quiet);
 
 /// Least-squares slope of log(y) against log(x) over the points with x, y > 0 (NaN for fewer
 /// than two): the empirical order of a cost in the problem size.

@@ -22,25 +22,17 @@ namespace c2d::app {
 
 namespace {
 
-CaseOutcome run_one(const std::string& exe, const StudyCase& c,
+CaseOutcome run_one(const std::string& exe, const StudyCase& c, const std::string& study_dir,
                     const std::vector<std::string>& env) {
-  CaseOutcome out;
-  fs::create_directories(c.out_dir);
-  std::vector<std::string> args{"run"};
-  args.insert(args.end(), c.args.begin(), c.args.end());
+  const std::string dir = study_dir + "/" + c.folder;
+  fs::create_directories(dir);
   const auto t0 = std::chrono::steady_clock::now();
-  const ProcessOutcome run = run_process(exe, args, c.out_dir + "/stdout.log", env);
-  if (run.started) out.exit_code = run.exit_code, out.peak_rss_mb = run.peak_rss_mb;
-  out.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::ifstream in(c.out_dir + "/summary.json");
-  if (in) {
-    try {
-      out.summary = nlohmann::json::parse(in);
-      out.has_summary = true;
-    } catch (const std::exception&) {
-      out.has_summary = false;
-    }
-  }
+  const ProcessOutcome run = run_process(exe, run_arguments(c, dir), dir + "/stdout.log", env);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CaseOutcome out = read_case_folder(dir);
+  out.exit_code = run.started ? run.exit_code : -1;
+  out.wall_seconds = wall;
+  if (run.started) out.peak_rss_mb = run.peak_rss_mb;
   return out;
 }
 
@@ -54,6 +46,76 @@ std::vector<std::string> case_environment(int jobs) {
 }
 
 }  // namespace
+
+std::vector<std::string> run_arguments(const StudyCase& c, const std::string& out_dir) {
+  std::vector<std::string> args{"run"};
+  args.insert(args.end(), c.args.begin(), c.args.end());
+  args.insert(args.end(), {"--out", out_dir, "--quiet"});
+  return args;
+}
+
+std::string this_executable() { return fs::read_symlink("/proc/self/exe").string(); }
+
+CaseOutcome read_case_folder(const std::string& dir) {
+  CaseOutcome out;
+  std::ifstream in(dir + "/summary.json");
+  if (!in) return out;
+  try {
+    out.summary = nlohmann::json::parse(in);
+    out.has_summary = true;
+  } catch (const std::exception&) {
+    return out;
+  }
+  const nlohmann::json status =
+      out.summary.is_object() ? out.summary.value("status", nlohmann::json()) : nlohmann::json();
+  out.exit_code = status == "converged" ? 0 : 1;
+  return out;
+}
+
+std::vector<size_t> read_finished_cases(
+    const std::vector<StudyCase>& cases, const std::string& study_dir,
+    const std::function<void(size_t, const CaseOutcome&)>& on_read) {
+  std::vector<size_t> missing;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const CaseOutcome outcome = read_case_folder(study_dir + "/" + cases[i].folder);
+    if (outcome.has_summary)
+      on_read(i, outcome);
+    else
+      missing.push_back(i);
+  }
+  return missing;
+}
+
+std::string missing_cases_md(const std::vector<StudyCase>& cases,
+                             const std::vector<size_t>& missing) {
+  if (missing.empty()) return "";
+  std::ostringstream md;
+  md << "## Missing cases\n\n"
+     << missing.size() << " of " << cases.size()
+     << " cases have no summary.json yet (not run, still running, or crashed); the table and "
+        "the verdict are of the others. Each is one line of jobs.txt:\n\n"
+        "| case folder | jobs.txt line |\n|---|---|\n";
+  for (size_t i : missing) md << "| " << cases[i].folder << " | " << i + 1 << " |\n";
+  return md.str() + "\n";
+}
+
+std::string missing_cases_text(const std::vector<StudyCase>& cases,
+                               const std::vector<size_t>& missing) {
+  if (missing.empty()) return "";
+  std::ostringstream os, lines, array;
+  for (size_t k = 0; k < missing.size(); ++k) {
+    const size_t line = missing[k] + 1;
+    os << "missing    " << cases[missing[k]].folder << " (no summary.json; jobs.txt line " << line
+       << ")\n";
+    lines << (k ? ";" : "") << line << "p";
+    array << (k ? "," : "") << line;
+  }
+  os << "missing    " << missing.size() << " of " << cases.size()
+     << " cases; to run them again from the study folder: sed -n '" << lines.str()
+     << "' jobs.txt | parallel, or sbatch --array=" << array.str()
+     << " slurm.sh; then merge again\n\n";
+  return os.str();
+}
 
 int threads_per_case(int jobs) {
   const int cores = std::max(1u, std::thread::hardware_concurrency());
@@ -72,9 +134,16 @@ std::string timing_note(int jobs) {
          "for another's cores; memory bandwidth is still shared.";
 }
 
-void run_cases(const std::vector<StudyCase>& cases, int jobs,
+std::string merged_timing_note() {
+  return "Times: each case ran as its own `contact2d run` process from the job list "
+         "(jobs.txt), on whatever machine and beside however many other cases the scheduler "
+         "chose; its times are those its summary.json reports (process wall time and memory "
+         "are not known to a merge).";
+}
+
+void run_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
                const std::function<void(size_t, const CaseOutcome&)>& on_done) {
-  const std::string exe = fs::read_symlink("/proc/self/exe").string();
+  const std::string exe = this_executable();
   const std::vector<std::string> env = case_environment(
       std::max(1, std::min<int>(jobs, static_cast<int>(cases.size()))));
   std::atomic<size_t> next{0};
@@ -83,7 +152,7 @@ void run_cases(const std::vector<StudyCase>& cases, int jobs,
   auto worker = [&] {
     try {
       for (size_t i = next++; i < cases.size(); i = next++) {
-        const CaseOutcome outcome = run_one(exe, cases[i], env);
+        const CaseOutcome outcome = run_one(exe, cases[i], study_dir, env);
         std::lock_guard<std::mutex> lock(done_mutex);
         if (first_error) return;
         on_done(i, outcome);
@@ -135,6 +204,7 @@ bool RunFigures::read(const CaseOutcome& c) {
     status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
     return false;
   }
+  has_summary = true;
   const auto& s = c.summary;
   status = s.value("status", std::string("unknown"));
   dofs = json_number(s, {"mesh", "dofs"});

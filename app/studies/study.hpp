@@ -3,6 +3,9 @@
 // (up to --jobs at a time): cases cannot disturb one another (gmsh keeps global state; a crash
 // in one case is that case's status), every case writes its own folder, and the table is
 // rewritten after each finished case, so an interrupted study keeps its finished rows.
+// A study is three steps that every path shares: plan the cases (and write them as a job list,
+// job_list.hpp), run them (here, or with --job-list by any scheduler), and report from the
+// case folders that hold a summary.json (at the end of a run, or by `contact2d merge`).
 #pragma once
 
 #include <cmath>
@@ -15,17 +18,43 @@ namespace c2d::app {
 
 /// One `contact2d run` of a study.
 struct StudyCase {
-  std::vector<std::string> args;  ///< after "run": scene, --method, --set ..., --out, --quiet
-  std::string out_dir;
+  std::vector<std::string> args;  ///< after "run": the scene, --method, --set ... (no --out)
+  std::string folder;             ///< the case's folder, relative to the study's
 };
+
+/// The arguments of a case's `contact2d run` into `out_dir`: "run", the case's, --out, --quiet.
+std::vector<std::string> run_arguments(const StudyCase& c, const std::string& out_dir);
+
+/// This program's absolute path (what the cases run).
+std::string this_executable();
 
 struct CaseOutcome {
   int exit_code = -1;
   bool has_summary = false;
   nlohmann::json summary;  ///< the case's summary.json (null when none was written)
-  double wall_seconds = 0.0;
-  double peak_rss_mb = 0.0;  ///< the process's peak resident memory (wait4's ru_maxrss)
+  double wall_seconds = std::nan("");  ///< known only when this program ran the case
+  double peak_rss_mb = std::nan("");   ///< the process's peak resident memory (wait4's ru_maxrss)
 };
+
+/// What a case left in its folder: its summary.json, if any (none, or one that does not parse,
+/// is no summary), and the exit code `contact2d run` gives with that summary (0 converged, 1
+/// not; -1 without one). Process figures (wall time, memory) stay NaN.
+CaseOutcome read_case_folder(const std::string& dir);
+
+/// Reads the cases of the study in `study_dir` that have finished (their folder holds a
+/// summary.json), calling `on_read` for each in order; returns the indices of the others.
+std::vector<size_t> read_finished_cases(
+    const std::vector<StudyCase>& cases, const std::string& study_dir,
+    const std::function<void(size_t, const CaseOutcome&)>& on_read);
+
+/// The missing cases for a study's markdown report ("" when none): a section listing each
+/// case's folder and its line in jobs.txt.
+std::string missing_cases_md(const std::vector<StudyCase>& cases,
+                             const std::vector<size_t>& missing);
+/// The same for the terminal ("" when none): a line per missing case, then how to run them
+/// again (their jobs.txt lines through parallel, or an sbatch --array of them).
+std::string missing_cases_text(const std::vector<StudyCase>& cases,
+                               const std::vector<size_t>& missing);
 
 /// The threads each case of a study gets for BLAS and OpenMP: the machine's cores shared among
 /// the `jobs` cases that run at once, at least 1. OpenBLAS threads of two factorisations on the
@@ -34,10 +63,13 @@ int threads_per_case(int jobs);
 /// One sentence for a study's report: how its times were taken.
 std::string timing_note(int jobs);
 
-/// Runs the cases with at most `jobs` concurrent processes of this executable (each with
-/// threads_per_case(jobs) threads unless the environment sets them); `on_done` is
-/// called once per case as it finishes, never concurrently.
-void run_cases(const std::vector<StudyCase>& cases, int jobs,
+/// The same sentence for a report merged from case folders (`contact2d merge`).
+std::string merged_timing_note();
+
+/// Runs the cases into their folders under `study_dir` with at most `jobs` concurrent processes
+/// of this executable (each with threads_per_case(jobs) threads unless the environment sets
+/// them); `on_done` is called once per case as it finishes, never concurrently.
+void run_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
                const std::function<void(size_t, const CaseOutcome&)>& on_done);
 
 /// What every study reads from a case's summary.json.
@@ -58,7 +90,10 @@ struct RunFigures {
   double err_stick = std::nan(""), err_shear = std::nan("");
 
   double peak_rss_mb = std::nan("");
+  bool has_summary = false;
   bool converged() const { return status == "converged"; }
+  /// Ran, but left no summary.json (the process died).
+  bool crashed() const { return done && !has_summary; }
 
   /// Fills the figures from a finished case; false when it left no summary (a crash).
   bool read(const CaseOutcome& c);
@@ -80,6 +115,7 @@ struct StudyOptions {
   int jobs = 1;
   std::string out;
   bool quiet = false;
+  bool job_list = false;  ///< write the cases as a job list (job_list.hpp) instead of running them
 };
 
 /// The study's output folder, created: --out, else out/<verb>_<scene file stem>.

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/report/gnuplot.hpp"
+#include "app/studies/job_list.hpp"
 #include "core/errors.hpp"
 #include "core/scene.hpp"
 #include "core/writers.hpp"
@@ -113,21 +114,31 @@ SweptKey swept_key(const std::vector<std::string>& sets) {
   return k;
 }
 
+/// The cases of a sweep, caseK in the study folder, the scene by its absolute path.
 std::vector<StudyCase> sweep_cases(const SweepOptions& o, const SweptKey& k,
-                                   const std::vector<double>& values, const std::string& out) {
+                                   const std::vector<double>& values) {
+  const std::string scene = fs::absolute(o.scene).lexically_normal().string();
   std::vector<StudyCase> cases;
   for (size_t i = 0; i < values.size(); ++i) {
     StudyCase c;
-    c.out_dir = out + "/case" + std::to_string(i);
-    c.args = {o.scene};
+    c.folder = "case" + std::to_string(i);
+    c.args = {scene};
     if (!o.method.empty()) c.args.insert(c.args.end(), {"--method", o.method});
     for (const auto& s : k.fixed) c.args.insert(c.args.end(), {"--set", s});
-    c.args.insert(c.args.end(),
-                  {"--set", k.key + "=" + cell(values[i]), "--out", c.out_dir, "--quiet"});
+    c.args.insert(c.args.end(), {"--set", k.key + "=" + cell(values[i])});
     cases.push_back(c);
   }
   return cases;
 }
+
+/// What the steps of a sweep share: the scene (as given, for titles), the swept key, the
+/// accuracy asked for, how its times were taken, the cases and their rows (same order).
+struct SweepStudy {
+  std::string scene, key, out, timing;
+  double accuracy = 0.01;
+  std::vector<StudyCase> cases;
+  std::vector<SweepRow> rows;
+};
 
 /// The seed's rule k = 1e4 max|K_ij|, shown when the swept key is a penalty stiffness and a run
 /// reported max|K_ij|.
@@ -148,21 +159,24 @@ SeedRule seed_rule(const std::string& key, const std::vector<SweepRow>& rows) {
 /// The verdict paragraph: the range that converges and meets the accuracy, the failed values
 /// grouped by their status word (the full messages are in the table), where the seed's rule
 /// falls.
-std::string sweep_verdict(const SweepOptions& o, const std::string& key,
+std::string sweep_verdict(double accuracy, const std::string& key,
                           const std::vector<SweepRow>& rows, const SeedRule& seed) {
   std::ostringstream md;
   double lo = std::nan(""), hi = std::nan("");
   bool has_error = false;
+  bool any = false;
   for (const auto& r : rows) {
+    any = any || r.done;
     has_error = has_error || std::isfinite(r.err_p0);
-    if (r.converged() && std::isfinite(r.err_p0) && std::abs(r.err_p0) <= o.accuracy) {
+    if (r.converged() && std::isfinite(r.err_p0) && std::abs(r.err_p0) <= accuracy) {
       lo = std::isfinite(lo) ? std::min(lo, r.value) : r.value;
       hi = std::isfinite(hi) ? std::max(hi, r.value) : r.value;
     }
   }
+  if (!any) return "No case has finished yet.";
   std::map<std::string, std::string> by_status;
   for (const auto& r : rows) {
-    if (r.converged()) continue;
+    if (!r.done || r.converged()) continue;
     std::string word = r.status;
     if (word.rfind("failed: ", 0) == 0) word = word.substr(8);
     word = word.substr(0, word.find(':'));
@@ -172,10 +186,10 @@ std::string sweep_verdict(const SweepOptions& o, const std::string& key,
   if (!has_error)
     md << "The scene has no p_max reference, so no accuracy range is reported. ";
   else if (std::isfinite(lo))
-    md << "Converged with |p_max error| <= " << percent_text(o.accuracy, 2) << " for " << key
+    md << "Converged with |p_max error| <= " << percent_text(accuracy, 2) << " for " << key
        << " from " << cell(lo) << " to " << cell(hi) << " (of the values swept). ";
   else
-    md << "No swept value met |p_max error| <= " << percent_text(o.accuracy, 2) << ". ";
+    md << "No swept value met |p_max error| <= " << percent_text(accuracy, 2) << ". ";
   if (!by_status.empty()) {
     std::string failed;
     for (const auto& [word, list] : by_status)
@@ -185,8 +199,8 @@ std::string sweep_verdict(const SweepOptions& o, const std::string& key,
   if (seed.shown) {
     const SweepRow* nearest = nullptr;
     for (const auto& r : rows)
-      if (!nearest ||
-          std::abs(std::log(r.value / seed.k)) < std::abs(std::log(nearest->value / seed.k)))
+      if (r.done && (!nearest || std::abs(std::log(r.value / seed.k)) <
+                                     std::abs(std::log(nearest->value / seed.k))))
         nearest = &r;
     md << "The seed's rule k = 1e4 x max|K_ij| gives k = " << cell(seed.k) << " here";
     if (std::isfinite(lo))
@@ -205,9 +219,10 @@ std::string sweep_table(const std::string& key, const std::vector<SweepRow>& row
      << " | status | iterations | solve | p_max | p_max error | max penetration | "
         "pivot ratio |\n|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows)
-    md << "| " << cell(r.value) << " | " << r.status << " | " << cell(r.iterations) << " | "
-       << seconds_text(r.t_solve) << " | " << cell(r.p_max) << " | " << percent_text(r.err_p0)
-       << " | " << cell(r.penetration) << " | " << cell(r.pivot) << " |\n";
+    if (r.done)
+      md << "| " << cell(r.value) << " | " << r.status << " | " << cell(r.iterations) << " | "
+         << seconds_text(r.t_solve) << " | " << cell(r.p_max) << " | " << percent_text(r.err_p0)
+         << " | " << cell(r.penetration) << " | " << cell(r.pivot) << " |\n";
   return md.str();
 }
 
@@ -235,7 +250,7 @@ std::string chart_sweep(const std::string& out, const std::string& key,
        << " noenhanced\nset grid\nunset key\n"
        << (log_x ? "set logscale x\n" : "") << "set format x '10^{%L}'\n";
   for (const auto& r : rows)
-    if (!r.converged())
+    if (r.done && !r.converged())
       plot << "set arrow from " << r.value << ", graph 0 to " << r.value
            << ", graph 1 nohead lc rgb 'red' dt 2 lw 1.5\n";
   if (seed.shown)
@@ -258,34 +273,98 @@ std::string chart_sweep(const std::string& out, const std::string& key,
   return drawn ? plot_with_data(out, "sweep", plot.str(), {{data_path, data.str()}}) : "";
 }
 
-}  // namespace
-
-int run_sweep(const SweepOptions& o) {
+/// Validates the options against the scene (once, with the first value) and lays out a case per
+/// value.
+SweepStudy plan_sweep(const SweepOptions& o) {
   const SweptKey k = swept_key(o.sets);
   const std::vector<double> values = parse_range(k.spec, "--set " + k.key);
-  // Validate the scene and the key once, with the first value.
   std::vector<std::string> first = k.fixed;
   first.push_back(k.key + "=" + cell(values.front()));
   core::load_scene(o.scene, first);
   if (o.jobs < 1)
     throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
-  const std::string out = study_out(o, "sweep");
-  const std::vector<StudyCase> cases = sweep_cases(o, k, values, out);
-  std::vector<SweepRow> rows(values.size());
-  for (size_t i = 0; i < values.size(); ++i) rows[i].value = values[i];
-  if (!o.quiet)
-    std::cout << "sweep      " << k.key << " over " << values.size() << " values ("
-              << cell(values.front()) << " .. " << cell(values.back()) << "), " << o.jobs
-              << " at a time -> " << out << "\n";
-  size_t finished = 0;
+  SweepStudy s;
+  s.scene = o.scene;
+  s.key = k.key;
+  s.accuracy = o.accuracy;
+  s.out = study_out(o, "sweep");
+  s.timing = timing_note(o.jobs);
+  s.cases = sweep_cases(o, k, values);
+  s.rows.resize(values.size());
+  for (size_t i = 0; i < values.size(); ++i) s.rows[i].value = values[i];
+  return s;
+}
+
+/// study.json's options and case keys: what the report needs besides the case folders.
+void write_sweep_files(const SweepStudy& s) {
+  const nlohmann::json options = {{"scene", s.scene}, {"key", s.key}, {"accuracy", s.accuracy}};
+  std::vector<nlohmann::json> keys;
+  for (const auto& r : s.rows) keys.push_back({{"value", r.value}});
+  write_study_files(s.out, "sweep", options, s.cases, keys);
+}
+
+SweepStudy sweep_from_manifest(const StudyManifest& m) {
+  const ManifestNode options = m.options();
+  SweepStudy s;
+  s.scene = options["scene"].text();
+  s.key = options["key"].text();
+  s.accuracy = options["accuracy"].number();
+  s.out = m.dir;
+  s.timing = merged_timing_note();
+  s.cases = m.cases;
+  s.rows.resize(m.cases.size());
+  for (size_t i = 0; i < m.cases.size(); ++i) s.rows[i].value = m.case_keys(i)["value"].number();
+  return s;
+}
+
+/// sweep.csv, sweep.md and the chart from the finished rows, listing the `missing` cases; the
+/// verdict on the terminal unless quiet. Returns 1 when a case crashed or is missing or the
+/// chart failed, else 0.
+int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool quiet) {
+  core::write_file_atomic(s.out + "/sweep.csv", sweep_csv(s.key, s.rows));
+  const SeedRule seed = seed_rule(s.key, s.rows);
+  const std::string verdict = sweep_verdict(s.accuracy, s.key, s.rows, seed);
+  bool drawn = false;
+  const std::string chart_error = chart_sweep(s.out, s.key, s.rows, seed, drawn);
+  core::write_file_atomic(s.out + "/sweep.md",
+                          "# contact2d sweep: " + s.key + " on " + s.scene + "\n\n" + verdict +
+                              "\n\n" + missing_cases_md(s.cases, missing) + s.timing + "\n\n" +
+                              sweep_table(s.key, s.rows) +
+                              (chart_error.empty() && drawn ? "\n![sweep](sweep.png)\n" : ""));
+  if (!quiet) {
+    std::cout << "\n"
+              << verdict << "\n\n"
+              << missing_cases_text(s.cases, missing) << "wrote " << s.out
+              << "/sweep.csv, sweep.md, sweep.png/svg\n";
+    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
+  }
   bool crashed = false;
-  run_cases(cases, o.jobs, [&](size_t i, const CaseOutcome& c) {
-    SweepRow& r = rows[i];
-    if (!r.read(c)) crashed = true;
+  for (const auto& r : s.rows) crashed = crashed || r.crashed();
+  return crashed || !missing.empty() || !chart_error.empty() ? 1 : 0;
+}
+
+}  // namespace
+
+int run_sweep(const SweepOptions& o) {
+  SweepStudy s = plan_sweep(o);
+  if (o.job_list) refuse_existing_cases(s.out, s.cases);
+  write_sweep_files(s);
+  if (o.job_list) {
+    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size());
+    return 0;
+  }
+  if (!o.quiet)
+    std::cout << "sweep      " << s.key << " over " << s.rows.size() << " values ("
+              << cell(s.rows.front().value) << " .. " << cell(s.rows.back().value) << "), "
+              << o.jobs << " at a time -> " << s.out << "\n";
+  size_t finished = 0;
+  run_cases(s.cases, s.out, o.jobs, [&](size_t i, const CaseOutcome& c) {
+    SweepRow& r = s.rows[i];
+    r.read(c);
     ++finished;
-    core::write_file_atomic(out + "/sweep.csv", sweep_csv(k.key, rows));
+    core::write_file_atomic(s.out + "/sweep.csv", sweep_csv(s.key, s.rows));
     if (!o.quiet)
-      std::cout << "[" << finished << "/" << cases.size() << "] " << k.key << " = " << std::left
+      std::cout << "[" << finished << "/" << s.cases.size() << "] " << s.key << " = " << std::left
                 << std::setw(12) << cell(r.value) << std::right << r.status
                 << (std::isfinite(r.err_p0) ? ", p_max error " + percent_text(r.err_p0)
                                             : std::string())
@@ -293,19 +372,14 @@ int run_sweep(const SweepOptions& o) {
                                                  : std::string())
                 << std::endl;
   });
-  const SeedRule seed = seed_rule(k.key, rows);
-  const std::string verdict = sweep_verdict(o, k.key, rows, seed);
-  bool drawn = false;
-  const std::string chart_error = chart_sweep(out, k.key, rows, seed, drawn);
-  core::write_file_atomic(out + "/sweep.md",
-                          "# contact2d sweep: " + k.key + " on " + o.scene + "\n\n" + verdict +
-                              "\n\n" + timing_note(o.jobs) + "\n\n" + sweep_table(k.key, rows) +
-                              (chart_error.empty() && drawn ? "\n![sweep](sweep.png)\n" : ""));
-  if (!o.quiet) {
-    std::cout << "\n" << verdict << "\n\nwrote " << out << "/sweep.csv, sweep.md, sweep.png/svg\n";
-    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
-  }
-  return crashed || !chart_error.empty() ? 1 : 0;
+  return report_sweep(s, {}, o.quiet);
+}
+
+int merge_sweep(const StudyManifest& m, bool quiet) {
+  SweepStudy s = sweep_from_manifest(m);
+  const std::vector<size_t> missing = read_finished_cases(
+      s.cases, s.out, [&](size_t i, const CaseOutcome& c) { s.rows[i].read(c); });
+  return report_sweep(s, missing, quiet);
 }
 
 }  // namespace c2d::app

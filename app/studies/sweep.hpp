@@ -9,6 +9,8 @@
 
 namespace c2d::app {
 
+struct StudyManifest;
+
 /// sets: exactly one of them a range, key=a:b:log:n, key=a:b:lin:n or key=v1,v2,...
 struct SweepOptions : StudyOptions {
   double accuracy = 0.01;  ///< relative p_max error a value must meet
@@ -18,9 +20,14 @@ struct SweepOptions : StudyOptions {
 /// `where` on a malformed spec.
 std::vector<double> parse_range(const std::string& spec, const std::string& where);
 
-/// `contact2d sweep`: writes sweep.csv, sweep.md and sweep.png/svg (p_max error, penetration,
-/// iterations, solve time and the factorisation's pivot ratio against the swept value, failed
-/// values marked). Returns the exit code.
+/// `contact2d sweep`: writes the study's job list and manifest (job_list.hpp), then, unless
+/// o.job_list, runs the cases and writes sweep.csv, sweep.md and sweep.png/svg (p_max error,
+/// penetration, iterations, solve time and the factorisation's pivot ratio against the swept
+/// value, failed values marked). Returns the exit code.
 int run_sweep(const SweepOptions& o);
+
+/// `contact2d merge` of a sweep: the same report from the case folders that have finished,
+/// listing the others. Returns 1 when a case is missing (or the chart failed), else 0.
+int merge_sweep(const StudyManifest& m, bool quiet);
 
 }  // namespace c2d::app

@@ -1,0 +1,377 @@
+#include "app/studies/compare_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "app/report/gnuplot.hpp"
+#include "app/report/pressure_profile.hpp"
+#include "core/writers.hpp"
+
+namespace c2d::app {
+
+namespace {
+
+std::string cell(double v) { return csv_number(v); }
+
+const char* kCompareHeader =
+    "level,method,mesh_scale,dofs,status,exit_code,iterations,newton_iterations,time_mesh,"
+    "time_assemble,time_solve,time_total,wall,p_max,contact_length,total_force,max_penetration,"
+    "error_p_max,error_contact_length,error_profile_l2,zz_error,fit_p0,fit_b,error_fit_p0,"
+    "error_fit_b,stick_length,tangential_force,error_stick_length,error_shear_profile_l2\n";
+
+}  // namespace
+
+std::string compare_csv(const std::vector<CompareRow>& rows) {
+  std::ostringstream os;
+  os << kCompareHeader;
+  for (const auto& r : rows) {
+    if (!r.done) continue;
+    os << r.level << ',' << r.method << ',' << cell(r.mesh_scale) << ',' << cell(r.dofs) << ','
+       << r.csv_status() << ',' << r.exit_code << ',' << cell(r.iterations) << ',' << cell(r.newton)
+       << ',' << cell(r.t_mesh) << ',' << cell(r.t_assemble) << ',' << cell(r.t_solve) << ','
+       << cell(r.t_total) << ',' << cell(r.wall) << ',' << cell(r.p_max) << ',' << cell(r.length)
+       << ',' << cell(r.force) << ',' << cell(r.penetration) << ',' << cell(r.err_p0) << ','
+       << cell(r.err_b) << ',' << cell(r.err_profile) << ',' << cell(r.zz) << ',' << cell(r.fit_p0)
+       << ',' << cell(r.fit_b) << ',' << cell(r.err_fit_p0) << ',' << cell(r.err_fit_b) << ','
+       << cell(r.stick_length) << ',' << cell(r.tangent_force) << ',' << cell(r.err_stick) << ','
+       << cell(r.err_shear) << '\n';
+  }
+  return os.str();
+}
+
+namespace {
+
+/// The accuracy a row reached on the study's metric (NaN when it has none).
+double accuracy(const CompareRow& r, const std::string& metric) {
+  if (!r.converged()) return std::nan("");
+  if (metric == "profile") return r.err_profile;
+  if (metric == "shear") return r.err_shear;
+  if (metric == "p_max") return std::abs(r.err_p0);
+  return std::nan("");
+}
+
+std::string metric_name(const std::string& metric) {
+  return metric == "profile" ? "relative L2 error of the pressure profile"
+         : metric == "shear" ? "relative L2 error of the shear profile (Cattaneo–Mindlin)"
+                             : "relative error of p_max";
+}
+
+/// The verdict, computed from the table: the accuracy every converged method reached, and who
+/// got there fastest (solve time).
+std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
+                    const std::string& metric) {
+  std::ostringstream os;
+  std::vector<std::string> failed;
+  int finest = -1;  // of the finished cases (a merge may lack some)
+  for (const auto& r : rows) {
+    if (!r.done) continue;
+    finest = std::max(finest, r.level);
+    if (!r.converged())
+      failed.push_back(r.method + " at level " + std::to_string(r.level) + " (" + r.status + ")");
+  }
+  if (finest < 0) return "No case has finished yet.";
+  if (metric.empty()) {
+    os << "The scene has no Hertz or p_max reference, so accuracy cannot be measured; ";
+    double best_t = 1e300;
+    std::string best;
+    for (const auto& r : rows)
+      if (r.converged() && r.level == finest && r.t_solve < best_t)
+        best_t = r.t_solve, best = r.method;
+    if (!best.empty())
+      os << "on the finest level the fastest converged method was " << best << " ("
+         << seconds_text(best_t) << " solve).";
+  } else {
+    std::map<std::string, double> best;
+    for (const auto& m : methods) {
+      double e = 1e300;
+      for (const auto& r : rows)
+        if (r.method == m && std::isfinite(accuracy(r, metric)))
+          e = std::min(e, accuracy(r, metric));
+      if (e < 1e300) best[m] = e;
+    }
+    if (best.empty()) {
+      os << "No method converged on any level.";
+    } else {
+      double target = 0.0;
+      for (const auto& [m, e] : best) target = std::max(target, e);
+      std::vector<std::tuple<double, std::string, const CompareRow*>> ranking;
+      for (const auto& [m, e] : best) {
+        const CompareRow* fastest = nullptr;
+        for (const auto& r : rows)
+          if (r.method == m && accuracy(r, metric) <= target * (1 + 1e-9) &&
+              (!fastest || r.t_solve < fastest->t_solve))
+            fastest = &r;
+        ranking.emplace_back(fastest->t_solve, m, fastest);
+      }
+      std::sort(ranking.begin(), ranking.end());
+      const CompareRow* w = std::get<2>(ranking.front());
+      os << "Every method that converged reached a " << metric_name(metric) << " of "
+         << percent_text(target) << "; the fastest to it was **" << w->method << "** ("
+         << seconds_text(w->t_solve) << " solve, level " << w->level << ", "
+         << static_cast<long>(w->dofs) << " DOFs)";
+      for (size_t i = 1; i < ranking.size(); ++i) {
+        const CompareRow* r = std::get<2>(ranking[i]);
+        os << (i == 1 ? ", then " : ", ") << r->method << " (" << seconds_text(r->t_solve)
+           << ", level " << r->level << ")";
+      }
+      std::string most = best.begin()->first;
+      for (const auto& [m, e] : best)
+        if (e < best[most]) most = m;
+      if (best[most] > 0.99 * target)
+        os << ". Their best errors agree within 1 %: on this case the methods differ in cost, "
+              "not in accuracy.";
+      else
+        os << ". The smallest error, " << percent_text(best[most]) << ", was " << most << "'s.";
+    }
+  }
+  if (!failed.empty()) {
+    os << " Not converged: ";
+    for (size_t i = 0; i < failed.size(); ++i) os << (i ? "; " : "") << failed[i];
+    os << ".";
+  }
+  return os.str();
+}
+
+/// The observed order of convergence of a method: the least-squares slope of log(error)
+/// against log(h) over its converged levels (h ∝ mesh_scale); NaN with fewer than 2 levels.
+double observed_order(const std::vector<CompareRow>& rows, const std::string& method,
+                      const std::string& metric) {
+  std::vector<std::pair<double, double>> points;
+  for (const auto& r : rows) {
+    const double e = accuracy(r, metric);
+    if (r.method == method && std::isfinite(e) && e > 0 && r.mesh_scale > 0)
+      points.emplace_back(std::log(r.mesh_scale), std::log(e));
+  }
+  if (points.size() < 2) return std::nan("");
+  double mx = 0, my = 0;
+  for (const auto& [x, y] : points) mx += x, my += y;
+  mx /= points.size(), my /= points.size();
+  double sxy = 0, sxx = 0;
+  for (const auto& [x, y] : points) sxy += (x - mx) * (y - my), sxx += (x - mx) * (x - mx);
+  return sxx > 0 ? sxy / sxx : std::nan("");
+}
+
+/// orders.csv and compare.md's table: one line per method.
+std::string orders_csv(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
+                       const std::string& metric) {
+  std::ostringstream os;
+  os << "method,metric,order\n";
+  for (const auto& m : methods)
+    os << m << ',' << metric << ',' << cell(observed_order(rows, m, metric)) << '\n';
+  return os.str();
+}
+
+std::string orders_md(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
+                      const std::string& metric) {
+  if (metric.empty()) return "";
+  std::ostringstream os;
+  os << "Observed order of convergence (slope of log " << metric_name(metric)
+     << " against log h over the converged levels; each level halves every element size, the "
+        "graded zone's included):\n\n| method | order |\n|---|---|\n";
+  for (const auto& m : methods) {
+    const double q = observed_order(rows, m, metric);
+    os << "| " << m << " | " << (std::isfinite(q) ? csv_number(std::round(q * 100) / 100) : "–")
+       << " |\n";
+  }
+  return os.str() + "\n";
+}
+
+std::string compare_md(const CompareStudy& s, const std::vector<size_t>& missing,
+                       const std::string& charts) {
+  const std::vector<CompareRow>& rows = s.rows;
+  std::ostringstream os;
+  os << "# contact2d compare: " << s.scene << "\n\n"
+     << verdict(rows, s.methods, s.metric) << "\n\n"
+     << missing_cases_md(s.cases, missing) << orders_md(rows, s.methods, s.metric);
+  os << "Times are the solve phase (contact iterations included), from each run's summary.json; "
+     << "errors are against the scene's [reference]. " << s.timing << "\n\n";
+  os << "Fitted p0 and b: the Hertz form p0 √(1 − ((x − x0)/b)²) fitted to the nodal pressures "
+        "(Ceres), a contact width that does not depend on where the nodes fall.\n\n";
+  os << "| level | method | DOFs | status | iterations | solve | total | p_max | contact length | "
+        "total force | max penetration | p_max error | length error | profile L2 error | "
+        "fitted p0 | fitted b | fitted b error |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    if (!r.done) continue;
+    os << "| " << r.level << " | " << r.method << " | " << cell(r.dofs) << " | " << r.status
+       << " | " << cell(r.iterations) << " | " << seconds_text(r.t_solve) << " | "
+       << seconds_text(r.t_total) << " | " << cell(r.p_max) << " | " << cell(r.length) << " | "
+       << cell(r.force) << " | " << cell(r.penetration) << " | " << percent_text(r.err_p0) << " | "
+       << percent_text(r.err_b) << " | " << percent_text(r.err_profile) << " | " << cell(r.fit_p0)
+       << " | " << cell(r.fit_b) << " | " << percent_text(r.err_fit_b) << " |\n";
+  }
+  if (!charts.empty()) os << "\n" << charts;
+  return os.str();
+}
+
+std::string chart_commands_accuracy(const std::string& dir, const std::vector<CompareRow>& rows,
+                                    const std::vector<std::string>& methods,
+                                    const std::string& metric, std::string& data_text) {
+  std::ostringstream data, plot;
+  int block = 0;
+  plot << "set title "
+       << gp_text("Accuracy against solve time (" + metric_name(metric) +
+                  "; one point per refinement level)")
+       << "\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(metric))
+       << "\nset logscale xy\nset grid\nset key outside right\nplot ";
+  for (const auto& m : methods) {
+    std::ostringstream block_data;
+    int points = 0;
+    for (const auto& r : rows) {
+      const double e = accuracy(r, metric);
+      if (r.method != m || !std::isfinite(e) || !(e > 0) || !(r.t_solve > 0)) continue;
+      block_data << r.t_solve << ' ' << e << ' ' << r.level << '\n';
+      ++points;
+    }
+    if (!points) continue;
+    data << block_data.str() << "\n\n";
+    plot << (block ? ", \\\n     " : "") << gp_file(dir + "/accuracy.dat") << " index " << block
+         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
+    ++block;
+  }
+  if (!block) return "";
+  data_text = data.str();
+  return plot.str() + "\n";
+}
+
+/// accuracy_time.png/svg; "" or the chart's failure.
+std::string chart_accuracy_time(const CompareStudy& s, std::string& charts) {
+  if (s.metric.empty()) return "";
+  std::string data;
+  const std::string cmd = chart_commands_accuracy(s.out, s.rows, s.methods, s.metric, data);
+  if (cmd.empty()) return "";
+  const std::string error =
+      plot_with_data(s.out, "accuracy_time", cmd, {{s.out + "/accuracy.dat", data}});
+  if (error.empty()) charts += "![accuracy against time](accuracy_time.png)\n\n";
+  return error;
+}
+
+/// pressure_profiles.png/svg: every method's pressures on the finest level, with Hertz's.
+std::string chart_pressure_profiles(const CompareStudy& s, int finest, std::string& charts) {
+  std::ostringstream plot;
+  plot << "set title 'Contact pressure, level " << finest
+       << " (finest), every method'\nset xlabel 'position along the slave surface'\n"
+       << "set ylabel 'pressure'\nset grid\nset key top right\n";
+  if (s.hertz) {
+    // The data's span within 1.6 half-widths of the centre (a half model shows one side).
+    double lo = 1e300, hi = -1e300;
+    for (const auto& r : s.rows)
+      if (r.level == finest)
+        for (const auto& xp : r.profile) lo = std::min(lo, xp.first), hi = std::max(hi, xp.first);
+    write_hertz_window(plot, *s.hertz, lo, hi);
+    plot << "set key top left\n";
+  }
+  plot << "plot ";
+  int n = 0;
+  std::vector<PlotData> files;
+  for (const auto& r : s.rows) {
+    if (r.level != finest || r.profile.empty()) continue;
+    std::ostringstream d;
+    d << std::setprecision(12);
+    for (const auto& [x, p] : r.profile) d << x << ' ' << p << '\n';
+    const std::string path = s.out + "/profile_" + r.method + ".dat";
+    files.push_back({path, d.str()});
+    plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt " << 4 + n
+         << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
+    ++n;
+  }
+  if (s.hertz) {
+    plot << (n ? ", \\\n     " : "");
+    write_hertz_curve(plot, *s.hertz);
+    plot << " with lines lw 2 lc rgb 'black' dt 2 title 'Hertz'";
+  }
+  plot << "\n";
+  if (!n) return "";
+  const std::string error = plot_with_data(s.out, "pressure_profiles", plot.str(), files);
+  if (error.empty()) charts += "![pressure profiles](pressure_profiles.png)\n\n";
+  return error;
+}
+
+/// penetration.png/svg: the largest penetration per method and level.
+std::string chart_penetration(const CompareStudy& s, std::string& charts) {
+  std::ostringstream d, plot;
+  int n = 0;
+  plot << "set title 'Largest penetration per method (exact methods at round-off; 0 drawn at "
+          "1e-20)'\n"
+       << "set xlabel 'refinement level'\nset ylabel 'max penetration'\nset logscale y\n"
+       << "set format y '10^{%L}'\nset grid\nset key outside right\nset xtics 1\nplot ";
+  for (const auto& m : s.methods) {
+    std::ostringstream block;
+    int points = 0;
+    for (const auto& r : s.rows)
+      if (r.method == m && r.converged() && std::isfinite(r.penetration))
+        block << r.level << ' ' << std::max(r.penetration, 1e-20) << '\n', ++points;
+    if (!points) continue;
+    d << block.str() << "\n\n";
+    plot << (n ? ", \\\n     " : "") << gp_file(s.out + "/penetration.dat") << " index " << n
+         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
+    ++n;
+  }
+  plot << "\n";
+  if (!n) return "";
+  const std::string error =
+      plot_with_data(s.out, "penetration", plot.str(), {{s.out + "/penetration.dat", d.str()}});
+  if (error.empty()) charts += "![penetration](penetration.png)\n";
+  return error;
+}
+
+/// The charts, each drawn only while the ones before it succeeded; their markdown goes into
+/// `charts`. Returns "" or the first failure.
+std::string draw_compare_charts(const CompareStudy& s, std::string& charts) {
+  std::string error = chart_accuracy_time(s, charts);
+  if (error.empty()) error = chart_pressure_profiles(s, s.levels - 1, charts);
+  if (error.empty()) error = chart_penetration(s, charts);
+  return error;
+}
+}  // namespace
+
+/// A finished case's row: its figures, and for a converged run its pressure profile, with the
+/// Hertz form fitted to it. False when the case left no summary (a crash).
+bool read_row(CompareRow& r, const CaseOutcome& c, const std::string& dir,
+              const std::optional<HertzReference>& hertz) {
+  if (!r.read(c)) return false;
+  if (!r.converged()) return true;
+  r.profile = read_pressure_profile(dir);
+  // The run computed it from its own nodes (summary.json); the profile is read for the chart
+  // and the fit.
+  if (!hertz) return true;
+  r.err_profile = json_number(c.summary, {"reference", "relative_error", "pressure_profile_l2"});
+  const HertzFit fit = fit_hertz_profile(r.profile);
+  if (fit.ok) {
+    r.fit_p0 = fit.p0;
+    r.fit_b = fit.b;
+    r.err_fit_p0 = fit.p0 / hertz->p0 - 1.0;
+    r.err_fit_b = fit.b / hertz->b - 1.0;
+  }
+  return true;
+}
+
+int report_compare(const CompareStudy& s, const std::vector<size_t>& missing, bool quiet) {
+  core::write_file_atomic(s.out + "/compare.csv", compare_csv(s.rows));
+  std::string charts;
+  const std::string chart_error = draw_compare_charts(s, charts);
+  core::write_file_atomic(s.out + "/compare.md", compare_md(s, missing, charts));
+  if (!s.metric.empty())
+    core::write_file_atomic(s.out + "/orders.csv", orders_csv(s.rows, s.methods, s.metric));
+  if (!quiet) {
+    std::cout << "\n"
+              << verdict(s.rows, s.methods, s.metric) << "\n\n"
+              << missing_cases_text(s.cases, missing) << orders_md(s.rows, s.methods, s.metric)
+              << "wrote " << s.out << "/compare.csv, compare.md"
+              << (s.metric.empty() ? "" : ", orders.csv")
+              << (charts.empty() ? ""
+                                 : ", accuracy_time, pressure_profiles, penetration (.png/.svg)")
+              << "\n";
+    if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
+  }
+  bool crashed = false;
+  for (const auto& r : s.rows) crashed = crashed || r.crashed();
+  return crashed || !missing.empty() || !chart_error.empty() ? 1 : 0;
+}
+
+}  // namespace c2d::app

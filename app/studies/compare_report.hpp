@@ -1,0 +1,56 @@
+// compare's report: the rows read from the case folders, compare.csv, compare.md (verdict,
+// observed orders, table, missing cases), orders.csv and the charts. Internal to studies/
+// (compare.cpp): the same report ends a comparison that ran its cases and a merge of one whose
+// cases ran elsewhere.
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/report/hertz.hpp"
+#include "app/studies/study.hpp"
+
+namespace c2d::app {
+
+struct CompareRow : RunFigures {
+  int level = 0;
+  std::string method;
+  double mesh_scale = 1.0;
+  double err_profile = std::nan("");
+  double fit_p0 = std::nan(""), fit_b = std::nan(""), err_fit_p0 = std::nan(""),
+         err_fit_b = std::nan("");  ///< Hertz form fitted to the nodal pressures (Ceres)
+  std::vector<std::pair<double, double>> profile;
+};
+
+/// What the steps of a comparison share: the scene (as given, for titles), the chosen methods
+/// and levels, the metric the scene's reference allows, how its times were taken, the cases
+/// and their rows (one per method and level, in the same order).
+struct CompareStudy {
+  std::string scene;
+  std::vector<std::string> methods;
+  int levels = 1;
+  std::optional<HertzReference> hertz;
+  std::string metric;  ///< "profile", "shear", "p_max" or "" (no reference)
+  std::string out;
+  std::string timing;  ///< timing_note() or merged_timing_note()
+  std::vector<StudyCase> cases;
+  std::vector<CompareRow> rows;
+};
+
+/// compare.csv: the header and a line per finished row.
+std::string compare_csv(const std::vector<CompareRow>& rows);
+
+/// A finished case's row: its figures, and for a converged run its pressure profile, with the
+/// Hertz form fitted to it. False when the case left no summary (a crash).
+bool read_row(CompareRow& r, const CaseOutcome& c, const std::string& dir,
+              const std::optional<HertzReference>& hertz);
+
+/// Writes compare.csv, compare.md, orders.csv and the charts from the finished rows, listing
+/// the `missing` cases; prints the verdict unless quiet. Returns the exit code: 1 when a case
+/// crashed or is missing or a chart failed, else 0.
+int report_compare(const CompareStudy& s, const std::vector<size_t>& missing, bool quiet);
+
+}  // namespace c2d::app

@@ -1,0 +1,213 @@
+#include "app/studies/job_list.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/errors.hpp"
+#include "core/writers.hpp"
+
+namespace fs = std::filesystem;
+
+namespace c2d::app {
+
+namespace {
+
+constexpr const char* kManifestFormat = "contact2d study 1";
+
+/// slurm.sh: an array job whose task K runs line K of jobs.txt from the study folder.
+std::string slurm_script(const std::string& verb, size_t cases) {
+  std::ostringstream sh;
+  sh << "#!/bin/bash\n"
+     << "# Slurm array job of a contact2d " << verb << " study: task K runs line K of jobs.txt\n"
+     << "# (" << cases << " cases), each writing its own case folder here.\n"
+     << "# Submit from this folder (jobs.txt and the case folders are relative to it):\n"
+     << "#   cd STUDY_FOLDER && sbatch slurm.sh\n"
+     << "# Adapt to your cluster by adding lines such as\n"
+     << "#   #SBATCH --partition=NAME   #SBATCH --time=01:00:00   #SBATCH --mem=4G\n"
+     << "# and, for K threads per case (BLAS, OpenMP), #SBATCH --cpus-per-task=K.\n"
+     << "# Rerun chosen cases with sbatch --array=2,5 slurm.sh (the jobs.txt lines that\n"
+     << "# `contact2d merge` lists as missing). When the tasks have finished:\n"
+     << "#   contact2d merge STUDY_FOLDER\n"
+     << "#SBATCH --job-name=c2d-" << verb << "\n"
+     << "#SBATCH --array=1-" << cases << "\n"
+     << "#SBATCH --output=slurm-%A_%a.out\n"
+     << "set -euo pipefail\n"
+     << "if [ ! -f jobs.txt ]; then\n"
+     << "  echo \"slurm.sh: no jobs.txt in $(pwd); submit from the study folder\" >&2\n"
+     << "  exit 2\n"
+     << "fi\n"
+     << "export OPENBLAS_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-1}\"\n"
+     << "export OMP_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-1}\"\n"
+     << "sed -n \"${SLURM_ARRAY_TASK_ID}p\" jobs.txt | bash\n";
+  return sh.str();
+}
+
+/// A found value for a message: its type and its start.
+std::string shown(const nlohmann::json& j) {
+  if (j.is_null()) return "null";
+  std::string text = j.dump();
+  if (text.size() > 60) text = text.substr(0, 57) + "...";
+  return std::string(j.type_name()) + " " + text;
+}
+
+}  // namespace
+
+std::string shell_quote(std::string_view word) {
+  std::string quoted = "'";
+  for (const char c : word) {
+    if (c == '\'')
+      quoted += "'\\''";
+    else
+      quoted += c;
+  }
+  return quoted + "'";
+}
+
+std::string job_line(const std::string& exe, const StudyCase& c) {
+  std::string line =
+      "OPENBLAS_NUM_THREADS=\"${OPENBLAS_NUM_THREADS:-1}\" "
+      "OMP_NUM_THREADS=\"${OMP_NUM_THREADS:-1}\" ";
+  line += shell_quote(exe);
+  for (const auto& word : run_arguments(c, c.folder)) {
+    if (word.find_first_of("\n\r") != std::string::npos)
+      throw InputError("'" + word +
+                       "': a case argument with a line break cannot go into a job list (one "
+                       "job per line)");
+    line += ' ';
+    line += shell_quote(word);
+  }
+  return line;
+}
+
+void write_study_files(const std::string& dir, const std::string& verb,
+                       const nlohmann::json& options, const std::vector<StudyCase>& cases,
+                       const std::vector<nlohmann::json>& case_keys) {
+  const std::string exe = this_executable();
+  std::string jobs;
+  nlohmann::json entries = nlohmann::json::array();
+  for (size_t i = 0; i < cases.size(); ++i) {
+    jobs += job_line(exe, cases[i]) + "\n";
+    nlohmann::json entry = i < case_keys.size() ? case_keys[i] : nlohmann::json::object();
+    entry["folder"] = cases[i].folder;
+    entry["args"] = cases[i].args;
+    entries.push_back(entry);
+  }
+  const nlohmann::json manifest = {{"format", kManifestFormat},
+                                   {"verb", verb},
+                                   {"executable", exe},
+                                   {"options", options},
+                                   {"cases", entries}};
+  core::write_file_atomic(dir + "/jobs.txt", jobs);
+  core::write_file_atomic(dir + "/slurm.sh", slurm_script(verb, cases.size()));
+  fs::permissions(dir + "/slurm.sh", fs::perms::owner_exec | fs::perms::group_exec,
+                  fs::perm_options::add);
+  core::write_file_atomic(dir + "/study.json", manifest.dump(2) + "\n");
+}
+
+void refuse_existing_cases(const std::string& dir, const std::vector<StudyCase>& cases) {
+  for (const auto& c : cases)
+    if (fs::exists(dir + "/" + c.folder))
+      throw InputError(dir + "/" + c.folder +
+                       ": already exists; a job list needs a study folder without earlier case "
+                       "results, which a merge would report as this study's (choose another "
+                       "--out, or remove it)");
+}
+
+std::string job_list_note(const std::string& dir, size_t cases) {
+  const std::string d = shell_quote(dir);
+  std::ostringstream os;
+  os << "job list   " << cases << " cases, one `contact2d run` per line of " << dir
+     << "/jobs.txt (run from that folder); also slurm.sh and study.json\n"
+     << "run them   cd " << d << " && parallel -j 2 < jobs.txt    (or: sbatch slurm.sh)\n"
+     << "then       contact2d merge " << d << "\n";
+  return os.str();
+}
+
+ManifestNode ManifestNode::operator[](const std::string& key) const {
+  const std::string path = path_.empty() ? key : path_ + "." + key;
+  if (!value_->is_object() || !value_->contains(key))
+    throw InputError(file_ + ": " + path +
+                     ": expected a value, found none (a study manifest as contact2d compare, "
+                     "sweep or bench write it)");
+  return ManifestNode((*value_)[key], file_, path);
+}
+
+ManifestNode ManifestNode::operator[](size_t index) const {
+  if (index >= size()) refuse("an array with an entry " + std::to_string(index));
+  return ManifestNode((*value_)[index], file_, path_ + "[" + std::to_string(index) + "]");
+}
+
+bool ManifestNode::has(const std::string& key) const {
+  return value_->is_object() && value_->contains(key);
+}
+
+size_t ManifestNode::size() const {
+  if (!value_->is_array()) refuse("an array");
+  return value_->size();
+}
+
+std::string ManifestNode::text() const {
+  if (!value_->is_string()) refuse("a string");
+  return value_->get<std::string>();
+}
+
+double ManifestNode::number() const {
+  if (!value_->is_number()) refuse("a number");
+  return value_->get<double>();
+}
+
+int ManifestNode::integer() const {
+  if (!value_->is_number_integer()) refuse("an integer");
+  return value_->get<int>();
+}
+
+bool ManifestNode::boolean() const {
+  if (!value_->is_boolean()) refuse("true or false");
+  return value_->get<bool>();
+}
+
+std::vector<std::string> ManifestNode::texts() const {
+  std::vector<std::string> out;
+  for (size_t i = 0; i < size(); ++i) out.push_back((*this)[i].text());
+  return out;
+}
+
+void ManifestNode::refuse(const std::string& expected) const {
+  throw InputError(file_ + ": " + (path_.empty() ? "the whole file" : path_) + ": expected " +
+                   expected + ", found " + shown(*value_));
+}
+
+StudyManifest read_manifest(const std::string& dir) {
+  StudyManifest m;
+  m.dir = dir;
+  m.file = dir + "/study.json";
+  std::ifstream in(m.file);
+  if (!in || fs::is_directory(m.file))
+    throw InputError(m.file +
+                     ": cannot open the study manifest (expected the folder of a compare, sweep "
+                     "or bench study, which writes study.json beside jobs.txt)");
+  try {
+    m.root = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(m.file +
+                     ": expected a study manifest (JSON), found a parse error: " + e.what());
+  }
+  const ManifestNode root(m.root, m.file);
+  if (root["format"].text() != kManifestFormat)
+    throw InputError(m.file + ": format: expected '" + kManifestFormat + "', found '" +
+                     root["format"].text() + "'");
+  m.verb = root["verb"].text();
+  const ManifestNode cases = root["cases"];
+  for (size_t i = 0; i < cases.size(); ++i) {
+    StudyCase c{cases[i]["args"].texts(), cases[i]["folder"].text()};
+    const fs::path folder(c.folder);
+    if (c.folder.empty() || folder.is_absolute() || c.folder.find("..") != std::string::npos)
+      throw InputError(m.file + ": cases[" + std::to_string(i) +
+                       "].folder: expected a folder inside the study's, found '" + c.folder + "'");
+    m.cases.push_back(c);
+  }
+  return m;
+}
+
+}  // namespace c2d::app

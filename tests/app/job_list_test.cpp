@@ -1,0 +1,367 @@
+// Studies across machines: compare, sweep and bench --job-list write jobs.txt, slurm.sh and
+// study.json; GNU parallel runs the job list (for real, as a user would: `cd DIR && parallel
+// -j 2 < jobs.txt`); `contact2d merge DIR` reports from whatever case folders have finished and
+// must reproduce the table of the same study run by contact2d itself, and name what is missing.
+#include "app/studies/job_list.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/process.hpp"
+#include "app/studies/bench.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> lines;
+  std::stringstream ss(text);
+  for (std::string line; std::getline(ss, line);) lines.push_back(line);
+  return lines;
+}
+
+/// Runs contact2d with `args` (an argument vector, no shell); returns its exit code and output.
+int contact2d(const std::vector<std::string>& args, std::string* output = nullptr) {
+  const fs::path log =
+      fs::temp_directory_path() / ("c2d_job_list_test_" + std::to_string(::getpid()) + ".log");
+  const c2d::app::ProcessOutcome p = c2d::app::run_process(C2D_BINARY, args, log.string());
+  if (output) *output = read_text(log);
+  return p.started ? p.exit_code : -1;
+}
+
+/// Runs jobs.txt of `study` with GNU parallel, two at a time, from the study folder, with
+/// jobs.txt as its input; fails the test (never skips) when parallel cannot be started.
+/// `seconds`: how long it took.
+void run_with_parallel(const fs::path& study, double* seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const fs::path log = study.parent_path() / "parallel.log";
+  const c2d::app::ProcessOutcome p = c2d::app::run_process(
+      "parallel", {"-j", "2"}, log.string(), {}, {(study / "jobs.txt").string(), study.string()});
+  ASSERT_TRUE(p.started) << "this test runs the job list with GNU parallel, which could not be "
+                            "started ("
+                         << p.error
+                         << "); install it with `apt-get install parallel` (scripts/bootstrap.sh "
+                            "lists it)";
+  ASSERT_EQ(p.exit_code, 0) << read_text(log);
+  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The words of a POSIX shell line made of single-quoted words and \' (jobs.txt's quoting).
+std::vector<std::string> shell_words(const std::string& line) {
+  std::vector<std::string> words;
+  std::string word;
+  bool in_word = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    if (line[i] == '\'') {
+      const size_t end = line.find('\'', i + 1);
+      word += line.substr(i + 1, end - i - 1);
+      i = end;
+      in_word = true;
+    } else if (line[i] == '\\') {
+      word += line[++i];
+      in_word = true;
+    } else if (line[i] == ' ') {
+      if (in_word) words.push_back(word);
+      word.clear();
+      in_word = false;
+    } else {
+      word += line[i];
+      in_word = true;
+    }
+  }
+  if (in_word) words.push_back(word);
+  return words;
+}
+
+/// A CSV table (no quoted commas: the studies write none) as rows of named cells.
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::map<std::string, std::string>> rows;
+};
+
+Table read_table(const fs::path& path) {
+  Table t;
+  const std::vector<std::string> lines = lines_of(read_text(path));
+  if (lines.empty()) return t;
+  std::stringstream header(lines[0]);
+  for (std::string c; std::getline(header, c, ',');) t.columns.push_back(c);
+  for (size_t i = 1; i < lines.size(); ++i) {
+    std::map<std::string, std::string> row;
+    std::stringstream ss(lines[i]);
+    size_t k = 0;
+    for (std::string c; std::getline(ss, c, ',') && k < t.columns.size();) row[t.columns[k++]] = c;
+    for (; k < t.columns.size(); ++k) row[t.columns[k]] = "";  // (getline drops a last empty)
+    t.rows.push_back(row);
+  }
+  return t;
+}
+
+/// Two tables of the same study agree: the same rows in the same order, every cell equal but
+/// the times (taken by different processes), `p_max` also checked as a number to 1e-12.
+void expect_same_table(const Table& run, const Table& merged, const std::string& what) {
+  ASSERT_EQ(run.columns, merged.columns) << what;
+  ASSERT_EQ(run.rows.size(), merged.rows.size()) << what;
+  for (size_t i = 0; i < run.rows.size(); ++i) {
+    for (const auto& c : run.columns) {
+      if (c.rfind("time_", 0) == 0 || c == "wall") continue;
+      EXPECT_EQ(run.rows[i].at(c), merged.rows[i].at(c)) << what << " row " << i << " " << c;
+    }
+    const double a = std::stod(run.rows[i].at("p_max")), b = std::stod(merged.rows[i].at("p_max"));
+    EXPECT_NEAR(b / a, 1.0, 1e-12) << what << " row " << i;
+  }
+}
+
+/// A scene file in a folder whose name holds a space, a single quote and shell syntax, so that
+/// every job line quotes it for real (no_injection() checks that nothing ran).
+fs::path awkward_scene(const fs::path& root) {
+  const fs::path dir = root / "scene's $(touch PWNED1) `touch PWNED2` dir";
+  fs::create_directories(dir);
+  fs::copy_file(std::string(C2D_SOURCE_DIR) + "/examples/hertz_rigid.toml", dir / "hertz.toml",
+                fs::copy_options::overwrite_existing);
+  return dir / "hertz.toml";
+}
+
+/// No file named PWNED* appeared anywhere under `root` (where the jobs ran).
+void expect_no_injection(const fs::path& root) {
+  for (const auto& e : fs::recursive_directory_iterator(root))
+    EXPECT_NE(e.path().filename().string().rfind("PWNED", 0), 0u) << e.path();
+}
+
+}  // namespace
+
+TEST(JobList, ShellQuotingKeepsEveryCharacterOneWord) {
+  // Each word, quoted, goes through bash and comes back unchanged as one argument.
+  for (const std::string word : {"plain", "with space", "it's", "'", "''", "a'b'c", "$HOME", "`id`",
+                                 "back\\slash", "\"double\"", "*", "; ls", ""}) {
+    const std::string quoted = c2d::app::shell_quote(word);
+    const fs::path log = fs::temp_directory_path() / "c2d_shell_quote.log";
+    const auto p =
+        c2d::app::run_process("bash", {"-c", "printf '[%s]\\n' " + quoted}, log.string());
+    ASSERT_TRUE(p.started) << p.error;
+    EXPECT_EQ(read_text(log), "[" + word + "]\n") << quoted;
+  }
+  EXPECT_EQ(c2d::app::shell_quote("it's"), "'it'\\''s'");
+}
+
+TEST(JobList, CompareRunByParallelMergesToTheSameTable) {
+  const fs::path root = fs::temp_directory_path() / "c2d_job_list_compare";
+  fs::remove_all(root);
+  const fs::path scene = awkward_scene(root);
+  const std::vector<std::string> study = {
+      "compare",   scene.string(),     "--set",  "analysis.mesh_scale=8", "--levels", "1",
+      "--methods", "lagrange,penalty", "--quiet"};
+  // The study run by contact2d itself.
+  std::vector<std::string> args = study;
+  args.insert(args.end(), {"--jobs", "2", "--out", (root / "run").string()});
+  std::string output;
+  ASSERT_EQ(contact2d(args, &output), 0) << output;
+
+  // The same study as a job list, in a folder whose name holds a space and a quote.
+  const fs::path dir = root / "study it's";
+  args = study;
+  args.insert(args.end(), {"--job-list", "--out", dir.string()});
+  ASSERT_EQ(contact2d(args, &output), 0) << output;
+  const std::vector<std::string> jobs = lines_of(read_text(dir / "jobs.txt"));
+  ASSERT_EQ(jobs.size(), 2u);
+  const std::string prefix =
+      "OPENBLAS_NUM_THREADS=\"${OPENBLAS_NUM_THREADS:-1}\" "
+      "OMP_NUM_THREADS=\"${OMP_NUM_THREADS:-1}\" ";
+  const std::vector<std::string> methods{"lagrange", "penalty"};
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    ASSERT_EQ(jobs[i].rfind(prefix, 0), 0u) << jobs[i];
+    const std::vector<std::string> words = shell_words(jobs[i].substr(prefix.size()));
+    const std::vector<std::string> expected{fs::canonical(C2D_BINARY).string(),
+                                            "run",
+                                            scene.string(),
+                                            "--method",
+                                            methods[i],
+                                            "--set",
+                                            "analysis.mesh_scale=8",
+                                            "--set",
+                                            "analysis.mesh_scale=8",
+                                            "--out",
+                                            "level0/" + methods[i],
+                                            "--quiet"};
+    EXPECT_EQ(words, expected) << jobs[i];
+  }
+  const std::string slurm = read_text(dir / "slurm.sh");
+  EXPECT_NE(slurm.find("#SBATCH --array=1-2\n"), std::string::npos) << slurm;
+  EXPECT_NE(slurm.find("sed -n \"${SLURM_ARRAY_TASK_ID}p\" jobs.txt | bash"), std::string::npos);
+  EXPECT_NE(fs::status(dir / "slurm.sh").permissions() & fs::perms::owner_exec, fs::perms::none);
+  const nlohmann::json manifest = nlohmann::json::parse(read_text(dir / "study.json"));
+  EXPECT_EQ(manifest["verb"], "compare");
+  ASSERT_EQ(manifest["cases"].size(), 2u);
+  EXPECT_EQ(manifest["cases"][1]["folder"], "level0/penalty");
+  EXPECT_FALSE(fs::exists(dir / "level0")) << "a job list runs nothing";
+
+  // Before any job ran: a merge lists both cases as missing (exit 1).
+  EXPECT_EQ(contact2d({"merge", dir.string()}, &output), 1) << output;
+  EXPECT_NE(output.find("missing    level0/lagrange (no summary.json; jobs.txt line 1)"),
+            std::string::npos)
+      << output;
+
+  double seconds = 0;
+  ASSERT_NO_FATAL_FAILURE(run_with_parallel(dir, &seconds));
+  RecordProperty("parallel_seconds", std::to_string(seconds));
+  expect_no_injection(root);
+  ASSERT_EQ(contact2d({"merge", dir.string(), "--quiet"}, &output), 0) << output;
+  expect_same_table(read_table(root / "run" / "compare.csv"), read_table(dir / "compare.csv"),
+                    "compare.csv");
+  for (const auto& row : read_table(dir / "compare.csv").rows)
+    EXPECT_EQ(row.at("status"), "\"converged\"") << row.at("method");
+  // Beyond the table's 8 digits: each job's p_max as its summary.json holds it (17 digits).
+  for (const auto& m : methods) {
+    const auto p_max = [&](const fs::path& study_dir) {
+      return nlohmann::json::parse(read_text(study_dir / "level0" / m / "summary.json"))
+          .at("contact")
+          .at("p_max")
+          .get<double>();
+    };
+    EXPECT_NEAR(p_max(dir) / p_max(root / "run"), 1.0, 1e-12) << m;
+  }
+  EXPECT_EQ(read_text(dir / "compare.md").find("Missing cases"), std::string::npos);
+
+  // One case lost: the merge reports the other and names the lost one, with its jobs.txt line.
+  fs::remove_all(dir / "level0" / "penalty");
+  EXPECT_EQ(contact2d({"merge", dir.string()}, &output), 1) << output;
+  EXPECT_NE(output.find("missing    level0/penalty (no summary.json; jobs.txt line 2)"),
+            std::string::npos)
+      << output;
+  const std::string md = read_text(dir / "compare.md");
+  EXPECT_NE(md.find("## Missing cases"), std::string::npos) << md;
+  EXPECT_NE(md.find("| level0/penalty | 2 |"), std::string::npos) << md;
+  const Table partial = read_table(dir / "compare.csv");
+  ASSERT_EQ(partial.rows.size(), 1u);
+  EXPECT_EQ(partial.rows[0].at("method"), "lagrange");
+
+  // slurm.sh's task 2 (as sbatch would start it, from the study folder) runs line 2 again.
+  const auto task = c2d::app::run_process("bash", {"slurm.sh"}, (root / "slurm.log").string(),
+                                          {"SLURM_ARRAY_TASK_ID=2"}, {"/dev/null", dir.string()});
+  ASSERT_TRUE(task.started) << task.error;
+  EXPECT_EQ(task.exit_code, 0) << read_text(root / "slurm.log");
+  ASSERT_EQ(contact2d({"merge", dir.string(), "--quiet"}, &output), 0) << output;
+  expect_same_table(read_table(root / "run" / "compare.csv"), read_table(dir / "compare.csv"),
+                    "compare.csv after slurm.sh");
+
+  // A second job list into the same folder would mix old results with new: refused.
+  args = study;
+  args.insert(args.end(), {"--job-list", "--out", dir.string()});
+  EXPECT_EQ(contact2d(args, &output), 2) << output;
+  EXPECT_NE(output.find("level0/lagrange: already exists"), std::string::npos) << output;
+}
+
+TEST(JobList, SweepRunByParallelMergesToTheSameTable) {
+  const fs::path root = fs::temp_directory_path() / "c2d_job_list_sweep";
+  fs::remove_all(root);
+  const fs::path scene = awkward_scene(root);
+  const std::vector<std::string> study = {
+      "sweep",  scene.string(),          "--method", "penalty",
+      "--set",  "analysis.mesh_scale=8", "--set",    "contact.penalty.k=1e6:1e10:log:3",
+      "--quiet"};
+  std::vector<std::string> args = study;
+  args.insert(args.end(), {"--jobs", "2", "--out", (root / "run").string()});
+  std::string output;
+  ASSERT_EQ(contact2d(args, &output), 0) << output;
+  const fs::path dir = root / "sweep";
+  args = study;
+  args.insert(args.end(), {"--job-list", "--out", dir.string()});
+  ASSERT_EQ(contact2d(args, &output), 0) << output;
+  const std::vector<std::string> jobs = lines_of(read_text(dir / "jobs.txt"));
+  ASSERT_EQ(jobs.size(), 3u);
+  EXPECT_NE(jobs[2].find("'--set' 'contact.penalty.k=1e+10' '--out' 'case2' '--quiet'"),
+            std::string::npos)
+      << jobs[2];
+  EXPECT_NE(read_text(dir / "slurm.sh").find("#SBATCH --array=1-3\n"), std::string::npos);
+
+  double seconds = 0;
+  ASSERT_NO_FATAL_FAILURE(run_with_parallel(dir, &seconds));
+  RecordProperty("parallel_seconds", std::to_string(seconds));
+  ASSERT_EQ(contact2d({"merge", dir.string(), "--quiet"}, &output), 0) << output;
+  const Table run = read_table(root / "run" / "sweep.csv");
+  ASSERT_EQ(run.rows.size(), 3u);
+  expect_same_table(run, read_table(dir / "sweep.csv"), "sweep.csv");
+  for (const auto& row : run.rows) EXPECT_EQ(row.at("status"), "\"converged\"") << row.at("value");
+
+  fs::remove_all(dir / "case1");
+  EXPECT_EQ(contact2d({"merge", dir.string()}, &output), 1) << output;
+  EXPECT_NE(output.find("missing    case1 (no summary.json; jobs.txt line 2)"), std::string::npos)
+      << output;
+  EXPECT_NE(read_text(dir / "sweep.md").find("| case1 | 2 |"), std::string::npos);
+  EXPECT_EQ(read_table(dir / "sweep.csv").rows.size(), 2u);
+}
+
+TEST(JobList, BenchWritesItsLadderAndAMergeListsWhatHasNotRun) {
+  // The quick ladder as a job list: a line per rung; merged before anything ran, every case is
+  // listed as missing and bench.md still names every target.
+  const fs::path dir = fs::temp_directory_path() / "c2d_job_list_bench";
+  fs::remove_all(dir);
+  std::string output;
+  ASSERT_EQ(
+      contact2d({"bench", "--quick", "--job-list", "--quiet", "--out", dir.string()}, &output), 0)
+      << output;
+  const size_t rungs = c2d::app::bench_ladder(true).size();
+  EXPECT_EQ(lines_of(read_text(dir / "jobs.txt")).size(), rungs);
+  EXPECT_NE(read_text(dir / "slurm.sh").find("#SBATCH --array=1-" + std::to_string(rungs) + "\n"),
+            std::string::npos);
+  EXPECT_EQ(contact2d({"merge", dir.string(), "--quiet"}, &output), 1) << output;
+  const std::string md = read_text(dir / "bench.md");
+  EXPECT_NE(md.find(std::to_string(rungs) + " of " + std::to_string(rungs) +
+                    " cases have no "
+                    "summary.json"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("contact overhead"), std::string::npos);
+}
+
+TEST(JobList, MergeRefusesAFolderWithoutAValidManifest) {
+  const fs::path dir = fs::temp_directory_path() / "c2d_job_list_bad";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string output;
+  EXPECT_EQ(contact2d({"merge", dir.string()}, &output), 2);
+  EXPECT_EQ(lines_of(output).size(), 1u) << output;
+  EXPECT_NE(output.find((dir / "study.json").string() + ": cannot open the study manifest"),
+            std::string::npos)
+      << output;
+  std::ofstream(dir / "study.json")
+      << R"({"format": "contact2d study 1", "verb": "sweep", "cases": [{"args": "x"}]})";
+  EXPECT_EQ(contact2d({"merge", dir.string()}, &output), 2);
+  EXPECT_NE(output.find("study.json: cases[0].args: expected an array, found string \"x\""),
+            std::string::npos)
+      << output;
+  std::ofstream(dir / "study.json")
+      << R"({"format": "contact2d study 1", "verb": "sweep", "cases": [{"args": [], "folder": "../x"}]})";
+  EXPECT_EQ(contact2d({"merge", dir.string()}, &output), 2);
+  EXPECT_NE(output.find("cases[0].folder: expected a folder inside the study's"), std::string::npos)
+      << output;
+  EXPECT_EQ(contact2d({"merge"}, &output), 2);
+  EXPECT_NE(output.find("merge: expected a study folder"), std::string::npos) << output;
+  // The option and the verb are in the help.
+  EXPECT_EQ(contact2d({"--help"}, &output), 0);
+  EXPECT_NE(output.find("merge DIR"), std::string::npos);
+  EXPECT_NE(output.find("--job-list"), std::string::npos);
+  for (const char* verb : {"compare", "sweep", "bench"}) {
+    EXPECT_EQ(contact2d({verb, "--help"}, &output), 0);
+    EXPECT_NE(output.find("--job-list"), std::string::npos) << verb;
+  }
+  EXPECT_EQ(contact2d({"merge", "--help"}, &output), 0);
+  EXPECT_NE(output.find("usage: contact2d merge DIR"), std::string::npos);
+  EXPECT_EQ(contact2d({"run", "x.toml", "--job-list"}, &output), 2);
+}
