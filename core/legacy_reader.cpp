@@ -124,6 +124,14 @@ std::vector<bool> read_nodes(LineReader& r, const std::string& path, int nn, Mes
              std::to_string(v.size()));
     for (double x : v)
       if (!std::isfinite(x)) r.fail("expected finite numbers on a node line, found " + std::to_string(x));
+    // Coordinates as the scene's shapes (gmsh-free here, but 1e300 would overflow the extent),
+    // loads and prescribed values as the scene's: beyond 1e30, K u or f overflows.
+    if (!(std::abs(v[1]) <= 1e15 && std::abs(v[2]) <= 1e15))
+      r.fail("expected node coordinates of at most 1e15 in magnitude");
+    for (int k = 3; k < 7; ++k)
+      if (!(std::abs(v[k]) <= 1e30))
+        r.fail("expected support values and loads of at most 1e30 in magnitude, found " +
+               std::to_string(v[k]));
     const int id = as_index(r, v[0], nn, "node");
     if (seen[id]) r.fail("node " + std::to_string(id + 1) + " defined twice");
     seen[id] = true;

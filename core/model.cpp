@@ -270,17 +270,24 @@ void add_body_force(const Model& model, const LoadSpec& l, VecX& f) {
   const auto nodes = select_nodes(model, l.on);
   std::vector<bool> in(model.mesh.num_nodes(), false);
   for (int n : nodes) in[n] = true;
+  int loaded = 0;
   for (int e = 0; e < model.mesh.num_elements(); ++e) {
     bool all = true;
     for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
       all = all && in[model.mesh.elements[e][i]];
     if (!all) continue;
+    ++loaded;
     const LocalVector fe =
         element_body_force(model.mesh.element_coords(e),
                            model.materials[model.mesh.element_material[e]].thickness, l.vector);
     for (int i = 0; i < model.mesh.nodes_per_element(); ++i)
       f.segment<2>(2 * model.mesh.elements[e][i]) += fe.segment<2>(2 * i);
   }
+  // (It was ignored without a word: a body force on a node or an edge loads nothing.)
+  if (loaded == 0)
+    throw InputError(l.on.at.where + ": expected a selection holding whole elements for a "
+                     "body_force (a body, or a region), found " + std::to_string(nodes.size()) +
+                     " nodes and no whole element");
 }
 
 /// A traction, pressure or total force on the selected boundary edges.

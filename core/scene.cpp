@@ -46,7 +46,10 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
     check_body(scene.supports.back().on, s);
   }
   for (const auto& sp : root["spring"].tables()) {
-    scene.springs.push_back(parse_spring(sp, static_cast<int>(scene.springs.size())));
+    SpringSpec spring = parse_spring(sp, static_cast<int>(scene.springs.size()));
+    for (const auto& other : scene.springs)
+      if (other.name == spring.name) sp["name"].fail("a unique spring name");
+    scene.springs.push_back(std::move(spring));
     const SpringSpec& added = scene.springs.back();
     if (added.to_ground) check_body(added.on, sp);
     else check_body(added.a, sp), check_body(added.b, sp);
@@ -189,8 +192,19 @@ Scene parse_scene(const std::string& text, const std::string& name,
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  if (std::filesystem::is_directory(path))
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_directory(st))
     throw InputError(path + ": expected a scene file (.toml or .dat), found a folder");
+  // A device or a pipe (/dev/zero) would be read without end.
+  if (fs::exists(st) && !fs::is_regular_file(st))
+    throw InputError(path + ": expected a scene file (.toml or .dat), found a device, pipe or "
+                     "socket");
+  constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t{1} << 30;
+  if (fs::exists(st) && fs::file_size(path, ec) > kMaxSceneBytes)
+    throw InputError(path + ": expected a scene file of at most 1 GiB, found " +
+                     std::to_string(fs::file_size(path, ec)) + " bytes");
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the scene file");
   const std::string ext = std::filesystem::path(path).extension().string();

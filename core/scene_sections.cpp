@@ -110,9 +110,8 @@ RefineSpec parse_refine(const TomlView& v) {
 
 namespace {
 
-/// Loads, prescribed displacements and shape coordinates: finite (the reader's) and at most 1e30
-/// in size, where E is bounded too: beyond, K u, the load vector or a body's extent overflows
-/// (1e300 coordinates were blamed on the mesh size).
+/// Loads and prescribed displacements: finite (the reader's) and at most 1e30 in size, where E
+/// is bounded too: beyond, K u or the load vector overflows.
 double bounded(const TomlView& v) {
   const double x = v.number();
   if (!(std::abs(x) <= 1e30)) v.fail("a value of at most 1e30 in magnitude");
@@ -125,9 +124,21 @@ Vec2 bounded_vec2(const TomlView& v) {
   return x;
 }
 
+/// Shape coordinates and radii: at most 1e15 in size. gmsh's geometry tolerances fail beyond
+/// about 1e16 (a rectangle of 1e17 aborted the program inside gmsh, one of 1e20 meshed
+/// without end); 1e15 is a kilometre in nanometres a million times over.
+constexpr double kMaxCoordinate = 1e15;
+
+Vec2 shape_point(const TomlView& v) {
+  const Vec2 x = v.vec2();
+  if (!(x.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+    v.fail("coordinates of at most 1e15 in magnitude (gmsh's geometry fails beyond about 1e16)");
+  return x;
+}
+
 std::vector<Vec2> bounded_points(const TomlView& v) {
   std::vector<Vec2> pts = v.points();
-  for (const auto& item : v.items()) bounded_vec2(item);
+  for (const auto& item : v.items()) shape_point(item);
   return pts;
 }
 
@@ -139,8 +150,8 @@ ShapeSpec parse_shape(const TomlView& v) {
   s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment", "points"});
   if (s.type == "rectangle") {
     v.check_keys({"type", "min", "max"});
-    s.min = bounded_vec2(v["min"]);
-    s.max = bounded_vec2(v["max"]);
+    s.min = shape_point(v["min"]);
+    s.max = shape_point(v["max"]);
     if (!(s.max.array() > s.min.array()).all())
       v["max"].fail("max > min in both coordinates");
   } else if (s.type == "polygon") {
@@ -166,9 +177,9 @@ ShapeSpec parse_shape(const TomlView& v) {
       v.check_keys({"type", "center", "radius"});
     else
       v.check_keys({"type", "center", "radius", "from_deg", "to_deg"});
-    s.center = bounded_vec2(v["center"]);
+    s.center = shape_point(v["center"]);
     s.radius = v["radius"].positive();
-    if (!(s.radius <= 1e30)) v["radius"].fail("a radius of at most 1e30");
+    if (!(s.radius <= kMaxCoordinate)) v["radius"].fail("a radius of at most 1e15");
     if (s.type == "disk_segment") {
       s.from_deg = v["from_deg"].number();
       s.to_deg = v["to_deg"].number();

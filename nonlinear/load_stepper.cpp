@@ -243,6 +243,9 @@ class LoadStepper {
     r_.time.solve = run_clock_.elapsed() - recovery_seconds_ - output_seconds_;
     r_.time.output = output_seconds_;
     r_.solver = system_.linear_report();
+    // The run's status, not the last factorisation's (a failed run said "converged" here).
+    r_.solver.status = r_.status;
+    if (r_.status != SolveStatus::kConverged) r_.solver.message = r_.message;
     const Stopwatch recovery_clock;
     if (have_state_) {
       // The last converged step's fields, recovered for on_state already.

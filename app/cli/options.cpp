@@ -44,7 +44,10 @@ struct ValueOption {
 const ValueOption kValueOptions[] = {
     {"--set", true,
      [](Options& o, const std::string&, const std::string& v) { o.sets.push_back(v); }},
-    {"--out", true, [](Options& o, const std::string&, const std::string& v) { o.out = v; }},
+    {"--out", true, [](Options& o, const std::string&, const std::string& v) {
+       if (v.empty()) throw InputError("--out: expected a folder name, found an empty string");
+       o.out = v;
+     }},
     {"--method", true,
      [](Options& o, const std::string&, const std::string& v) {
        if (!constraints::find_method(v))

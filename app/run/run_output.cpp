@@ -36,6 +36,7 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   // The target must be a folder or creatable as one; the run itself goes to a sibling work
   // folder, swapped in by commit(), so the target never mixes two runs.
   refuse_file_as_folder(target_);
+  refuse_foreign_folder(target_);
   fs::path folder = fs::absolute(target_).lexically_normal();
   if (!folder.has_filename()) folder = folder.parent_path();  // "out/" names "out"
   // The folders this run creates above its target, removed again if it ends without a result.

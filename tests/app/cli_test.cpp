@@ -289,7 +289,7 @@ TEST(Cli, NonlinearRunsAndAnImpossibleLoadExitsOneWithItsSteps) {
   const fs::path crush = fs::temp_directory_path() / "c2d_cli_crush";
   fs::remove_all(crush);
   fs::create_directories(crush);
-  const fs::path scene = crush / "crush.toml";
+  const fs::path scene = fs::temp_directory_path() / "c2d_cli_crush.toml";  // not inside --out
   std::ofstream(scene) << "[analysis]\ngeometric_nonlinearity = true\nsteps = 10\n"
                           "[[material]]\nname = \"m\"\nE = 1000.0\nnu = 0.0\n"
                           "[[body]]\nname = \"b\"\nmaterial = \"m\"\n"

@@ -293,7 +293,7 @@ TEST(Hardening, F4CoordinatesOf1e300ExitTwo) {
   // blame the mesh size against an extent of "inf").
   const TempDir dir("f4_huge");
   expect_refused(dir, dir.write("scene.toml", square("1e300", "{ size = 1.0 }")),
-                 {"scene.toml:8:", "body[0].shape.max", "expected components of at most 1e30"});
+                 {"scene.toml:8:", "body[0].shape.max", "expected coordinates of at most 1e15"});
 }
 
 // ---- Finding 5: silent acceptances, each now refused at its key, exit 2. ----
@@ -655,4 +655,111 @@ TEST(Hardening, F8PullOffIsSingularForEveryMethodIncludingIpopt) {
   }
   EXPECT_NE(summary(dir.path() / "ipopt")["status"].get<std::string>().find("the minimiser is not unique"),
             std::string::npos);
+}
+
+// ---- The audit of 2026-11-24 (findings of the same kinds, found again). ----
+
+// A run replaces its output folder whole: --out naming a folder of other files (here the
+// scene's own) would delete them. Refused before solving, the files untouched; an earlier
+// run's folder is still replaced.
+TEST(Hardening, OutputFolderOfOtherFilesIsRefusedAndKept) {
+  const TempDir dir("audit_out_foreign");
+  fs::create_directories(dir.path() / "proj");
+  const std::string scene = dir.write("proj/scene.toml", block(""));
+  const std::string notes = dir.write("proj/notes.txt", "x\n");
+  const Outcome o = run_c2d({"run", scene, "--out", dir / "proj", "--quiet"});
+  expect_outcome(o, 2, {"proj: expected a new or empty output folder or an earlier run's",
+                        "found a folder holding '"});
+  EXPECT_TRUE(o.text.find("'notes.txt'") != std::string::npos ||
+              o.text.find("'scene.toml'") != std::string::npos) << o.text;
+  EXPECT_TRUE(fs::exists(scene));
+  EXPECT_TRUE(fs::exists(notes));
+  // An earlier run's folder (its own files only) is replaced as before.
+  const std::string out = dir / "run";
+  ASSERT_EQ(run_c2d({"run", scene, "--out", out, "--quiet"}).code, 0);
+  ASSERT_EQ(run_c2d({"run", scene, "--out", out, "--quiet"}).code, 0);
+  EXPECT_EQ(summary(out)["status"], "converged");
+}
+
+// --out ".", ".." or "/" holds the current folder: refused (it used to solve, then fail to
+// rename the folder with a raw filesystem error, losing the results; "/" walked the disk).
+TEST(Hardening, OutputFolderHoldingTheCurrentFolderIsRefused) {
+  const TempDir dir("audit_out_dot");
+  const std::string scene = dir.write("scene.toml", block(""));
+  for (const std::string out : {".", "..", "/"}) {
+    SCOPED_TRACE(out);
+    const fs::path log = dir.path() / "dot.log";
+    c2d::app::ProcessPlace place;
+    place.work_dir = dir.path().string();
+    const c2d::app::ProcessOutcome p =
+        c2d::app::run_process(C2D_BINARY, {"run", scene, "--out", out, "--quiet"}, log.string(), {}, place);
+    expect_outcome({p.exit_code, read_text(log)}, 2,
+                   {"expected an output folder that does not hold the current folder"});
+  }
+  EXPECT_TRUE(fs::exists(scene));
+}
+
+// An empty --out and one with a control character are refused at the option.
+TEST(Hardening, OutputNameEmptyOrWithControlCharactersIsRefused) {
+  const TempDir dir("audit_out_name");
+  const std::string scene = dir.write("scene.toml", block(""));
+  expect_outcome(run_c2d({"run", scene, "--out", "", "--quiet"}), 2,
+                 {"--out: expected a folder name, found an empty string"});
+  expect_outcome(run_c2d({"run", scene, "--out", dir / "nl\nx", "--quiet"}), 2,
+                 {"--out: expected a folder name without control characters, found character 10"});
+}
+
+// Shape coordinates beyond 1e15: gmsh aborted the program at 1e17 and meshed without end at
+// 1e20; refused at the key.
+TEST(Hardening, ShapeCoordinatesBeyond1e15AreRefused) {
+  const TempDir dir("audit_big_shape");
+  for (const char* side : {"1e17", "1e20", "1e29"}) {
+    SCOPED_TRACE(side);
+    expect_refused(dir, dir.write("scene.toml", square(side, "{ size = 1e16 }")),
+                   {"scene.toml:8:", "body[0].shape.max", "expected coordinates of at most 1e15"});
+  }
+}
+
+// A scene that is a device is refused (/dev/zero was read without end).
+TEST(Hardening, SceneThatIsADeviceIsRefused) {
+  const TempDir dir("audit_dev_zero");
+  expect_refused(dir, "/dev/zero", {"/dev/zero: expected a scene file (.toml or .dat), found a device"});
+}
+
+// Loads of 1e308 in a .dat file: refused at the line (they reached the solver as "singular").
+TEST(Hardening, DatLoadsBeyond1e30AreRefused) {
+  const TempDir dir("audit_dat_load");
+  expect_refused(dir, dat(dir, "2 1 0 0 0 0 1e308"),
+                 {"model.dat:3:", "expected support values and loads of at most 1e30"});
+  expect_refused(dir, dat(dir, "2 1e20 0 0 0 0 0"),
+                 {"model.dat:3:", "expected node coordinates of at most 1e15"});
+}
+
+// Two [[spring]] tables with one name: refused like every other duplicate name.
+TEST(Hardening, DuplicateSpringNamesAreRefused) {
+  const TempDir dir("audit_spring_names");
+  const std::string spring = "[[spring]]\nname = \"s\"\non = { nearest = [1.0, 1.0] }\nk = [0.0, 1.0]\n";
+  expect_refused(dir, dir.write("scene.toml", block(spring + spring)),
+                 {"scene.toml:18:", "spring[1].name", "expected a unique spring name"});
+}
+
+// A body force on a selection holding no whole element loaded nothing without a word.
+TEST(Hardening, BodyForceOnNoWholeElementIsRefused) {
+  const TempDir dir("audit_body_force");
+  expect_refused(dir, dir.write("scene.toml", block("[[load]]\non = { nearest = [1.0, 1.0] }\n"
+                                                    "body_force = [0.0, 1.0]\n")),
+                 {"load[0]", "expected a selection holding whole elements for a body_force"});
+}
+
+// A load-stepped run without contact that fails says so in its solver section too.
+TEST(Hardening, FailedLoadSteppedRunsSolverSectionSaysFailed) {
+  const TempDir dir("audit_solver_status");
+  const std::string scene = dir.write(
+      "scene.toml", "[analysis]\ngeometric_nonlinearity = true\nsteps = 10\n" + block("") +
+                        "[[load]]\non = { edge = \"top\" }\ntraction = [0.0, -500.0]\n");
+  const Outcome o = run_c2d({"run", scene, "--out", dir / "out", "--quiet"});
+  ASSERT_EQ(o.code, 1) << o.text;
+  const nlohmann::json s = summary(dir.path() / "out");
+  EXPECT_NE(s["status"], "converged");
+  EXPECT_NE(s["solver"]["status"], "converged");
 }
