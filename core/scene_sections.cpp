@@ -124,9 +124,8 @@ Vec2 bounded_vec2(const TomlView& v) {
   return x;
 }
 
-/// Shape coordinates and radii: at most 1e15 in size. gmsh's geometry tolerances fail beyond
-/// about 1e16 (a rectangle of 1e17 aborted the program inside gmsh, one of 1e20 meshed
-/// without end); 1e15 is a kilometre in nanometres a million times over.
+/// Shape coordinates and radii: at most 1e15 in size. gmsh's geometry fails beyond about 1e16
+/// (a rectangle of 1e17 aborted the program inside gmsh, one of 1e20 meshed without end).
 constexpr double kMaxCoordinate = 1e15;
 
 Vec2 shape_point(const TomlView& v) {
