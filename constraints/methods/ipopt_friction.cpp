@@ -129,19 +129,11 @@ void classify(const ConstrainedProblem& p, const StrategyOptions& o, const VecX&
 /// settled to 1e-9 or the QP reached its own tolerance (a certificate, not a tolerance).
 bool certified(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
                ConstraintSolution& s) {
-  ConstraintSolution c = s;
-  classify(p, o, bound, c);
+  // (Classifying in place is harmless when the crossover fails: the next QP overwrites the
+  // forces and the states, and finish_friction classifies again.)
+  classify(p, o, bound, s);
   std::string why;
-  if (!crossover(p, c, why)) {
-    s.factorizations = c.factorizations;
-    s.numeric_seconds = c.numeric_seconds;
-    s.symbolic_seconds = c.symbolic_seconds;
-    s.solve_seconds = c.solve_seconds;
-    s.symbolic_analyses = c.symbolic_analyses;
-    return false;
-  }
-  s = std::move(c);
-  return true;
+  return crossover(p, s, why);
 }
 
 /// Each frictional row's bound at the given normal force (its law's).
