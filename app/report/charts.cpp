@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <iomanip>
 #include <optional>
 #include <sstream>
 
+#include "app/report/field_plot.hpp"
 #include "app/report/gnuplot.hpp"
 #include "app/report/hertz.hpp"
 #include "app/report/pressure_profile.hpp"
@@ -106,6 +109,69 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
       gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
   return plot_with_data(dir, "deformed", commands,
                         {{data_path, data.str()}, {outline_path, outline.str()}});
+}
+
+namespace {
+
+/// An obstacle as a polyline around `center` (a line: a segment of ±4 half across it).
+std::vector<Vec2> obstacle_line(const constraints::Obstacle& o, const Vec2& center, double half) {
+  if (o.type == constraints::Obstacle::Type::kLine) {
+    const Vec2 t(-o.normal.y(), o.normal.x());
+    const Vec2 q = center - (center - o.point).dot(o.normal) * o.normal;
+    return {q - 4 * half * t, q + 4 * half * t};
+  }
+  std::vector<Vec2> circle;
+  for (int k = 0; k <= 720; ++k) {
+    const double a = 2 * std::numbers::pi * k / 720;
+    circle.push_back(o.center + o.radius * Vec2(std::cos(a), std::sin(a)));
+  }
+  return circle;
+}
+
+}  // namespace
+
+std::string chart_contact_zone(const std::string& dir, const std::string& vtu_path,
+                               const constraints::ContactReport& c,
+                               const std::vector<constraints::Obstacle>& obstacles,
+                               const std::vector<Vec2>& mesh_nodes, const core::Results& r,
+                               const std::string& units) {
+  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300), sum = Vec2::Zero();
+  int active = 0;
+  for (const auto& n : c.nodes) {
+    if (!n.active) continue;
+    const Vec2 x = n.x + (r.displacement.size() > 2 * n.node + 1
+                              ? Vec2(r.displacement.segment<2>(2 * n.node)) : Vec2::Zero());
+    lo = lo.cwiseMin(x), hi = hi.cwiseMax(x), sum += x, ++active;
+  }
+  if (active == 0) return "";
+  Vec2 center = sum / active;
+  const double half = 1.5 * std::max({c.length, (hi - lo).maxCoeff(), 1e-12});
+  // The window stays over the bodies where they are wider than it (a half model's symmetry
+  // plane, the free side of a contact), with a tenth of it to spare for an obstacle's line.
+  Vec2 body_lo = Vec2::Constant(1e300), body_hi = Vec2::Constant(-1e300);
+  for (int k = 0; 2 * k + 1 < r.displacement.size() && k < static_cast<int>(mesh_nodes.size()); ++k) {
+    const Vec2 x = mesh_nodes[k] + Vec2(r.displacement.segment<2>(2 * k));
+    body_lo = body_lo.cwiseMin(x), body_hi = body_hi.cwiseMax(x);
+  }
+  for (int a = 0; a < 2; ++a) {
+    const double lo_edge = body_lo[a] - 0.2 * half, hi_edge = body_hi[a] + 0.2 * half;
+    if (hi_edge - lo_edge <= 2 * half) continue;
+    center[a] = std::clamp(center[a], lo_edge + half, hi_edge - half);
+  }
+  PlotOptions o;
+  o.field = "vm";
+  o.zoom = std::array<double, 4>{center.x() - half, center.y() - half, center.x() + half,
+                                 center.y() + half};
+  o.deformed = 1.0;
+  o.units = units;
+  o.title = "Contact zone, true scale: von Mises (smoothed)" +
+            std::string(obstacles.empty() ? "" : "; rigid obstacles in black");
+  for (const auto& ob : obstacles) o.overlay.push_back(obstacle_line(ob, center, half));
+  try {
+    return plot_field(read_vtu(vtu_path), o, dir, "contact_zone").error;
+  } catch (const std::exception& e) {
+    return std::string("contact zone: ") + e.what();
+  }
 }
 
 }  // namespace c2d::app

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "constraints/contact_detection.hpp"
 #include "constraints/contact_set.hpp"
 #include "core/model.hpp"
 #include "core/results.hpp"
@@ -20,5 +21,17 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
 /// Writes DIR/deformed.png and DIR/deformed.svg; returns "" or the failure reason.
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
                                 const core::Results& results, const std::string& units = "");
+
+/// The contact zone: von Mises under the surface in a square window of three contact lengths
+/// around the active slave nodes (Hertz's subsurface maximum, at 0.70 b, shows), drawn at true
+/// scale (the converged state: bodies in contact do not cross, as a magnified deformation
+/// would make them), the rigid obstacles in black where they are; from the run's VTU
+/// `vtu_path`. Writes DIR/contact_zone.png and .svg; "" without active contact (nothing
+/// drawn) or on success, else the failure.
+std::string chart_contact_zone(const std::string& dir, const std::string& vtu_path,
+                               const constraints::ContactReport& c,
+                               const std::vector<constraints::Obstacle>& obstacles,
+                               const std::vector<Vec2>& mesh_nodes,
+                               const core::Results& results, const std::string& units);
 
 }  // namespace c2d::app

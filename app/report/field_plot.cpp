@@ -10,6 +10,7 @@
 
 #include "app/report/csv_table.hpp"
 #include "app/report/gnuplot.hpp"
+#include "app/report/units.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 
@@ -59,6 +60,18 @@ const std::vector<FieldDef>& field_defs() {
       {"error", "ZZ local parameter xi_e", "zz_local_parameter", -1, true},
   };
   return defs;
+}
+
+/// Axis and colour-bar labels with the scene's units (none without units).
+std::string axis_commands(const PlotOptions& o, const FieldDef& def) {
+  if (o.units.empty()) return "";
+  const Units u = parse_units(o.units);
+  const bool length = def.array == "displacement";
+  std::string out = "set xlabel " + gp_text(axis_label("x", u.length)) + "\nset ylabel " +
+                    gp_text(axis_label("y", u.length)) + "\n";
+  if (!def.cell)
+    out += "set cblabel " + gp_text(axis_label(def.name, length ? u.length : u.stress)) + "\n";
+  return out;
 }
 
 std::string window_commands(const std::optional<std::array<double, 4>>& zoom) {
@@ -268,7 +281,7 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::stri
   std::ostringstream data, cmd;
   data << std::setprecision(9);
   cmd << std::setprecision(6);
-  std::string title = value.def->label;
+  std::string title = o.title.empty() ? value.def->label : o.title;
   if (scale != 0.0) {
     std::ostringstream s;
     s << std::setprecision(3) << scale;
@@ -281,8 +294,21 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::stri
   const std::string data_path = dir + "/" + stem + ".dat",
                     edges_path = dir + "/" + stem + "_edges.dat";
   std::vector<PlotData> files{{data_path, data.str()}};
-  cmd << window_commands(o.zoom) << "unset key\nset style fill solid 1.0 noborder\n"
+  // (set clip two: an overlay segment with both ends outside the window still crosses it.)
+  cmd << window_commands(o.zoom) << axis_commands(o, *value.def)
+      << "unset key\nset clip two\nset style fill solid 1.0 noborder\n"
       << "plot " << gp_file(data_path) << " using 1:2:3 with filledcurves closed fc palette z";
+  if (!o.overlay.empty()) {
+    const std::string overlay_path = dir + "/" + stem + "_overlay.dat";
+    std::ostringstream lines;
+    lines << std::setprecision(12);
+    for (const auto& line : o.overlay) {
+      for (const Vec2& p : line) lines << p.x() << ' ' << p.y() << '\n';
+      lines << '\n';
+    }
+    files.push_back({overlay_path, lines.str()});
+    cmd << ", \\\n     " << gp_file(overlay_path) << " using 1:2 with lines lc rgb 'black' lw 2.5";
+  }
   if (o.edges) {
     std::ostringstream edges;
     edges << std::setprecision(9);

@@ -22,6 +22,10 @@ struct PlotOptions {
   double deformed = 0.0;                      ///< displacement scale; < 0: automatic (8 %)
   bool edges = false;                         ///< draw element edges
   int levels = 12;                            ///< colour bands
+  std::string units;    ///< the scene's `units`: the axes and the colour bar carry them
+  std::string title;    ///< replaces the field's label as the title ("": the label)
+  /// Polylines drawn over the field in black (rigid obstacles).
+  std::vector<std::vector<Vec2>> overlay;
 };
 
 /// What a picture shows, for the terminal: value range and, for `error`, elements above 1.

@@ -215,6 +215,10 @@ std::string RunOutput::write_charts(const SceneRun& run) {
   std::string error = chart_deformed_mesh(dir_, run.model, run.results, scene_.units);
   if (run.contact && run.contact_report.has_surface && error.empty())
     error = chart_contact_pressure(dir_, run.contact_report, scene_);
+  if (run.contact && error.empty() && !step_files_.empty())
+    error = chart_contact_zone(dir_, dir_ + "/" + step_files_.back().second, run.contact_report,
+                               run.contact_spec.obstacles, run.model.mesh.nodes, run.results,
+                               scene_.units);
   return error;
 }
 

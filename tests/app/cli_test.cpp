@@ -956,3 +956,30 @@ TEST(Cli, StudyCasesGetTheirThreadCountsThroughTheEnvironment) {
   EXPECT_NE(c2d::app::timing_note(2).find("thread(s) for BLAS and OpenMP"), std::string::npos);
   std::filesystem::remove_all(dir);
 }
+
+TEST(Cli, ContactRunDrawsTheContactZone) {
+  // hertz_rigid_fast: the contact-zone chart is written (PNG and SVG, units on the axes), and
+  // the field it draws has Hertz's subsurface maximum of von Mises on the axis: 0.557 p0 at
+  // z = 0.70 b for plane strain, ν = 0.3 (Johnson §4.2; p0 = 383.51 MPa, b = 1.6609 mm), the
+  // depth within 5 % (the nodes' spacing there) and the value within 2 %.
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_contact_zone";
+  fs::remove_all(out);
+  std::string output;
+  ASSERT_EQ(run("run " + example("hertz_rigid_fast.toml") + " --quiet --out " + out.string(),
+                &output),
+            0)
+      << output;
+  expect_chart(out, "contact_zone");
+  std::ifstream svg(out / "contact_zone.svg");
+  std::stringstream text;
+  text << svg.rdbuf();
+  EXPECT_NE(text.str().find("x [mm]"), std::string::npos);
+  EXPECT_NE(text.str().find("vm [MPa]"), std::string::npos);
+  const c2d::app::CsvTable t = c2d::app::read_csv((out / "nodes.csv").string());
+  const int x = t.column("x"), y = t.column("y"), vm = t.column("vm");
+  size_t best = 0;
+  for (size_t i = 0; i < t.rows.size(); ++i)
+    if (std::abs(t.number(i, x)) < 1e-9 && t.number(i, vm) > t.number(best, vm)) best = i;
+  EXPECT_NEAR(t.number(best, y) / (0.70 * 1.6609), 1.0, 0.05) << t.number(best, y);
+  EXPECT_NEAR(t.number(best, vm) / (0.557 * 383.51), 1.0, 0.02) << t.number(best, vm);
+}
