@@ -8,6 +8,7 @@ packages=(
   libgmsh-dev libtomlplusplus-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev libopenblas0-pthread gnuplot-nox
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   parallel  # GNU parallel: runs a study's jobs.txt (README; tests/app/job_list_test.cpp)
+  chromium chromium-driver python3-selenium  # opens the studies' HTML pages (tests/browser)
 )
 missing=()
 for p in "${packages[@]}"; do

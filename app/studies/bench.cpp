@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -14,6 +13,7 @@
 #include <sstream>
 
 #include "app/output_folder.hpp"
+#include "app/report/html_report.hpp"
 #include "app/studies/bench_report.hpp"
 #include "app/studies/job_list.hpp"
 #include "constraints/method_registry.hpp"
@@ -282,25 +282,36 @@ struct BenchStudy {
   std::vector<BenchRow> rows;
 };
 
+/// Under bench.md's and bench.html's title: when and where, and how the figures were taken.
+std::string bench_intro_md(const BenchStudy& s, const std::string& date) {
+  return date + "; " + machine_line() + "; " + s.runs +
+         ".\n\n"
+         "Every run is a separate `contact2d run` process with charts off (the time-to-accuracy "
+         "runs also without VTU/nodes.csv); phase times come from its summary.json, peak memory "
+         "from the process (wait4), \"process\" is the wall time including start-up (loading "
+         "gmsh's 90 shared libraries costs about 0.15 s). Accuracy: the pressure profile's "
+         "relative L2 error over [0, 1.5 b] for Hertz, the tip deflection against Timoshenko "
+         "beam theory for the cantilever (the converged 2D value is 0.13 % below it), the "
+         "upper tip against the seed for the two cantilevers. " +
+         s.timing + "\n\n";
+}
+
+std::string bench_title(const BenchStudy& s) {
+  return std::string("contact2d bench") + (s.quick ? " --quick" : "");
+}
+
+/// What bench.md and bench.html share besides the intro: the targets, then the slopes.
+struct BenchText {
+  std::string date, targets, slopes, chart_error;
+};
+
 /// bench.md: when and where, how the figures were taken, the targets, the tables, the slopes.
-std::string bench_md(const BenchStudy& s, const std::vector<size_t>& missing, const Throughput& t,
-                     const std::string& slopes, const std::string& chart_error) {
-  const std::time_t now = std::time(nullptr);
-  char date[32];
-  std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
+std::string bench_md(const BenchStudy& s, const std::vector<size_t>& missing, const BenchText& b,
+                     const std::vector<ReportChart>& charts) {
   std::ostringstream md;
-  md << "# contact2d bench" << (s.quick ? " --quick" : "") << "\n\n"
-     << date << "; " << machine_line() << "; " << s.runs << ".\n\n"
-     << "Every run is a separate `contact2d run` process with charts off (the time-to-accuracy "
-        "runs also without VTU/nodes.csv); phase times come from its summary.json, peak memory "
-        "from the process (wait4), \"process\" is the wall time including start-up (loading "
-        "gmsh's 90 shared libraries costs about 0.15 s). Accuracy: the pressure profile's "
-        "relative L2 error over [0, 1.5 b] for Hertz, the tip deflection against Timoshenko "
-        "beam theory for the cantilever (the converged 2D value is 0.13 % below it), the "
-        "upper tip against the seed for the two cantilevers. "
-     << s.timing << "\n\n"
-     << missing_cases_md(s.cases, missing) << "## Targets\n\n"
-     << targets_md(s.rows, t, s.quick) << "\n"
+  md << "# " << bench_title(s) << "\n\n"
+     << bench_intro_md(s, b.date) << missing_cases_md(s.cases, missing) << "## Targets\n\n"
+     << b.targets << "\n"
      << "## Ladder\n\n"
      << ladder_md(s.rows) << "\n"
      << "## Every method on the time-to-accuracy scenes\n\n"
@@ -308,11 +319,23 @@ std::string bench_md(const BenchStudy& s, const std::vector<size_t>& missing, co
         "same mesh.\n\n"
      << methods_md(s.rows) << "\n"
      << "## Cost against size\n\n"
-     << slopes << "\n"
-     << (chart_error.empty() ? "![time against DOFs](time_vs_dofs.png)\n\n"
-                               "![accuracy against time](accuracy_vs_time.png)\n"
-                             : "Charts not written: " + chart_error + "\n");
+     << b.slopes << "\n"
+     << markdown_images(charts)
+     << (b.chart_error.empty() ? "" : "Charts not written: " + b.chart_error + "\n");
   return md.str();
+}
+
+/// bench.html: bench.md's intro, its targets as the verdict, bench.csv's every column, charts.
+HtmlReport bench_html(const BenchStudy& s, const std::vector<size_t>& missing, const BenchText& b,
+                      const std::string& csv, const std::vector<ReportChart>& charts) {
+  return {bench_title(s),
+          b.date,
+          bench_intro_md(s, b.date),
+          b.targets,
+          missing_cases_md(s.cases, missing) + "## Cost against size\n\n" + b.slopes,
+          "bench.csv",
+          csv,
+          charts};
 }
 
 /// study.json's options and case keys: what the report needs besides the case folders.
@@ -351,20 +374,28 @@ BenchStudy bench_from_manifest(const StudyManifest& m) {
 /// case crashed or is missing or a chart failed, else 0.
 int report_bench(BenchStudy& s, const std::vector<size_t>& missing, bool quiet) {
   fill_overheads(s.rows);
-  core::write_file_atomic(s.out + "/bench.csv", csv_of(s.rows));
+  const std::string csv = csv_of(s.rows);
+  core::write_file_atomic(s.out + "/bench.csv", csv);
   if (!quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
   const Throughput t = measure_assembly(s.quick);
-  std::string slopes;
-  std::string chart_error = chart_time(s.out, s.rows, slopes);
-  if (chart_error.empty()) chart_error = chart_accuracy(s.out, s.rows);
-  core::write_file_atomic(s.out + "/bench.md", bench_md(s, missing, t, slopes, chart_error));
+  BenchText text{utc_now_text(), targets_md(s.rows, t, s.quick), "", ""};
+  std::vector<ReportChart> charts;
+  std::string& chart_error = text.chart_error;
+  chart_error = chart_time(s.out, s.rows, text.slopes, charts);
+  if (chart_error.empty())
+    chart_error = chart_accuracy(s.out, s.rows, charts);
+  else
+    charts.push_back({"accuracy_vs_time", "accuracy against time",
+                      "not drawn after the failure of an earlier chart"});
+  core::write_file_atomic(s.out + "/bench.md", bench_md(s, missing, text, charts));
+  write_html_report(s.out, "bench.html", bench_html(s, missing, text, csv, charts));
   bool crashed = false;
   for (const auto& r : s.rows) crashed = crashed || r.crashed();
   if (!quiet) {
     std::cout << "\n"
-              << missing_cases_text(s.cases, missing) << targets_md(s.rows, t, s.quick)
-              << "\nwrote " << s.out
-              << "/bench.csv, bench.md, time_vs_dofs and accuracy_vs_time (.png/.svg)\n";
+              << missing_cases_text(s.cases, missing) << text.targets << "\nwrote " << s.out
+              << "/bench.csv, bench.md, bench.html, time_vs_dofs and accuracy_vs_time "
+                 "(.png/.svg)\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }
   return crashed || !missing.empty() || !chart_error.empty() ? 1 : 0;

@@ -152,7 +152,7 @@ std::string methods_md(const std::vector<BenchRow>& rows) {
 }
 
 std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows,
-                       std::string& slopes_md) {
+                       std::string& slopes_md, std::vector<ReportChart>& charts) {
   std::ostringstream data, left, right;
   int block = 0;
   std::ostringstream slopes;
@@ -186,7 +186,11 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
     }
   for (const auto& [name, pts] : phases) series(right, "elasticity T6: " + name, pts);
   slopes_md = slopes.str();
-  if (block == 0) return "";
+  ReportChart chart{"time_vs_dofs", "time against DOFs", "no run converged with DOFs to draw"};
+  if (block == 0) {
+    charts.push_back(chart);
+    return "";
+  }
   std::ostringstream plot;
   plot << "set multiplot layout 1," << ((left.tellp() > 0) + (right.tellp() > 0))
        << "\nset logscale xy\nset grid\nset xlabel 'DOFs'\n"
@@ -196,10 +200,14 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
   if (right.tellp() > 0)
     plot << "set title 'Phases, linear elasticity T6'\n" << right.str() << "\n";
   plot << "unset multiplot\n";
-  return plot_with_data(out, "time_vs_dofs", plot.str(), {{out + "/time_vs_dofs.dat", data.str()}});
+  chart.not_written =
+      plot_with_data(out, "time_vs_dofs", plot.str(), {{out + "/time_vs_dofs.dat", data.str()}});
+  charts.push_back(chart);
+  return chart.not_written;
 }
 
-std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& rows) {
+std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& rows,
+                           std::vector<ReportChart>& charts) {
   std::ostringstream data, panels;
   int block = 0, count = 0;
   for (const auto& [scene, ladder] : {std::pair{"hertz_rigid_fast.toml", "hertz_rigid"},
@@ -233,14 +241,21 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
     if (lines.tellp() > 0)
       panels << "set title " << gp_text(scene) << " noenhanced\n" << lines.str() << "\n", ++count;
   }
-  if (count == 0) return "";
+  ReportChart chart{"accuracy_vs_time", "accuracy against time",
+                    "no converged run on the time-to-accuracy scenes to draw"};
+  if (count == 0) {
+    charts.push_back(chart);
+    return "";
+  }
   std::ostringstream plot;
   plot << "set multiplot layout 1," << count << "\nset logscale xy\nset grid\n"
        << "set xlabel 'seconds, scene to summary'\n"
        << "set ylabel 'pressure profile error (relative L2)'\nset key top right font ',9'\n"
        << panels.str() << "unset multiplot\n";
-  return plot_with_data(out, "accuracy_vs_time", plot.str(),
-                        {{out + "/accuracy_vs_time.dat", data.str()}});
+  chart.not_written = plot_with_data(out, "accuracy_vs_time", plot.str(),
+                                     {{out + "/accuracy_vs_time.dat", data.str()}});
+  charts.push_back(chart);
+  return chart.not_written;
 }
 
 }  // namespace c2d::app

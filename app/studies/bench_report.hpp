@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/report/html_report.hpp"
 #include "app/studies/bench.hpp"
 #include "app/studies/study.hpp"
 
@@ -47,12 +48,15 @@ std::string methods_md(const std::vector<BenchRow>& rows);
 
 /// Time against DOFs, log-log: left, the whole run without meshing per family; right, the
 /// phases of the linear elastic T6 ladder. Each line's title carries its fitted slope, also
-/// given as a table in `slopes_md`. Returns "" or the chart's failure.
+/// given as a table in `slopes_md`. Adds the chart (written or why not) to `charts`; returns ""
+/// or the chart's failure.
 std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows,
-                       std::string& slopes_md);
+                       std::string& slopes_md, std::vector<ReportChart>& charts);
 
 /// Accuracy against time: every method on the time-to-accuracy scenes (one panel per scene,
-/// one line per method through its meshes), with the lagrange Hertz ladders for scale.
-std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& rows);
+/// one line per method through its meshes), with the lagrange Hertz ladders for scale. Adds the
+/// chart to `charts`; returns "" or the chart's failure.
+std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& rows,
+                           std::vector<ReportChart>& charts);
 
 }  // namespace c2d::app

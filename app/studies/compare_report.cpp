@@ -4,11 +4,13 @@
 #include <cmath>
 #include <iomanip>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <tuple>
 
 #include "app/report/gnuplot.hpp"
+#include "app/report/html_report.hpp"
 #include "app/report/pressure_profile.hpp"
 #include "core/writers.hpp"
 
@@ -181,17 +183,27 @@ std::string orders_md(const std::vector<CompareRow>& rows, const std::vector<std
   return os.str() + "\n";
 }
 
+std::string compare_title(const CompareStudy& s) { return "contact2d compare: " + s.scene; }
+
+/// How the times and errors were taken: under the title of compare.md and compare.html.
+std::string times_note(const CompareStudy& s) {
+  return "Times are the solve phase (contact iterations included), from each run's "
+         "summary.json; errors are against the scene's [reference]. " +
+         s.timing + "\n\n";
+}
+
+const char* const kFitNote =
+    "Fitted p0 and b: the Hertz form p0 √(1 − ((x − x0)/b)²) fitted to the nodal pressures "
+    "(Ceres), a contact width that does not depend on where the nodes fall.\n\n";
+
 std::string compare_md(const CompareStudy& s, const std::vector<size_t>& missing,
                        const std::string& charts) {
   const std::vector<CompareRow>& rows = s.rows;
   std::ostringstream os;
-  os << "# contact2d compare: " << s.scene << "\n\n"
+  os << "# " << compare_title(s) << "\n\n"
      << verdict(rows, s.methods, s.metric) << "\n\n"
-     << missing_cases_md(s.cases, missing) << orders_md(rows, s.methods, s.metric);
-  os << "Times are the solve phase (contact iterations included), from each run's summary.json; "
-     << "errors are against the scene's [reference]. " << s.timing << "\n\n";
-  os << "Fitted p0 and b: the Hertz form p0 √(1 − ((x − x0)/b)²) fitted to the nodal pressures "
-        "(Ceres), a contact width that does not depend on where the nodes fall.\n\n";
+     << missing_cases_md(s.cases, missing) << orders_md(rows, s.methods, s.metric) << times_note(s)
+     << kFitNote;
   os << "| level | method | DOFs | status | iterations | solve | total | p_max | contact length | "
         "total force | max penetration | p_max error | length error | profile L2 error | "
         "fitted p0 | fitted b | fitted b error |\n"
@@ -207,6 +219,22 @@ std::string compare_md(const CompareStudy& s, const std::vector<size_t>& missing
   }
   if (!charts.empty()) os << "\n" << charts;
   return os.str();
+}
+
+/// compare.html: the same title, notes and verdict as compare.md, compare.csv's every column,
+/// the charts inline.
+HtmlReport compare_html(const CompareStudy& s, const std::vector<size_t>& missing,
+                        const std::vector<ReportChart>& charts) {
+  HtmlReport h;
+  h.title = compare_title(s);
+  h.intro_md = times_note(s);
+  h.verdict_md = verdict(s.rows, s.methods, s.metric);
+  h.notes_md = missing_cases_md(s.cases, missing) + orders_md(s.rows, s.methods, s.metric) +
+               (s.hertz ? kFitNote : "");
+  h.csv_name = "compare.csv";
+  h.csv = compare_csv(s.rows);
+  h.charts = charts;
+  return h;
 }
 
 std::string chart_commands_accuracy(const std::string& dir, const std::vector<CompareRow>& rows,
@@ -239,20 +267,34 @@ std::string chart_commands_accuracy(const std::string& dir, const std::vector<Co
   return plot.str() + "\n";
 }
 
-/// accuracy_time.png/svg; "" or the chart's failure.
-std::string chart_accuracy_time(const CompareStudy& s, std::string& charts) {
-  if (s.metric.empty()) return "";
-  std::string data;
-  const std::string cmd = chart_commands_accuracy(s.out, s.rows, s.methods, s.metric, data);
-  if (cmd.empty()) return "";
-  const std::string error =
-      plot_with_data(s.out, "accuracy_time", cmd, {{s.out + "/accuracy.dat", data}});
-  if (error.empty()) charts += "![accuracy against time](accuracy_time.png)\n\n";
+/// compare's charts, in the order they are drawn.
+const ReportChart kCompareCharts[] = {{"accuracy_time", "accuracy against time", ""},
+                                      {"pressure_profiles", "pressure profiles", ""},
+                                      {"penetration", "penetration", ""}};
+
+/// Adds `chart`, not written for `why` ("" when it was), to `charts`; returns `error`.
+std::string add_chart(std::vector<ReportChart>& charts, ReportChart chart, const std::string& why,
+                      const std::string& error = "") {
+  chart.not_written = error.empty() ? why : error;
+  charts.push_back(chart);
   return error;
 }
 
+/// accuracy_time.png/svg; "" or the chart's failure.
+std::string chart_accuracy_time(const CompareStudy& s, std::vector<ReportChart>& charts) {
+  if (s.metric.empty())
+    return add_chart(charts, kCompareCharts[0], "the scene has no reference to measure against");
+  std::string data;
+  const std::string cmd = chart_commands_accuracy(s.out, s.rows, s.methods, s.metric, data);
+  if (cmd.empty())
+    return add_chart(charts, kCompareCharts[0], "no converged run has an error and a time above 0");
+  return add_chart(charts, kCompareCharts[0], "",
+                   plot_with_data(s.out, "accuracy_time", cmd, {{s.out + "/accuracy.dat", data}}));
+}
+
 /// pressure_profiles.png/svg: every method's pressures on the finest level, with Hertz's.
-std::string chart_pressure_profiles(const CompareStudy& s, int finest, std::string& charts) {
+std::string chart_pressure_profiles(const CompareStudy& s, int finest,
+                                    std::vector<ReportChart>& charts) {
   std::ostringstream plot;
   plot << "set title 'Contact pressure, level " << finest
        << " (finest), every method'\nset xlabel 'position along the slave surface'\n"
@@ -286,14 +328,13 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest, std::stri
     plot << " with lines lw 2 lc rgb 'black' dt 2 title 'Hertz'";
   }
   plot << "\n";
-  if (!n) return "";
-  const std::string error = plot_with_data(s.out, "pressure_profiles", plot.str(), files);
-  if (error.empty()) charts += "![pressure profiles](pressure_profiles.png)\n\n";
-  return error;
+  if (!n) return add_chart(charts, kCompareCharts[1], "no run converged on the finest level");
+  return add_chart(charts, kCompareCharts[1], "",
+                   plot_with_data(s.out, "pressure_profiles", plot.str(), files));
 }
 
 /// penetration.png/svg: the largest penetration per method and level.
-std::string chart_penetration(const CompareStudy& s, std::string& charts) {
+std::string chart_penetration(const CompareStudy& s, std::vector<ReportChart>& charts) {
   std::ostringstream d, plot;
   int n = 0;
   plot << "set title 'Largest penetration per method (exact methods at round-off; 0 drawn at "
@@ -313,19 +354,24 @@ std::string chart_penetration(const CompareStudy& s, std::string& charts) {
     ++n;
   }
   plot << "\n";
-  if (!n) return "";
-  const std::string error =
-      plot_with_data(s.out, "penetration", plot.str(), {{s.out + "/penetration.dat", d.str()}});
-  if (error.empty()) charts += "![penetration](penetration.png)\n";
-  return error;
+  if (!n) return add_chart(charts, kCompareCharts[2], "no run converged");
+  return add_chart(
+      charts, kCompareCharts[2], "",
+      plot_with_data(s.out, "penetration", plot.str(), {{s.out + "/penetration.dat", d.str()}}));
 }
 
-/// The charts, each drawn only while the ones before it succeeded; their markdown goes into
-/// `charts`. Returns "" or the first failure.
-std::string draw_compare_charts(const CompareStudy& s, std::string& charts) {
-  std::string error = chart_accuracy_time(s, charts);
-  if (error.empty()) error = chart_pressure_profiles(s, s.levels - 1, charts);
-  if (error.empty()) error = chart_penetration(s, charts);
+/// The charts, each drawn only while the ones before it succeeded (the others are listed as not
+/// drawn). Returns "" or the first failure.
+std::string draw_compare_charts(const CompareStudy& s, std::vector<ReportChart>& charts) {
+  std::string error;
+  for (size_t k = 0; k < std::size(kCompareCharts); ++k) {
+    if (!error.empty())
+      add_chart(charts, kCompareCharts[k], "not drawn after the failure of an earlier chart");
+    else
+      error = k == 0   ? chart_accuracy_time(s, charts)
+              : k == 1 ? chart_pressure_profiles(s, s.levels - 1, charts)
+                       : chart_penetration(s, charts);
+  }
   return error;
 }
 }  // namespace
@@ -353,20 +399,22 @@ bool read_row(CompareRow& r, const CaseOutcome& c, const std::string& dir,
 
 int report_compare(const CompareStudy& s, const std::vector<size_t>& missing, bool quiet) {
   core::write_file_atomic(s.out + "/compare.csv", compare_csv(s.rows));
-  std::string charts;
+  std::vector<ReportChart> charts;
   const std::string chart_error = draw_compare_charts(s, charts);
-  core::write_file_atomic(s.out + "/compare.md", compare_md(s, missing, charts));
+  core::write_file_atomic(s.out + "/compare.md", compare_md(s, missing, markdown_images(charts)));
+  write_html_report(s.out, "compare.html", compare_html(s, missing, charts));
   if (!s.metric.empty())
     core::write_file_atomic(s.out + "/orders.csv", orders_csv(s.rows, s.methods, s.metric));
   if (!quiet) {
+    std::string drawn;
+    for (const auto& c : charts)
+      if (c.written()) drawn += ", " + c.stem;
     std::cout << "\n"
               << verdict(s.rows, s.methods, s.metric) << "\n\n"
               << missing_cases_text(s.cases, missing) << orders_md(s.rows, s.methods, s.metric)
-              << "wrote " << s.out << "/compare.csv, compare.md"
+              << "wrote " << s.out << "/compare.csv, compare.md, compare.html"
               << (s.metric.empty() ? "" : ", orders.csv")
-              << (charts.empty() ? ""
-                                 : ", accuracy_time, pressure_profiles, penetration (.png/.svg)")
-              << "\n";
+              << (drawn.empty() ? "" : drawn + " (.png/.svg)") << "\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }
   bool crashed = false;

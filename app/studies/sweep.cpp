@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/report/gnuplot.hpp"
+#include "app/report/html_report.hpp"
 #include "app/studies/job_list.hpp"
 #include "core/errors.hpp"
 #include "core/scene.hpp"
@@ -317,25 +318,36 @@ SweepStudy sweep_from_manifest(const StudyManifest& m) {
   return s;
 }
 
-/// sweep.csv, sweep.md and the chart from the finished rows, listing the `missing` cases; the
-/// verdict on the terminal unless quiet. Returns 1 when a case crashed or is missing or the
-/// chart failed, else 0.
+/// sweep.csv, sweep.md, sweep.html and the chart from the finished rows, listing the `missing`
+/// cases; the verdict on the terminal unless quiet. Returns 1 when a case crashed or is missing
+/// or the chart failed, else 0.
 int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool quiet) {
-  core::write_file_atomic(s.out + "/sweep.csv", sweep_csv(s.key, s.rows));
+  const std::string csv = sweep_csv(s.key, s.rows);
+  core::write_file_atomic(s.out + "/sweep.csv", csv);
   const SeedRule seed = seed_rule(s.key, s.rows);
   const std::string verdict = sweep_verdict(s.accuracy, s.key, s.rows, seed);
   bool drawn = false;
   const std::string chart_error = chart_sweep(s.out, s.key, s.rows, seed, drawn);
-  core::write_file_atomic(s.out + "/sweep.md",
-                          "# contact2d sweep: " + s.key + " on " + s.scene + "\n\n" + verdict +
-                              "\n\n" + missing_cases_md(s.cases, missing) + s.timing + "\n\n" +
-                              sweep_table(s.key, s.rows) +
-                              (chart_error.empty() && drawn ? "\n![sweep](sweep.png)\n" : ""));
+  ReportChart chart{
+      "sweep", "p_max error, penetration, iterations, solve time and pivot ratio against " + s.key,
+      chart_error};
+  if (chart_error.empty() && !drawn)
+    chart.not_written = "no swept value converged, so there is nothing to draw";
+  const std::string title = "contact2d sweep: " + s.key + " on " + s.scene;
+  const std::string timing = s.timing + "\n\n";
+  core::write_file_atomic(
+      s.out + "/sweep.md",
+      "# " + title + "\n\n" + verdict + "\n\n" + missing_cases_md(s.cases, missing) + timing +
+          sweep_table(s.key, s.rows) + (chart.written() ? "\n" + markdown_images({chart}) : ""));
+  write_html_report(
+      s.out, "sweep.html",
+      {title, "", timing, verdict, missing_cases_md(s.cases, missing), "sweep.csv", csv, {chart}});
   if (!quiet) {
     std::cout << "\n"
               << verdict << "\n\n"
               << missing_cases_text(s.cases, missing) << "wrote " << s.out
-              << "/sweep.csv, sweep.md, sweep.png/svg\n";
+              << "/sweep.csv, sweep.md, sweep.html" << (chart.written() ? ", sweep.png/svg" : "")
+              << "\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }
   bool crashed = false;

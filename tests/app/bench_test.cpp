@@ -102,6 +102,22 @@ TEST(Bench, QuickLadderWritesAValidTableWhoseAccuracyImprovesWithDofs) {
     EXPECT_NE(md.str().find(target), std::string::npos) << target;
   for (const char* chart : {"time_vs_dofs.png", "time_vs_dofs.svg", "accuracy_vs_time.png", "accuracy_vs_time.svg"})
     EXPECT_TRUE(fs::exists(out / chart)) << chart;
+  // bench.html: a table row per CSV row, both charts inline, the targets as its verdict.
+  std::ifstream html_in(out / "bench.html");
+  const std::string html((std::istreambuf_iterator<char>(html_in)),
+                         std::istreambuf_iterator<char>());
+  const size_t body = html.find("<tbody>"), body_end = html.find("</tbody>");
+  ASSERT_NE(body, std::string::npos);
+  size_t table_rows = 0, svgs = 0;
+  for (size_t at = html.find("<tr>", body); at < body_end; at = html.find("<tr>", at + 1))
+    ++table_rows;
+  for (size_t at = html.find("<svg class=\"chart\""); at != std::string::npos;
+       at = html.find("<svg class=\"chart\"", at + 1))
+    ++svgs;
+  EXPECT_EQ(table_rows, rows.size());
+  EXPECT_EQ(svgs, 2u);
+  EXPECT_NE(html.find("<section id=\"verdict\">\n<h2>Verdict</h2>\n<div class=\"scroll\"><table>"),
+            std::string::npos);
   fs::remove_all(out);
   fs::remove(out.string() + ".log");
 }

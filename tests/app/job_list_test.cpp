@@ -23,6 +23,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
+size_t count_of(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
 std::string read_text(const fs::path& path) {
   std::ifstream in(path);
   std::stringstream ss;
@@ -237,6 +243,10 @@ TEST(JobList, CompareRunByParallelMergesToTheSameTable) {
     EXPECT_NEAR(p_max(dir) / p_max(root / "run"), 1.0, 1e-12) << m;
   }
   EXPECT_EQ(read_text(dir / "compare.md").find("Missing cases"), std::string::npos);
+  // The merge writes the HTML page through the same report: a row per case, the three charts.
+  const std::string html = read_text(dir / "compare.html");
+  EXPECT_EQ(count_of(html, "<td data-value=\"converged\">"), 2u);
+  EXPECT_EQ(count_of(html, "<svg class=\"chart\""), 3u);
 
   // One case lost: the merge reports the other and names the lost one, with its jobs.txt line.
   fs::remove_all(dir / "level0" / "penalty");
@@ -247,6 +257,8 @@ TEST(JobList, CompareRunByParallelMergesToTheSameTable) {
   const std::string md = read_text(dir / "compare.md");
   EXPECT_NE(md.find("## Missing cases"), std::string::npos) << md;
   EXPECT_NE(md.find("| level0/penalty | 2 |"), std::string::npos) << md;
+  EXPECT_NE(read_text(dir / "compare.html").find("<td>level0/penalty</td><td>2</td>"),
+            std::string::npos);
   const Table partial = read_table(dir / "compare.csv");
   ASSERT_EQ(partial.rows.size(), 1u);
   EXPECT_EQ(partial.rows[0].at("method"), "lagrange");
@@ -304,6 +316,10 @@ TEST(JobList, SweepRunByParallelMergesToTheSameTable) {
   EXPECT_NE(output.find("missing    case1 (no summary.json; jobs.txt line 2)"), std::string::npos)
       << output;
   EXPECT_NE(read_text(dir / "sweep.md").find("| case1 | 2 |"), std::string::npos);
+  const std::string html = read_text(dir / "sweep.html");
+  EXPECT_NE(html.find("<td>case1</td><td>2</td>"), std::string::npos);
+  EXPECT_EQ(count_of(html, "<td data-value=\"converged\">"), 2u);
+  EXPECT_EQ(count_of(html, "<svg class=\"chart\""), 1u);
   EXPECT_EQ(read_table(dir / "sweep.csv").rows.size(), 2u);
 }
 
@@ -328,6 +344,13 @@ TEST(JobList, BenchWritesItsLadderAndAMergeListsWhatHasNotRun) {
             std::string::npos)
       << md;
   EXPECT_NE(md.find("contact overhead"), std::string::npos);
+  // Nothing ran, so nothing was drawn: bench.html says so for each chart instead of an image.
+  const std::string html = read_text(dir / "bench.html");
+  EXPECT_EQ(count_of(html, "<svg"), 0u);
+  EXPECT_NE(html.find("(time_vs_dofs.svg) not shown: not written: no run converged"),
+            std::string::npos);
+  EXPECT_NE(html.find("(accuracy_vs_time.svg) not shown: not written"), std::string::npos);
+  EXPECT_NE(html.find("<tbody>\n</tbody>"), std::string::npos) << "no rows yet";
 }
 
 TEST(JobList, MergeRefusesAFolderWithoutAValidManifest) {
