@@ -6,11 +6,15 @@
 #include <filesystem>
 #include <iomanip>
 #include <map>
+#include <fstream>
 #include <sstream>
+
+#include <nlohmann/json.hpp>
 
 #include "app/report/csv_table.hpp"
 #include "app/report/gnuplot.hpp"
 #include "app/report/pressure_profile.hpp"
+#include "app/report/units.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 
@@ -18,8 +22,24 @@ namespace c2d::app {
 
 namespace {
 
+/// The units of the run in DIR (its summary.json's `units`; none when it has none).
+Units run_units(const std::string& dir) {
+  std::ifstream in(dir + "/summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
+  if (s.is_discarded() || !s.is_object() || !s.contains("units") || !s["units"].is_string())
+    return {};
+  return parse_units(s["units"].get<std::string>());
+}
+
+/// 'slave node position x (reference) [mm]' for the axis the surface spreads along.
+std::string position_label(int axis, const Units& u) {
+  return gp_text(axis_label(std::string("slave node position ") + (axis ? "y" : "x") +
+                                " (reference)", u.length));
+}
+
 /// Activation and contact force charts from contact_steps.csv.
-std::string contact_charts(const std::string& dir, const CsvTable& t, TraceCharts& out) {
+std::string contact_charts(const std::string& dir, const CsvTable& t, const Units& u,
+                           TraceCharts& out) {
   const int c_step = t.column("step"), c_lf = t.column("load_factor"), c_x = t.column("x"),
             c_y = t.column("y"), c_force = t.column("force"), c_p = t.column("pressure"),
             c_active = t.column("active");
@@ -46,12 +66,14 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
   std::ostringstream cmd;
   cmd << "set title 'Contact activation per load step ("
       << t.rows.size() / std::max<size_t>(1, per_step.size())
-      << " slave nodes)'\nset xlabel 'slave node position " << (axis ? "y" : "x")
-      << " (reference)'\nset ylabel 'load factor'\nset grid\nset key outside bottom center "
-         "horizontal\n"
+      << " slave nodes)'\nset xlabel " << position_label(axis, u)
+      << "\nset ylabel 'load factor'\nset grid\nset key outside bottom center horizontal\n"
       << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', "
          "1 '#440154')\n"
-      << "set cblabel '" << (any_pressure ? "contact pressure" : "contact force") << "'\n"
+      << "set cblabel "
+      << gp_text(any_pressure ? axis_label("contact pressure", u.stress)
+                              : axis_label("contact force", u.force))
+      << "\n"
       << "plot " << gp_file(act_path) << " using 1:($4 > 0 ? 1/0 : $2) with points pt 6 ps 0.6 "
       << "lc rgb 'gray60' title 'open', \\\n     '' using 1:($4 > 0 ? $2 : 1/0):3 with points "
       << "pt 5 ps 1.4 lc palette title 'in contact (colour: "
@@ -68,7 +90,8 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
   const std::string force_path = dir + "/contact_force.dat";
   std::ostringstream fc;
   fc << "set title 'Total contact force against load factor'\nset xlabel 'load factor'\n"
-     << "set ylabel 'total contact force'\nset y2label 'active slave nodes'\nset ytics nomirror\n"
+     << "set ylabel " << gp_text(axis_label("total contact force", u.force))
+     << "\nset y2label 'active slave nodes'\nset ytics nomirror\n"
      << "set y2tics\nset grid\nset key top left\nset xrange [0:1]\nset yrange [0:*]\n"
      << "set y2range [0:*]\nplot " << gp_file(force_path)
      << " using 1:2 with linespoints pt 7 lw 2 title 'contact force', '' using 1:3 axes x1y2 "
@@ -81,7 +104,8 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, TraceChart
 
 /// Friction: the stick and slip zones per load step (slave node position × load factor,
 /// coloured by state) and the stick and slip counts per step, from contact_steps.csv's state.
-std::string friction_charts(const std::string& dir, const CsvTable& t, TraceCharts& out) {
+std::string friction_charts(const std::string& dir, const CsvTable& t, const Units& u,
+                            TraceCharts& out) {
   const int c_step = t.column("step"), c_lf = t.column("load_factor"), c_x = t.column("x"),
             c_y = t.column("y"), c_state = t.column("state"), c_q = t.column("shear");
   const int axis = spread_axis(t.points("x", "y"));
@@ -104,8 +128,8 @@ std::string friction_charts(const std::string& dir, const CsvTable& t, TraceChar
   }
   const std::string zones_path = dir + "/stick_slip.dat";
   std::ostringstream cmd;
-  cmd << "set title 'Stick and slip per load step'\nset xlabel 'slave node position "
-      << (axis ? "y" : "x") << " (reference)'\nset ylabel 'load factor'\nset grid\n"
+  cmd << "set title 'Stick and slip per load step'\nset xlabel " << position_label(axis, u)
+      << "\nset ylabel 'load factor'\nset grid\n"
       << "set key outside bottom center horizontal\nset yrange [0:1.05]\n"
       << "plot " << gp_file(zones_path) << " using 1:($3 == 0 ? $2 : 1/0) with points pt 6 "
       << "ps 0.6 lc rgb 'gray60' title 'open', \\\n     '' using 1:($3 == 1 ? $2 : 1/0) with "
@@ -179,14 +203,15 @@ TraceCharts draw_trace_charts(const std::string& dir) {
     throw InputError(trace_path + ": not found; `contact2d run SCENE --out " + dir + "` writes it");
   const CsvTable trace = read_csv(trace_path);
   TraceCharts out;
+  const Units units = run_units(dir);
   const std::string steps_path = dir + "/contact_steps.csv";
   if (std::filesystem::exists(steps_path)) {
     const CsvTable steps = read_csv(steps_path);
-    if (!steps.rows.empty()) out.error = contact_charts(dir, steps, out);
+    if (!steps.rows.empty()) out.error = contact_charts(dir, steps, units, out);
     const bool friction = std::find(steps.columns.begin(), steps.columns.end(), "state") !=
                           steps.columns.end();
     if (!steps.rows.empty() && friction && out.error.empty())
-      out.error = friction_charts(dir, steps, out);
+      out.error = friction_charts(dir, steps, units, out);
   }
   if (out.error.empty()) out.error = residual_chart(dir, trace, out);
   return out;

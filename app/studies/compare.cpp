@@ -52,6 +52,7 @@ CompareStudy plan_compare(const CompareOptions& o) {
   s.out = study_out(o, "compare");
   s.timing = timing_note(o.jobs);
   s.hertz = hertz_reference(scene);
+  s.units = scene.units;
   // A frictional Hertz case (Cattaneo–Mindlin) is judged on its shear profile, which depends
   // on the stick and slip zones as well as the pressure.
   s.metric = s.hertz ? "profile"
@@ -85,6 +86,7 @@ void write_compare_files(const CompareStudy& s) {
                                   {"methods", s.methods},
                                   {"levels", s.levels},
                                   {"metric", s.metric},
+                                  {"units", s.units},
                                   {"hertz", hertz}};
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows)
@@ -96,6 +98,7 @@ CompareStudy compare_from_manifest(const StudyManifest& m) {
   const ManifestNode options = m.options();
   CompareStudy s;
   s.scene = options["scene"].text();
+  if (options.has("units")) s.units = options["units"].text();
   s.methods = options["methods"].texts();
   s.levels = options["levels"].integer();
   s.metric = options["metric"].text();

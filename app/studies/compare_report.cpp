@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "app/report/gnuplot.hpp"
+#include "app/report/units.hpp"
 #include "app/report/html_report.hpp"
 #include "app/report/pressure_profile.hpp"
 #include "core/writers.hpp"
@@ -297,8 +298,10 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest,
                                     std::vector<ReportChart>& charts) {
   std::ostringstream plot;
   plot << "set title 'Contact pressure, level " << finest
-       << " (finest), every method'\nset xlabel 'position along the slave surface'\n"
-       << "set ylabel 'pressure'\nset grid\nset key top right\n";
+       << " (finest), every method'\nset xlabel "
+       << gp_text(axis_label("position along the slave surface", parse_units(s.units).length))
+       << "\nset ylabel " << gp_text(axis_label("pressure", parse_units(s.units).stress))
+       << "\nset grid\nset key top right\n";
   if (s.hertz) {
     // The data's span within 1.6 half-widths of the centre (a half model shows one side).
     double lo = 1e300, hi = -1e300;
@@ -339,7 +342,8 @@ std::string chart_penetration(const CompareStudy& s, std::vector<ReportChart>& c
   int n = 0;
   plot << "set title 'Largest penetration per method (exact methods at round-off; 0 drawn at "
           "1e-20)'\n"
-       << "set xlabel 'refinement level'\nset ylabel 'max penetration'\nset logscale y\n"
+       << "set xlabel 'refinement level'\nset ylabel "
+       << gp_text(axis_label("max penetration", parse_units(s.units).length)) << "\nset logscale y\n"
        << "set format y '10^{%L}'\nset grid\nset key outside right\nset xtics 1\nplot ";
   for (const auto& m : s.methods) {
     std::ostringstream block;

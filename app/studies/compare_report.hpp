@@ -34,6 +34,7 @@ struct CompareStudy {
   int levels = 1;
   std::optional<HertzReference> hertz;
   std::string metric;  ///< "profile", "shear", "p_max" or "" (no reference)
+  std::string units;   ///< the scene's `units` (axis labels)
   std::string out;
   std::string timing;  ///< timing_note() or merged_timing_note()
   std::vector<StudyCase> cases;
