@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/report/gnuplot.hpp"
+#include "app/report/units.hpp"
 #include "app/report/html_report.hpp"
 #include "app/studies/job_list.hpp"
 #include "core/errors.hpp"
@@ -136,6 +137,7 @@ std::vector<StudyCase> sweep_cases(const SweepOptions& o, const SweptKey& k,
 /// accuracy asked for, how its times were taken, the cases and their rows (same order).
 struct SweepStudy {
   std::string scene, key, out, timing;
+  std::string units;  ///< the scene's `units` (the penetration panel's label)
   double accuracy = 0.01;
   std::vector<StudyCase> cases;
   std::vector<SweepRow> rows;
@@ -230,7 +232,7 @@ std::string sweep_table(const std::string& key, const std::vector<SweepRow>& row
 /// sweep.png/svg: five panels against the swept value, failed values as red dashed lines;
 /// nothing when no value converged. Returns "" or the chart's failure; `drawn` says whether
 /// there was anything to draw.
-std::string chart_sweep(const std::string& out, const std::string& key,
+std::string chart_sweep(const std::string& out, const std::string& key, const std::string& units,
                         const std::vector<SweepRow>& rows, const SeedRule& seed, bool& drawn) {
   std::ostringstream data;
   data << std::setprecision(12);
@@ -265,7 +267,7 @@ std::string chart_sweep(const std::string& out, const std::string& key,
          << " with linespoints pt 7 lw 2\n";
   };
   if (has_error) panel(2, "|p_max error|", true);
-  panel(3, "max penetration", true);
+  panel(3, axis_label("max penetration", parse_units(units).length), true);
   panel(4, "iterations", false);
   panel(5, "solve time (s)", false);
   panel(6, "pivot ratio (conditioning)", true);
@@ -281,13 +283,14 @@ SweepStudy plan_sweep(const SweepOptions& o) {
   const std::vector<double> values = parse_range(k.spec, "--set " + k.key);
   std::vector<std::string> first = k.fixed;
   first.push_back(k.key + "=" + cell(values.front()));
-  core::load_scene(o.scene, first);
+  const std::string units = core::load_scene(o.scene, first).units;
   if (o.jobs < 1)
     throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
   SweepStudy s;
   s.scene = o.scene;
   s.key = k.key;
   s.accuracy = o.accuracy;
+  s.units = units;
   s.out = study_out(o, "sweep");
   s.timing = timing_note(o.jobs);
   s.cases = sweep_cases(o, k, values);
@@ -298,7 +301,8 @@ SweepStudy plan_sweep(const SweepOptions& o) {
 
 /// study.json's options and case keys: what the report needs besides the case folders.
 void write_sweep_files(const SweepStudy& s) {
-  const nlohmann::json options = {{"scene", s.scene}, {"key", s.key}, {"accuracy", s.accuracy}};
+  const nlohmann::json options = {
+      {"scene", s.scene}, {"key", s.key}, {"accuracy", s.accuracy}, {"units", s.units}};
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows) keys.push_back({{"value", r.value}});
   write_study_files(s.out, "sweep", options, s.cases, keys);
@@ -309,6 +313,7 @@ SweepStudy sweep_from_manifest(const StudyManifest& m) {
   SweepStudy s;
   s.scene = options["scene"].text();
   s.key = options["key"].text();
+  if (options.has("units")) s.units = options["units"].text();
   s.accuracy = options["accuracy"].number();
   s.out = m.dir;
   s.timing = merged_timing_note();
@@ -327,7 +332,7 @@ int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool q
   const SeedRule seed = seed_rule(s.key, s.rows);
   const std::string verdict = sweep_verdict(s.accuracy, s.key, s.rows, seed);
   bool drawn = false;
-  const std::string chart_error = chart_sweep(s.out, s.key, s.rows, seed, drawn);
+  const std::string chart_error = chart_sweep(s.out, s.key, s.units, s.rows, seed, drawn);
   ReportChart chart{
       "sweep", "p_max error, penetration, iterations, solve time and pivot ratio against " + s.key,
       chart_error};
