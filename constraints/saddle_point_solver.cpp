@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "constraints/strategy_common.hpp"
+#include "core/stopwatch.hpp"
 
 namespace c2d::constraints {
 
@@ -17,6 +18,13 @@ constexpr double kMinCholeskyPivotRatio = 1e-11;
 /// Gap rows in R at first: enough for a body floating in the contact direction, few enough
 /// that W holds little beyond the active rows.
 constexpr int kRegularisingRows = 8;
+/// Largest tail for the condensed path: L₂₂ is dense, k² doubles (128 MB) and k³/3 flops in
+/// the factorisation (21 GFlop, a second or two on two cores).
+constexpr int kMaxTail = 4000;
+/// Above this relative residual the condensed solve takes one step of iterative refinement
+/// with the same factors (slender, ill-conditioned bodies; the Hertz cases stay near 1e-14).
+constexpr double kRefineResidual = 1e-12;
+constexpr int kRefineSteps = 3;
 /// Runs `f` when the scope ends, whichever return ends it.
 template <class F>
 struct AtExit {
@@ -40,6 +48,11 @@ SaddlePointSolver::SaddlePointSolver(const ConstrainedProblem& p, double s) : p_
   ct_ = SpMat(n, me + m);
   ct_.setFromTriplets(t.begin(), t.end());
   s_columns_.resize(me + m);
+  v_.resize(me + m);
+  std::vector<char> touched(n, 0);
+  for (const auto& e : t) touched[e.row()] = 1;
+  for (int d = 0; d < n; ++d)
+    if (touched[d]) tail_dofs_.push_back(d);
 }
 
 SaddlePointSolver::~SaddlePointSolver() = default;
@@ -47,7 +60,10 @@ SaddlePointSolver::~SaddlePointSolver() = default;
 void SaddlePointSolver::stiffness_changed() {
   path_ = Path::kUnknown;
   rho_.resize(0);
+  condensed_ = false;
   for (auto& c : s_columns_) c.resize(0);
+  for (auto& v : v_) v.resize(0);
+  cached_rhs_.resize(0);
 }
 
 bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
@@ -82,6 +98,18 @@ bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   SpMat scaled(me + m, n);
   scaled.setFromTriplets(t.begin(), t.end());
   k_rho_ = p_.stiffness + SpMat(scaled.transpose() * scaled);  // kept: the factor refers to it
+  condensed_ = false;
+  if (!tail_dofs_.empty() && static_cast<int>(tail_dofs_.size()) <= kMaxTail &&
+      static_cast<int>(tail_dofs_.size()) < n) {
+    condensed_ = tail_.factorize(k_rho_, tail_dofs_) == SolveStatus::kConverged &&
+                 tail_.report().pivot_ratio > kMinCholeskyPivotRatio;
+    if (condensed_) return true;
+    if (tail_.report().status == SolveStatus::kSingular) {  // K_ρ itself: no other factor helps
+      rho_.resize(0);
+      k_rho_.resize(0, 0);
+      return false;
+    }
+  }
   if (chol_.factorize(k_rho_) == SolveStatus::kConverged &&
       chol_.report().pivot_ratio > kMinCholeskyPivotRatio)
     return true;
@@ -92,12 +120,14 @@ bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
 
 void SaddlePointSolver::sync_report() {
   const auto& c = chol_.report();
+  const auto& t = tail_.report();
   const auto& l = lu_.report();
-  report_.numeric_factorizations = c.numeric_factorizations + l.numeric_factorizations;
-  report_.symbolic_seconds = c.symbolic_seconds + l.symbolic_seconds;
-  report_.symbolic_analyses = c.symbolic_analyses + l.symbolic_analyses;
-  report_.numeric_seconds = c.numeric_seconds + l.numeric_seconds;
-  report_.solve_seconds = c.solve_seconds + l.solve_seconds;
+  report_.numeric_factorizations =
+      c.numeric_factorizations + t.numeric_factorizations + l.numeric_factorizations;
+  report_.symbolic_seconds = c.symbolic_seconds + t.symbolic_seconds + l.symbolic_seconds;
+  report_.symbolic_analyses = c.symbolic_analyses + t.symbolic_analyses + l.symbolic_analyses;
+  report_.numeric_seconds = c.numeric_seconds + t.numeric_seconds + l.numeric_seconds;
+  report_.solve_seconds = c.solve_seconds + t.solve_seconds + l.solve_seconds + dense_seconds_;
 }
 
 SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool all_rows,
@@ -146,10 +176,8 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
   return st;
 }
 
-SolveStatus SaddlePointSolver::factorize_schur() {
+SolveStatus SaddlePointSolver::schur_by_solves(Eigen::MatrixXd& schur) {
   const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
-  report_.message.clear();
-  report_.rcond = 1.0;  // below kMinSchurRcond only when S itself is singular
   // Columns of S = C K_ρ⁻¹ Cᵀ over every row, for the rows new to the system: W = K_ρ⁻¹ Cᵀ
   // in blocks of kSchurBlock columns, each block reduced to C W at once (W is never kept).
   std::vector<int> missing;
@@ -170,6 +198,44 @@ SolveStatus SaddlePointSolver::factorize_schur() {
     const Eigen::MatrixXd cw = ct_.transpose() * w;
     for (int c = 0; c < cols; ++c) s_columns_[missing[first + c]] = cw.col(c);
   }
+  schur.resize(k, k);
+  for (int c = 0; c < k; ++c)
+    for (int r = 0; r < k; ++r) schur(r, c) = s_columns_[rows_[c]][rows_[r]];
+  return SolveStatus::kConverged;
+}
+
+void SaddlePointSolver::schur_condensed(Eigen::MatrixXd& schur) {
+  const core::Stopwatch clock;
+  const int k = static_cast<int>(rows_.size()), kt = tail_.tail_size();
+  const auto& pos = tail_.tail_position();
+  // V's columns for the rows new to the system: L₂₂⁻¹ c_j, one dense triangular solve for all.
+  std::vector<int> missing;
+  for (int j : rows_)
+    if (v_[j].size() == 0) missing.push_back(j);
+  if (!missing.empty()) {
+    Eigen::MatrixXd block = Eigen::MatrixXd::Zero(kt, static_cast<Eigen::Index>(missing.size()));
+    for (size_t c = 0; c < missing.size(); ++c)
+      for (SpMat::InnerIterator it(ct_, missing[c]); it; ++it) block(pos[it.row()], c) = it.value();
+    tail_.tail_factor().triangularView<Eigen::Lower>().solveInPlace(block);
+    for (size_t c = 0; c < missing.size(); ++c) v_[missing[c]] = block.col(c);
+  }
+  Eigen::MatrixXd v(kt, k);
+  for (int r = 0; r < k; ++r) v.col(r) = v_[rows_[r]];
+  // S = Vᵀ D₂⁻¹ V (D₂ = I for an L Lᵀ factor; an L D Lᵀ one may hold negative pivots).
+  schur = v.transpose() * (tail_.tail_pivots().cwiseInverse().asDiagonal() * v);
+  dense_seconds_ += clock.elapsed();
+}
+
+SolveStatus SaddlePointSolver::factorize_schur() {
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
+  report_.message.clear();
+  report_.rcond = 1.0;  // below kMinSchurRcond only when S itself is singular
+  Eigen::MatrixXd schur;  // C K_ρ⁻¹ Cᵀ
+  if (condensed_) {
+    schur_condensed(schur);
+  } else if (const SolveStatus st = schur_by_solves(schur); st != SolveStatus::kConverged) {
+    return st;
+  }
   std::vector<Eigen::Triplet<double>> t;
   for (int r = 0; r < k; ++r)
     for (SpMat::InnerIterator it(ct_, rows_[r]); it; ++it) t.emplace_back(r, it.row(), it.value());
@@ -178,13 +244,11 @@ SolveStatus SaddlePointSolver::factorize_schur() {
   report_.status = SolveStatus::kConverged;
   report_.rcond = 1.0;
   if (k == 0) return report_.status;
-  Eigen::MatrixXd schur(k, k);  // C K_ρ⁻¹ Cᵀ
-  for (int c = 0; c < k; ++c)
-    for (int r = 0; r < k; ++r) schur(r, c) = s_columns_[rows_[c]][rows_[r]];
   schur = 0.5 * (schur + schur.transpose()).eval();
   for (int r = 0; r < k; ++r)
     if (!in_rows_[r]) schur(r, r) -= 1.0 / rho_[rows_[r]];
   schur_.compute(schur);
+  if (condensed_) schur_matrix_ = schur;
   // The LU's condition estimate, bounded by the pivot ratio of U (an exactly zero pivot).
   const VecX d = schur_.matrixLU().diagonal().cwiseAbs();
   const double dmax = d.maxCoeff();
@@ -197,7 +261,7 @@ SolveStatus SaddlePointSolver::factorize_schur() {
   return report_.status;
 }
 
-SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
+SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x, bool surface_only) {
   const AtExit sync{[this] { sync_report(); }};
   if (path_ != Path::kSchur) {
     const SolveStatus st = lu_.solve(b, x);
@@ -207,6 +271,31 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
     return st;
   }
   if (report_.status != SolveStatus::kConverged) return report_.status;
+  if (condensed_) {
+    SolveStatus st = solve_condensed(b, x, surface_only);
+    // Iterative refinement with the same factors while it pays (each step a tenth or less of
+    // the residual before), at most kRefineSteps: near a limit point K_ρ is nearly singular.
+    double before = report_.relative_residual;
+    for (int step = 0; st == SolveStatus::kConverged || st == SolveStatus::kIllConditioned;) {
+      if (surface_only || before <= kRefineResidual || step++ == kRefineSteps) break;
+      const VecX kept_x = x;
+      const KktSolveReport kept = report_;
+      const SolveStatus refined = refine(b, x);
+      if (report_.relative_residual < 0.1 * before) {
+        st = refined;
+        before = report_.relative_residual;
+        continue;
+      }
+      if (report_.relative_residual < before) {
+        st = refined;
+      } else {  // no gain: the solution before this step stands
+        x = kept_x;
+        report_ = kept;
+      }
+      break;
+    }
+    return st;
+  }
   const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
   x = VecX::Zero(size_);
   VecX y;
@@ -220,6 +309,93 @@ SolveStatus SaddlePointSolver::solve(const VecX& b, VecX& x) {
   }
   x.head(n) = y;
   check_solution(b, y, z, x);
+  return report_.status;
+}
+
+SolveStatus SaddlePointSolver::solve_condensed(const VecX& b, VecX& x, bool surface_only) {
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size()), kt = tail_.tail_size();
+  x = VecX::Zero(size_);
+  // K_ρ⁻¹ r = Pᵀ L⁻ᵀ w with w = (L D)⁻¹ P r: w is kept while r is (each set of an active-set
+  // loop).
+  const VecX r = regularised_rhs(b);
+  if (r.size() != cached_rhs_.size() || r != cached_rhs_) {
+    cached_rhs_.resize(0);
+    if (const SolveStatus st = tail_.forward(r, cached_forward_); st != SolveStatus::kConverged) {
+      report_.status = st;
+      report_.message = tail_.report().message;
+      return st;
+    }
+    cached_rhs_ = r;
+  }
+  VecX w = cached_forward_;
+  if (all_rows_) solve_inactive_rows(b, x);
+  VecX z = VecX::Zero(k);
+  if (k > 0) {
+    const core::Stopwatch clock;
+    // C y = Vᵀ w₂ (y = K_ρ⁻¹ r, w₂ the tail of w); then u = y + s K_ρ⁻¹ Cᵀ z adds s D₂⁻¹ V z
+    // to w₂.
+    Eigen::MatrixXd v(kt, k);
+    for (int c = 0; c < k; ++c) v.col(c) = v_[rows_[c]];
+    VecX rhs = v.transpose() * w.tail(kt);
+    for (int c = 0; c < k; ++c)
+      rhs[c] = -((in_rows_[c] ? b[positions_[c]] : 0.0) + s_ * rhs[c]) / (s_ * s_);
+    z = schur_.solve(rhs);
+    if (surface_only) {
+      const double rn = rhs.norm();
+      report_.relative_residual = (schur_matrix_ * z - rhs).norm() / (rn > 0 ? rn : 1.0);
+    }
+    w.tail(kt) += s_ * (v * z).cwiseQuotient(tail_.tail_pivots());
+    for (int c = 0; c < k; ++c)
+      if (in_rows_[c])
+        x[positions_[c]] = z[c];
+      else
+        z[c] = 0.0;  // an auxiliary unknown of R, not a multiplier
+    dense_seconds_ += clock.elapsed();
+  }
+  if (surface_only) {
+    // u on the tail: the last k rows of Pᵀ L⁻ᵀ w need only L₂₂ᵀ.
+    const core::Stopwatch clock;
+    const VecX yt = tail_.tail_factor().triangularView<Eigen::Lower>().transpose().solve(w.tail(kt));
+    for (int d : tail_dofs_) x[d] = yt[tail_.tail_position()[d]];
+    dense_seconds_ += clock.elapsed();
+    if (k == 0) report_.relative_residual = 0.0;
+    report_.status = x.allFinite() && std::isfinite(report_.relative_residual)
+                         ? SolveStatus::kConverged
+                         : SolveStatus::kFailed;
+    if (report_.status != SolveStatus::kConverged)
+      report_.message = "Schur-complement solve produced non-finite values";
+    return report_.status;
+  }
+  VecX y;
+  if (const SolveStatus st = tail_.backward(w, y); st != SolveStatus::kConverged) {
+    report_.status = st;
+    report_.message = tail_.report().message;
+    return st;
+  }
+  x.head(n) = y;
+  check_solution(b, y, z, x);
+  return report_.status;
+}
+
+SolveStatus SaddlePointSolver::refine(const VecX& b, VecX& x) {
+  const int n = p_.num_unknowns(), k = static_cast<int>(rows_.size());
+  // The residual of the original rows, R = b − M x, solved with the same factors: x += M⁻¹ R.
+  VecX z = VecX::Zero(k);
+  for (int r = 0; r < k; ++r)
+    if (in_rows_[r]) z[r] = x[positions_[r]];
+  const VecX u = x.head(n);
+  VecX residual = VecX::Zero(size_);
+  residual.head(n) = b.head(n) - p_.stiffness * u + s_ * (c_rows_.transpose() * z);
+  const VecX cu = c_rows_ * u;
+  for (int r = 0; r < k; ++r)
+    if (in_rows_[r]) residual[positions_[r]] = b[positions_[r]] + s_ * cu[r];
+  VecX dx;
+  if (const SolveStatus st = solve_condensed(residual, dx); st != SolveStatus::kConverged)
+    return st;
+  x += dx;
+  for (int r = 0; r < k; ++r)
+    if (in_rows_[r]) z[r] = x[positions_[r]];
+  check_solution(b, VecX(x.head(n)), z, x);
   return report_.status;
 }
 

@@ -18,6 +18,12 @@
 //    right-hand side); rows of R that are open get an auxiliary unknown ζ_r = ρ_r c_rᵀ u / s and
 //    the diagonal −1/ρ_r in S. An active-set loop then costs one Cholesky plus a few solves:
 //    contact at the price of a linear solve, floating body or not.
+//    With every row's unknowns ordered last in K_ρ's factor (core::TailCholesky: the tail T,
+//    when it has at most kMaxTail unknowns), S = Vᵀ V with V = L₂₂⁻¹ C_Tᵀ costs dense work on
+//    the tail only, and a solve costs one forward substitution (kept while K_ρ's right-hand side
+//    is: the active-set loop's is) and one back substitution: the multipliers come from the
+//    tail's part of the forward solve, and the correction s K_ρ⁻¹ Cᵀ z stays on the tail until
+//    the back substitution.
 //  - LU of the whole saddle point (UMFPACK), when even K_ρ is singular or C is large; the
 //    symbolic analysis is kept while the pattern is.
 //
@@ -31,6 +37,7 @@
 #include "constraints/constrained_problem.hpp"
 #include "constraints/kkt_solver.hpp"
 #include "core/spd_solver.hpp"
+#include "core/tail_cholesky.hpp"
 
 namespace c2d::constraints {
 
@@ -49,7 +56,13 @@ class SaddlePointSolver {
   /// factorize().
   void stiffness_changed();
   /// Solves with the last factorisation; checks finiteness and the relative residual.
-  SolveStatus solve(const VecX& b, VecX& x);
+  /// With `surface_only`, on the condensed path: u only on the unknowns the rows touch (the
+  /// rest zero), the multipliers exact, no back substitution; the report's residual is then the
+  /// condensed system's (S z = r). An active-set loop needs no more until its set settles, and
+  /// the full solve of the same right-hand side afterwards costs one back substitution.
+  SolveStatus solve(const VecX& b, VecX& x, bool surface_only = false);
+  /// True when solve(b, x, true) gives the surface-only solution (else it solves fully).
+  bool condensed() const { return path_ == Path::kSchur && condensed_; }
 
   const KktSolveReport& report() const { return report_; }
   bool uses_schur() const { return path_ == Path::kSchur; }
@@ -57,6 +70,15 @@ class SaddlePointSolver {
  private:
   enum class Path { kUnknown, kSchur, kLu };
   SolveStatus factorize_schur();
+  /// S = C K_ρ⁻¹ Cᵀ over the rows in the system, into `schur`: from the kept columns of S
+  /// (solved with K_ρ's factor), or condensed, from V = L₂₂⁻¹ C_Tᵀ.
+  SolveStatus schur_by_solves(Eigen::MatrixXd& schur);
+  void schur_condensed(Eigen::MatrixXd& schur);
+  /// The condensed solve: one forward substitution (kept while K_ρ's right-hand side is),
+  /// dense work on the tail, one back substitution.
+  SolveStatus solve_condensed(const VecX& b, VecX& x, bool surface_only = false);
+  /// One step of iterative refinement of x with the condensed path's factors.
+  SolveStatus refine(const VecX& b, VecX& x);
   /// The report's factorisation counts and times: the Cholesky's and the LU's, summed.
   void sync_report();
   /// Chooses R and ρ and factorises K_ρ; false when R cannot make K positive definite.
@@ -77,6 +99,14 @@ class SaddlePointSolver {
   Path path_ = Path::kUnknown;
   bool all_rows_ = false;
   core::SpdSolver chol_{core::SpdSolver::Backend::kCholmod, false};
+  /// K_ρ's factor with every unknown a constraint row touches ordered last (the condensed path,
+  /// taken when that tail is small enough for a dense L₂₂).
+  core::TailCholesky tail_;
+  bool condensed_ = false;
+  std::vector<int> tail_dofs_;      ///< unknowns any constraint row touches
+  std::vector<VecX> v_;             ///< L₂₂⁻¹ c_j (tail order); empty until j is in the system
+  VecX cached_rhs_, cached_forward_;  ///< K_ρ's last right-hand side and its forward solve
+  double dense_seconds_ = 0;        ///< the condensed path's dense work on the tail
   KktSolver lu_;
   SpMat ct_;                        ///< Cᵀ of every row, n × (m_eq + m): equality rows first
   std::vector<VecX> s_columns_;     ///< C K_ρ⁻¹ c_j over every row; empty until j is in the system
@@ -85,6 +115,7 @@ class SaddlePointSolver {
   int size_ = 0;                    ///< saddle-point vector length
   SpMat c_rows_;                    ///< C_rows
   Eigen::PartialPivLU<Eigen::MatrixXd> schur_;
+  Eigen::MatrixXd schur_matrix_;    ///< S itself (condensed path: the surface-only residual)
   /// Regularisation: ρ per constraint (0 = not in R); sized me + m, empty without.
   VecX rho_;
   SpMat k_rho_;                     ///< K_ρ, factorised in chol_

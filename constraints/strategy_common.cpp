@@ -107,26 +107,6 @@ void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s) {
 
 namespace {
 
-/// Whether an active-set iteration is settling: it is not when this many iterations in a row
-/// change the set without reaching a new fewest number of changing rows (the full-step
-/// iteration on a slender body wanders like that for dozens of iterations).
-class StallMonitor {
- public:
-  bool progress(const ActiveSetTracker::Change& change) {
-    const int changes = change.entering + change.leaving;
-    if (changes < fewest_) {
-      fewest_ = changes;
-      since_fewest_ = 0;
-      return true;
-    }
-    return ++since_fewest_ < kStallIterations;
-  }
-
- private:
-  static constexpr int kStallIterations = 3;
-  int fewest_ = std::numeric_limits<int>::max();
-  int since_fewest_ = 0;
-};
 
 IterationRecord safeguard_record(int iteration, const std::vector<char>& active, int entering,
                                  int leaving, const VecX& gap) {
@@ -325,9 +305,6 @@ double saddle_point_scale(const ConstrainedProblem& p) {
   return s > 0 ? s : 1.0;
 }
 
-namespace {
-// Position of each multiplier in the saddle-point vector (-1: not in the system); `size` gets
-// the system's size.
 std::vector<int> gap_positions(const ConstrainedProblem& p, const std::vector<char>& active,
                                bool all_rows, int& size) {
   std::vector<int> pos(p.num_gaps(), -1);
@@ -336,7 +313,6 @@ std::vector<int> gap_positions(const ConstrainedProblem& p, const std::vector<ch
     if (all_rows || active[i]) pos[i] = size++;
   return pos;
 }
-}  // namespace
 
 SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& active, double s,
                           bool all_rows) {
@@ -367,105 +343,6 @@ SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& 
   SpMat m(size, size);
   m.setFromTriplets(t.begin(), t.end());
   return m;
-}
-
-VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& active, double s,
-                      bool all_rows) {
-  const int n = p.num_unknowns(), me = p.num_equalities();
-  int size = 0;
-  const auto pos = gap_positions(p, active, all_rows, size);
-  VecX b = VecX::Zero(size);
-  b.head(n) = p.load;
-  if (me > 0) b.segment(n, me) = -s * p.eq_rhs;
-  for (int i = 0; i < p.num_gaps(); ++i)
-    if (pos[i] >= 0 && active[i]) b[pos[i]] = s * p.gap0[i];
-  return b;
-}
-
-void split_saddle_point(const ConstrainedProblem& p, const std::vector<char>& active, double s,
-                        bool all_rows, const VecX& x, ConstraintSolution& out) {
-  const int n = p.num_unknowns(), me = p.num_equalities();
-  int size = 0;
-  const auto pos = gap_positions(p, active, all_rows, size);
-  out.u = x.head(n);
-  out.eq_multiplier = me > 0 ? VecX(s * x.segment(n, me)) : VecX();
-  out.contact_force = VecX::Zero(p.num_gaps());
-  for (int i = 0; i < p.num_gaps(); ++i)
-    if (pos[i] >= 0 && active[i]) out.contact_force[i] = s * x[pos[i]];
-}
-
-void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_rows,
-                      const NextActiveSet& next_set, const std::string& step,
-                      ConstraintSolution& s) {
-  const double scale = saddle_point_scale(p);
-  std::vector<char> active = initially_closed(p);
-  ActiveSetTracker tracker;
-  tracker.record(active);
-  StallMonitor stall;
-  SaddlePointSolver kkt(p, scale);
-  bool analysed = false;
-  // One set's saddle point, split into u, μ and λ.
-  const SetSolve solve_set = [&](const std::vector<char>& set, ConstraintSolution& out,
-                                 std::string& error) {
-    VecX x;
-    SolveStatus st = kkt.factorize(set, all_rows, all_rows && analysed);
-    analysed = true;
-    if (st == SolveStatus::kConverged) st = kkt.solve(saddle_point_rhs(p, set, scale, all_rows), x);
-    if (st == SolveStatus::kConverged)
-      split_saddle_point(p, set, scale, all_rows, x, out);
-    else
-      error = kkt.report().message;
-    return st;
-  };
-  s.status = SolveStatus::kMaxIterations;
-  std::string why =
-      "active set still changing after " + std::to_string(max_iterations) + " " + step + "s";
-  for (int it = 1; it <= max_iterations; ++it) {
-    if (const SolveStatus st = solve_set(active, s, s.message); st != SolveStatus::kConverged) {
-      s.status = st;
-      s.iterations = it;
-      break;
-    }
-    const VecX g = p.num_gaps() > 0 ? VecX(p.gap0 + p.gap_jacobian * s.u) : VecX();
-    std::vector<char> next = active;
-    const double residual = next_set(s, g, kkt.report().relative_residual, next);
-    const auto change = tracker.record(next);
-    s.history.push_back(make_record(it, next, change, g, residual));
-    if (change.unchanged) {
-      s.status = SolveStatus::kConverged;
-      s.message.clear();
-      break;
-    }
-    if (change.repeated) {
-      s.status = SolveStatus::kCycling;
-      why = "active set returned to an earlier set at " + step + " " + std::to_string(it);
-      break;
-    }
-    if (!stall.progress(change)) {
-      why = "active set not settling after " + std::to_string(it) + " " + step + "s";
-      break;
-    }
-    active = next;
-  }
-  if (s.status == SolveStatus::kCycling || s.status == SolveStatus::kMaxIterations) {
-    // The set cycles or wanders: the safeguard finishes from the last set, or names why not.
-    std::string message;
-    const int last = s.history.empty() ? 0 : s.history.back().iteration;
-    s.status = dual_active_set(p, solve_set, VecX::Zero(p.num_gaps()),
-                               max_iterations + 2 * p.num_gaps(), last, active, s, message);
-    s.message = s.status == SolveStatus::kConverged ? "" : why + "; " + message;
-  }
-  s.active = active;
-  copy_solver_figures(kkt.report(), s);
-  s.pivot_ratio = kkt.report().rcond;
-  if (s.status != SolveStatus::kConverged && s.status != SolveStatus::kCycling &&
-      s.status != SolveStatus::kMaxIterations) {
-    s.u = VecX::Zero(p.num_unknowns());
-    s.contact_force = VecX::Zero(p.num_gaps());
-  }
-  // A state that stopped short reports no tension: a row in tension carries no force.
-  if (s.status != SolveStatus::kConverged && s.contact_force.size() == p.num_gaps())
-    s.contact_force = s.contact_force.cwiseMax(0.0);
 }
 
 }  // namespace c2d::constraints

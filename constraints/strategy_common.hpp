@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,27 @@ std::vector<char> initially_closed(const ConstrainedProblem& p);
 IterationRecord make_record(int iteration, const std::vector<char>& next,
                             const ActiveSetTracker::Change& change, const VecX& gap,
                             double residual);
+
+/// Whether an active-set iteration is settling: it is not when this many iterations in a row
+/// change the set without reaching a new fewest number of changing rows (the full-step
+/// iteration on a slender body wanders like that for dozens of iterations).
+class StallMonitor {
+ public:
+  bool progress(const ActiveSetTracker::Change& change) {
+    const int changes = change.entering + change.leaving;
+    if (changes < fewest_) {
+      fewest_ = changes;
+      since_fewest_ = 0;
+      return true;
+    }
+    return ++since_fewest_ < kStallIterations;
+  }
+
+ private:
+  static constexpr int kStallIterations = 3;
+  int fewest_ = std::numeric_limits<int>::max();
+  int since_fewest_ = 0;
+};
 
 /// Fills gap, max penetration and equality violation from u; turns any non-finite result into
 /// a failed status with zeroed fields, so no NaN leaves a backend.
@@ -99,6 +121,11 @@ class PenalizedSolver {
 
 /// Scale that brings constraint rows to the magnitude of K's entries (mean of diag K).
 double saddle_point_scale(const ConstrainedProblem& p);
+
+/// Position of each multiplier in the saddle-point vector (−1: not in the system); `size`
+/// gets the system's size.
+std::vector<int> gap_positions(const ConstrainedProblem& p, const std::vector<char>& active,
+                               bool all_rows, int& size);
 
 /// The saddle-point matrix for the multipliers of the equality rows and of the inequality rows
 /// with `active` set:

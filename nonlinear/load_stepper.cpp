@@ -63,7 +63,14 @@ class LoadStepper {
     const VecX trial = attempt(target, rec, cstep);
     rec.seconds = step_clock.elapsed();
     const bool ok = rec.newton.status == SolveStatus::kConverged;
-    if (!ok && inverted_at_.empty()) inverted_at_ = inversion(target, rec, cstep);
+    // The lowest load at which an attempt inverted an element, kept until a step gets past it:
+    // near a limit point the steps crawl up to it while the larger attempts crush an element,
+    // and whether the last attempt itself inverts or meets the singular tangent is round-off.
+    if (!ok && (inverted_at_.empty() || target < inverted_lambda_))
+      if (std::string at = inversion(target, rec, cstep); !at.empty()) {
+        inverted_at_ = std::move(at);
+        inverted_lambda_ = target;
+      }
     bool give_up = false;
     if (ok) accept(target, trial, cstep, rec);
     else if (rec.newton.status == SolveStatus::kIllConditioned)
@@ -155,7 +162,7 @@ class LoadStepper {
   }
 
   void accept(double target, const VecX& trial, const ContactStepResult& cstep, StepRecord& rec) {
-    inverted_at_.clear();
+    if (target >= inverted_lambda_) inverted_at_.clear();
     ++converged_steps_;
     u_free_ = trial;
     u_prev_full_ = system_.full(u_free_);
@@ -297,7 +304,10 @@ class LoadStepper {
   double lambda_ = 0.0;
   ContactMemory memory_;
   VecX tangent_memory_;                 ///< friction: per slot, the last converged λ_t
-  std::string inverted_at_;  ///< the first attempt of the current step that inverted an element
+  /// The attempt at the lowest load (inverted_lambda_) beyond the converged state that
+  /// inverted an element; empty when none has.
+  std::string inverted_at_;
+  double inverted_lambda_ = 0.0;
   std::vector<double> accumulated_slip_;  ///< friction: Σ |slip| per slave node
   constraints::ContactReport last_contact_;
   Results r_, last_state_;

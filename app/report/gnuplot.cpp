@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
+#include <system_error>
+
+#include <stdlib.h>
+#include <unistd.h>
 
 #include "app/process.hpp"
 #include "core/errors.hpp"
@@ -53,28 +58,86 @@ std::string run_gnuplot(const std::string& script_path) {
   return "";
 }
 
-std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
-                             const std::string& commands) {
+namespace {
+
+/// A private folder in the system's temporary directory (mkdtemp: mode 0700, a fresh name),
+/// removed with everything in it when the scope ends. A chart's script and data live there, so
+/// an interrupted chart leaves nothing half-written in the output folder.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    std::string name =
+        (std::filesystem::temp_directory_path() / "contact2d-chart-XXXXXX").string();
+    if (!::mkdtemp(name.data())) throw std::runtime_error("cannot create a temporary folder");
+    path_ = name;
+  }
+  ~ScratchDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  ScratchDir(const ScratchDir&) = delete;
+  ScratchDir& operator=(const ScratchDir&) = delete;
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+void replace_all(std::string& text, const std::string& from, const std::string& to) {
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+}
+
+/// Draws STEM.png and STEM.svg in `scratch`, then moves each into `dir` atomically. On failure
+/// the script and gnuplot's log are kept in `dir` (STEM.gp, STEM.gp.log) for the user to read.
+std::string plot_in(const ScratchDir& scratch, const std::string& dir, const std::string& stem,
+                    const std::string& commands) {
   std::ostringstream gp;
   for (const char* term : {"png", "svg"}) {
     gp << (std::string(term) == "png" ? "set terminal pngcairo size 1200,800 font 'Sans,11'\n"
                                       : "set terminal svg size 1200,800 font 'Sans,11'\n")
-       << "set output " << gp_file(dir + "/" + stem + "." + term) << "\n"
+       << "set output " << gp_file(scratch.file(stem + "." + term)) << "\n"
        << commands << "unset output\n";
   }
-  const std::string script = dir + "/" + stem + ".gp";
+  const std::string script = scratch.file(stem + ".gp");
   core::write_file_atomic(script, gp.str());
   const std::string err = run_gnuplot(script);
-  if (err.empty()) std::filesystem::remove(script);
-  return err;
+  if (!err.empty()) {
+    std::error_code ec;
+    for (const std::string ext : {".gp", ".gp.log"})
+      std::filesystem::copy_file(scratch.file(stem + ext), dir + "/" + stem + ext,
+                                 std::filesystem::copy_options::overwrite_existing, ec);
+    return "gnuplot failed, see " + dir + "/" + stem + ".gp.log";
+  }
+  for (const char* ext : {".png", ".svg"}) {
+    const std::string target = dir + "/" + stem + ext;
+    const std::string staged = target + ".tmp." + std::to_string(::getpid());
+    std::filesystem::copy_file(scratch.file(stem + ext), staged,
+                               std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::rename(staged, target);
+  }
+  return "";
+}
+
+}  // namespace
+
+std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
+                             const std::string& commands) {
+  const ScratchDir scratch;
+  return plot_in(scratch, dir, stem, commands);
 }
 
 std::string plot_with_data(const std::string& dir, const std::string& stem,
                            const std::string& commands, const std::vector<PlotData>& data) {
-  for (const auto& d : data) core::write_file_atomic(d.path, d.text);
-  const std::string err = plot_png_and_svg(dir, stem, commands);
-  for (const auto& d : data) std::filesystem::remove(d.path);
-  return err;
+  // Each data file goes into the scratch folder under its own name; the commands name it there.
+  const ScratchDir scratch;
+  std::string cmd = commands;
+  for (const auto& d : data) {
+    const std::string staged = scratch.file(std::filesystem::path(d.path).filename().string());
+    core::write_file_atomic(staged, d.text);
+    replace_all(cmd, gp_file(d.path), gp_file(staged));
+  }
+  return plot_in(scratch, dir, stem, cmd);
 }
 
 }  // namespace c2d::app

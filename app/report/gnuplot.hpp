@@ -21,7 +21,8 @@ std::string gp_file(const std::string& path);
 /// success); returns an empty string on success, else why it failed.
 std::string run_gnuplot(const std::string& script_path);
 
-/// Writes DIR/STEM.png and DIR/STEM.svg from gnuplot plot commands; "" or the failure reason.
+/// Writes DIR/STEM.png and DIR/STEM.svg from gnuplot plot commands; "" or the failure reason
+/// (then DIR/STEM.gp and DIR/STEM.gp.log are kept to read).
 std::string plot_png_and_svg(const std::string& dir, const std::string& stem,
                              const std::string& commands);
 
@@ -30,8 +31,11 @@ struct PlotData {
   std::string path, text;
 };
 
-/// plot_png_and_svg with the data files its commands read: each written before gnuplot runs
-/// and removed after, whether or not it succeeded. Returns "" or the failure reason.
+/// plot_png_and_svg with the data files its commands read. The data files, the script and the
+/// pictures are made in a private temporary folder (removed after, whatever happened) and only
+/// the finished PNG and SVG are moved into DIR, each atomically: an interrupted chart leaves no
+/// intermediate in DIR. The commands name each data file by its DIR path (through gp_file);
+/// they are pointed at the temporary copy. Returns "" or the failure reason.
 std::string plot_with_data(const std::string& dir, const std::string& stem,
                            const std::string& commands, const std::vector<PlotData>& data);
 

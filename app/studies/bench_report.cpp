@@ -72,22 +72,22 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
        << " |\n";
   }
   // Contact overhead: every Hertz ladder run and every method of the panel.
-  double worst_exact = 0;
+  // Issue 19's target: at every ladder rung (10k to 1M DOFs, T3 and T6, rigid and elastic
+  // master), lagrange and ssn within 1.5 linear solves.
+  double worst = 0;
   std::ostringstream list;
   bool any = false;
   for (const auto& r : rows)
-    if (std::isfinite(r.overhead) && r.c.family != "two_cantilevers") {
+    if (std::isfinite(r.overhead) && (r.c.method == "lagrange" || r.c.method == "ssn") &&
+        r.c.family != "methods" && r.c.family != "two_cantilevers") {
       any = true;
-      if (r.c.method == "lagrange" || r.c.method == "ssn")
-        worst_exact = std::max(worst_exact, r.overhead);
+      worst = std::max(worst, r.overhead);
+      list << r.c.family << " " << r.c.element << " " << r.c.nominal << " " << r.c.method << ": "
+           << rounded(r.overhead) << "; ";
     }
-  for (const auto& r : rows)
-    if (std::isfinite(r.overhead) && r.c.family != "methods" && r.c.family != "two_cantilevers")
-      list << r.c.family << " " << r.c.element << " " << r.c.nominal << ": " << rounded(r.overhead)
-           << "; ";
-  md << "| contact overhead, lagrange and ssn (contact solve / one linear solve) | ≤ 2 | worst "
-     << rounded(worst_exact) << " (ladder, lagrange: " << list.str()
-     << "every method: table below) | " << verdict(any, worst_exact <= 2) << " |\n";
+  md << "| contact overhead, lagrange and ssn (contact solve / one linear solve) | ≤ 1.5 | worst "
+     << rounded(worst) << " (ladder: " << list.str() << "every method: table below) | "
+     << verdict(any, worst <= 1.5) << " |\n";
   for (const auto& [scene, limit, goal] : {std::tuple{"hertz_rigid_fast.toml", 0.1, 0.005},
                                            std::tuple{"hertz_block_fast.toml", 1.0, 0.01}}) {
     const BenchRow* r = find_row(rows, "methods", "T6", "as shipped", scene, "lagrange");

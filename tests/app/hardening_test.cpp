@@ -617,11 +617,11 @@ TEST(Hardening, F8InvertedElementInALoadSteppedRunIsNamed) {
 // adaptive_penalty and ipopt (its last trial state inverts an element), but ill_conditioned
 // (penalty), max_iterations (auglag) and singular, "the Newton system could not be solved"
 // (lagrange, ssn; it was an unnamed "KINSOL: KIN_LINSOLV_NO_RECOVERY").
-// A block crushed to 150 % on a floor: every attempt of the last step that inverted an element
-// names the failure, whatever the smaller steps then stopped on (a singular tangent at the limit
-// point, a penalty's pivots). auglag is the exception: its multiplier iteration stalls on the
-// linearised problems before any state it reaches inverts, so it ends max_iterations, named but
-// not as inversion.
+// A block crushed to 150 % on a floor: an attempt that inverted an element, at the lowest load
+// beyond the last converged state, names the failure, whatever the smaller steps then stopped on
+// (a singular tangent at the limit point, a penalty's pivots, auglag's iteration cap). Near the
+// limit point the steps crawl up to it while larger attempts invert; whether the very last
+// attempt inverts or meets the singular tangent is round-off, so the name may not hang on it.
 TEST(Hardening, F8InvertedElementWithContactIsNamedForEveryMethod) {
   const TempDir dir("f8_inverted_contact");
   const std::string scene = dir.write("scene.toml", crushed_block(true));
@@ -629,9 +629,7 @@ TEST(Hardening, F8InvertedElementWithContactIsNamedForEveryMethod) {
     const Outcome o = run_c2d({"run", scene, "--method", method, "--out", dir / method, "--quiet"});
     EXPECT_EQ(o.code, 1) << method << ": " << o.text;
     const std::string status = summary(dir.path() / method)["status"];
-    const std::string expected =
-        method == "auglag" ? "failed: max_iterations" : "failed: inverted_element";
-    EXPECT_EQ(status.rfind(expected, 0), 0u) << method << ": " << status;
+    EXPECT_EQ(status.rfind("failed: inverted_element", 0), 0u) << method << ": " << status;
     EXPECT_EQ(status.find("KINSOL"), std::string::npos) << method << ": " << status;
   }
 }

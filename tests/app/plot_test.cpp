@@ -2,9 +2,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <algorithm>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
 
 #include "app/report/field_plot.hpp"
+#include "app/report/gnuplot.hpp"
 #include "core/errors.hpp"
 #include "core/model.hpp"
 #include "core/probes.hpp"
@@ -79,4 +85,36 @@ TEST(ReadVtu, ReadsBackWhatRunWrites) {
     EXPECT_NE(std::string(e.what()).find(path.string() + ": expected a VTK UnstructuredGrid"),
               std::string::npos) << e.what();
   }
+}
+
+TEST(Gnuplot, ChartLeavesOnlyItsPicturesInTheFolder) {
+  // Issue 16, finding 7: a chart's data and script are made in a private temporary folder, so
+  // an interrupted chart leaves no intermediate in the output folder, and a finished one leaves
+  // exactly STEM.png and STEM.svg (the PNG a valid image) and nothing in the temporary folder.
+  namespace fs = std::filesystem;
+  const fs::path root = fs::temp_directory_path() / ("c2d_plot_" + std::to_string(::getpid()));
+  fs::remove_all(root);
+  fs::create_directories(root / "tmp");
+  fs::create_directories(root / "out");
+  const char* old = std::getenv("TMPDIR");
+  const std::string saved = old ? old : "";
+  ::setenv("TMPDIR", (root / "tmp").c_str(), 1);
+  const std::string dir = (root / "out").string();
+  const std::string err = app::plot_with_data(
+      dir, "line", "plot " + app::gp_file(dir + "/line.dat") + " using 1:2 with lines\n",
+      {{dir + "/line.dat", "0 0\n1 1\n2 4\n"}});
+  if (old) ::setenv("TMPDIR", saved.c_str(), 1); else ::unsetenv("TMPDIR");
+  if (err.find("gnuplot") != std::string::npos && err.find("not found") != std::string::npos)
+    GTEST_SKIP() << err;
+  ASSERT_EQ(err, "");
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(root / "out")) names.push_back(e.path().filename());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"line.png", "line.svg"}));
+  std::ifstream png(root / "out" / "line.png", std::ios::binary);
+  char magic[4] = {};
+  png.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+  EXPECT_TRUE(fs::is_empty(root / "tmp"));
+  fs::remove_all(root);
 }

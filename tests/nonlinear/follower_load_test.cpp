@@ -64,9 +64,9 @@ at = [2.0, 1.0]
 
 TEST(FollowerLoad, KernelForcesEqualTheEdgeLoadAtAnyConfiguration) {
   for (int nodes : {2, 3}) {
-    Eigen::MatrixX2d x(nodes, 2);
-    x << 0.3, -0.2, 1.7, 0.9, 0.0, 0.0;
-    if (nodes == 3) x.row(2) << 1.1, 0.1;  // a curved quadratic edge
+    Eigen::Matrix<double, 3, 2> all;
+    all << 0.3, -0.2, 1.7, 0.9, 1.1, 0.1;  // the third node makes a curved quadratic edge
+    const Eigen::MatrixX2d x = all.topRows(nodes);
     const Eigen::MatrixXd m = core::edge_pressure_matrix(nodes, 0.7, 2.5);
     Eigen::VectorXd stacked(2 * nodes);
     for (int i = 0; i < nodes; ++i) stacked.segment<2>(2 * i) = x.row(i).transpose();

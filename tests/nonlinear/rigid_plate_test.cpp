@@ -84,12 +84,17 @@ TEST(RigidPlate, LinearPureBendingIsExactWithT6) {
   const double m = 1000.0;
   const Solved r = run(core::parse_scene(beam(false, m), "beam.toml"), "lagrange");
   ASSERT_EQ(r.results.status, SolveStatus::kConverged) << r.results.message;
-  EXPECT_NEAR(r.results.probes.at("theta") / (m * kL / kEI), 1.0, 1e-8);
-  EXPECT_NEAR(r.results.probes.at("uy") / (m * kL * kL / (2 * kEI)), 1.0, 1e-8);
+  // Round-off of a slender beam (L/h = 100, about 4,000 T6 DOFs): the cap's bending compliance comes
+  // from K_TT − K_TI K_II⁻¹ K_IT, large minus large. Measured: 4e-9 with the cap's unknowns
+  // eliminated among the others (AMD), 2.8e-8 with them eliminated last (the condensed path,
+  // after iterative refinement): 5e-8 bounds both.
+  constexpr double kRoundOff = 5e-8;
+  EXPECT_NEAR(r.results.probes.at("theta") / (m * kL / kEI), 1.0, kRoundOff);
+  EXPECT_NEAR(r.results.probes.at("uy") / (m * kL * kL / (2 * kEI)), 1.0, kRoundOff);
   EXPECT_NEAR(r.results.probes.at("ux"), 0.0, 1e-9 * m * kL * kL / kEI);
   // The cap transmits the applied moment; the edge node follows the cap's rotation.
   EXPECT_NEAR(r.results.probes.at("moment") / m, 1.0, 1e-9);
-  EXPECT_NEAR(r.results.probes.at("end_uy") / (m * kL * kL / (2 * kEI)), 1.0, 1e-8);
+  EXPECT_NEAR(r.results.probes.at("end_uy") / (m * kL * kL / (2 * kEI)), 1.0, kRoundOff);
 }
 
 // Exact arc at θ = ML/EI = 1 rad: the reference point (on the neutral axis) ends at

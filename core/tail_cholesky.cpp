@@ -1,0 +1,212 @@
+#include "core/tail_cholesky.hpp"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/stopwatch.hpp"
+
+namespace c2d::core {
+
+namespace {
+
+/// Below this pivot ratio the matrix is singular to working precision (as in SpdSolver).
+constexpr double kSingularPivotRatio = 1e-14;
+
+/// A CHOLMOD view of K's lower triangle (no copy; K must be compressed).
+cholmod_sparse view_lower(const SpMat& k) {
+  cholmod_sparse a{};
+  a.nrow = a.ncol = static_cast<size_t>(k.rows());
+  a.nzmax = static_cast<size_t>(k.nonZeros());
+  a.p = const_cast<int*>(k.outerIndexPtr());
+  a.i = const_cast<int*>(k.innerIndexPtr());
+  a.x = const_cast<double*>(k.valuePtr());
+  a.stype = -1;
+  a.itype = CHOLMOD_INT;
+  a.xtype = CHOLMOD_REAL;
+  a.dtype = CHOLMOD_DOUBLE;
+  a.sorted = 1;
+  a.packed = 1;
+  return a;
+}
+
+cholmod_dense view(const VecX& v) {
+  cholmod_dense d{};
+  d.nrow = d.d = d.nzmax = static_cast<size_t>(v.size());
+  d.ncol = 1;
+  d.x = const_cast<double*>(v.data());
+  d.xtype = CHOLMOD_REAL;
+  d.dtype = CHOLMOD_DOUBLE;
+  return d;
+}
+
+}  // namespace
+
+struct TailCholesky::Impl {
+  cholmod_common c{};
+  cholmod_factor* factor = nullptr;
+  Eigen::Index rows = -1, nnz = -1;  ///< the analysed pattern
+  std::vector<int> tail;             ///< the analysed tail
+  SpMat compressed;                  ///< K's copy when K is not compressed
+
+  Impl() {
+    cholmod_start(&c);
+    c.print = 0;
+    c.nmethods = 1;     // the CAMD permutation, as given
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    c.postorder = 0;    // a postorder could move tail columns before others
+  }
+  ~Impl() {
+    if (factor) cholmod_free_factor(&factor, &c);
+    cholmod_finish(&c);
+  }
+  /// Applies `sys` (CHOLMOD_P, _L, _Lt, _Pt) to `in`.
+  bool apply(int sys, const VecX& in, VecX& out) {
+    cholmod_dense b = view(in);
+    cholmod_dense* x = cholmod_solve(sys, factor, &b, &c);
+    if (!x) return false;
+    out = Eigen::Map<const VecX>(static_cast<double*>(x->x), in.size());
+    cholmod_free_dense(&x, &c);
+    return true;
+  }
+};
+
+TailCholesky::TailCholesky() : impl_(std::make_unique<Impl>()) {}
+TailCholesky::~TailCholesky() = default;
+
+SolveStatus TailCholesky::fail(SolveStatus status, const std::string& message) {
+  report_.status = status;
+  report_.message = message;
+  return status;
+}
+
+bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
+  Impl& m = *impl_;
+  if (m.factor) cholmod_free_factor(&m.factor, &m.c);
+  cholmod_sparse a = view_lower(k);
+  // CAMD with two constraint sets: every other unknown (set 0) before the tail (set 1).
+  std::vector<int> member(n_, 0), perm(n_);
+  for (int d : tail) member[d] = 1;
+  if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) return false;
+  m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
+  if (!m.factor) return false;
+  m.rows = k.rows();
+  m.nnz = k.nonZeros();
+  m.tail = tail;
+  // The tail must be the factor's last k columns (no postorder moved it).
+  const int* p = static_cast<const int*>(m.factor->Perm);
+  const int k0 = n_ - static_cast<int>(tail.size());
+  tail_position_.assign(n_, -1);
+  for (int i = k0; i < n_; ++i) tail_position_[p[i]] = i - k0;
+  for (int d : tail)
+    if (tail_position_[d] < 0) return false;
+  return true;
+}
+
+SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail) {
+  Impl& m = *impl_;
+  report_.message.clear();
+  report_.backend = "cholmod";
+  report_.ordering = "camd";
+  n_ = static_cast<int>(k.rows());
+  if (!k.coeffs().allFinite())
+    return fail(SolveStatus::kFailed, "the stiffness matrix has non-finite entries");
+  const SpMat* kk = &k;
+  if (!k.isCompressed()) {
+    m.compressed = k;
+    m.compressed.makeCompressed();
+    kk = &m.compressed;
+  }
+  Stopwatch clock;
+  if (!m.factor || m.rows != k.rows() || m.nnz != k.nonZeros() || m.tail != tail) {
+    const bool ok = analyse(*kk, tail);
+    report_.symbolic_analyses++;
+    report_.symbolic_seconds += clock.lap();
+    if (!ok) {
+      m.rows = -1;
+      return fail(SolveStatus::kFailed, "constrained ordering failed (CHOLMOD status " +
+                                            std::to_string(m.c.status) + ")");
+    }
+  }
+  cholmod_sparse a = view_lower(*kk);
+  const int ok = cholmod_factorize(&a, m.factor, &m.c);
+  report_.numeric_factorizations++;
+  report_.supernodal = m.factor->is_super;
+  report_.factor_nonzeros = m.c.lnz;
+  if (!ok || m.c.status == CHOLMOD_NOT_POSDEF || m.factor->minor < static_cast<size_t>(n_)) {
+    report_.numeric_seconds += clock.lap();
+    return fail(SolveStatus::kSingular, "stiffness matrix is singular or not positive definite");
+  }
+  report_.pivot_ratio = cholmod_rcond(m.factor, &m.c);
+  const bool extracted = extract_tail_factor();
+  report_.numeric_seconds += clock.lap();
+  if (!extracted) return fail(SolveStatus::kFailed, "factor has no tail block");
+  if (!(report_.pivot_ratio >= kSingularPivotRatio))
+    return fail(SolveStatus::kSingular, "stiffness matrix is singular to working precision");
+  report_.status = SolveStatus::kConverged;
+  return report_.status;
+}
+
+bool TailCholesky::extract_tail_factor() {
+  const cholmod_factor& f = *impl_->factor;
+  if (!f.x) return false;
+  const int k = static_cast<int>(impl_->tail.size()), k0 = n_ - k;
+  tail_factor_ = Eigen::MatrixXd::Zero(k, k);
+  tail_pivots_ = VecX::Ones(k);
+  const auto* x = static_cast<const double*>(f.x);
+  if (f.is_super) {
+    // Supernode s holds columns super[s] .. super[s+1]−1 as a dense column-major block whose
+    // rows are s[pi[s]] .. s[pi[s+1]−1] (the supernode's own columns first).
+    const auto* super = static_cast<const int*>(f.super);
+    const auto* pi = static_cast<const int*>(f.pi);
+    const auto* px = static_cast<const int*>(f.px);
+    const auto* rows = static_cast<const int*>(f.s);
+    for (size_t s = 0; s < f.nsuper; ++s) {
+      const int c1 = super[s], c2 = super[s + 1];
+      if (c2 <= k0) continue;
+      const int nsrow = pi[s + 1] - pi[s];
+      for (int j = std::max(c1, k0); j < c2; ++j)
+        for (int r = 0; r < nsrow; ++r) {
+          const int row = rows[pi[s] + r];
+          if (row >= j)
+            tail_factor_(row - k0, j - k0) =
+                x[static_cast<size_t>(px[s]) + r + static_cast<size_t>(j - c1) * nsrow];
+        }
+    }
+    return true;
+  }
+  const auto* lp = static_cast<const int*>(f.p);
+  const auto* li = static_cast<const int*>(f.i);
+  const auto* lnz = static_cast<const int*>(f.nz);
+  // Column j: the diagonal first (D_jj for L D Lᵀ, whose L has a unit diagonal), then below.
+  for (int j = k0; j < n_; ++j)
+    for (int q = lp[j]; q < lp[j] + lnz[j]; ++q) tail_factor_(li[q] - k0, j - k0) = x[q];
+  if (!f.is_ll) {
+    tail_pivots_ = tail_factor_.diagonal();
+    tail_factor_.diagonal().setOnes();
+  }
+  return true;
+}
+
+SolveStatus TailCholesky::forward(const VecX& b, VecX& w) {
+  if (report_.status != SolveStatus::kConverged) return report_.status;
+  const Stopwatch clock;
+  VecX pb;
+  const bool ok = impl_->apply(CHOLMOD_P, b, pb) && impl_->apply(CHOLMOD_LD, pb, w);
+  report_.solve_seconds += clock.elapsed();
+  if (!ok || !w.allFinite()) return fail(SolveStatus::kFailed, "forward substitution failed");
+  return SolveStatus::kConverged;
+}
+
+SolveStatus TailCholesky::backward(const VecX& w, VecX& x) {
+  if (report_.status != SolveStatus::kConverged) return report_.status;
+  const Stopwatch clock;
+  VecX y;
+  const bool ok = impl_->apply(CHOLMOD_Lt, w, y) && impl_->apply(CHOLMOD_Pt, y, x);
+  report_.solve_seconds += clock.elapsed();
+  if (!ok || !x.allFinite()) return fail(SolveStatus::kFailed, "back substitution failed");
+  return SolveStatus::kConverged;
+}
+
+}  // namespace c2d::core

@@ -1,0 +1,70 @@
+// Sparse Cholesky factor with a chosen set of unknowns, the tail, ordered last:
+//
+//   P K Pᵀ = L D Lᵀ,   L = [ L₁₁  0  ]     the tail's k unknowns are the last k of P,
+//                          [ L₂₁ L₂₂ ]     so L₂₂ D₂ L₂₂ᵀ = K_TT − K_TI K_II⁻¹ K_IT.
+//
+// D = I for CHOLMOD's supernodal factor (L Lᵀ); its simplicial factor (small matrices) is
+// L D Lᵀ with unit L, which also factorises a symmetric indefinite K with nonzero pivots, as
+// SpdSolver's does: the same matrices factorise on either path.
+//
+// The ordering is CHOLMOD's CAMD (minimum degree under the constraint "tail last"); L₂₂ is the
+// Cholesky factor of the tail's Schur complement, i.e. the stiffness condensed onto the tail.
+// A right-hand side that lives on the tail (a constraint row's Cᵀ when the tail holds every
+// unknown the constraints touch) then costs dense O(k²) work on L₂₂ instead of two sparse
+// triangular solves over all n unknowns: forward substitution of such a vector never leaves
+// the tail, and the tail's part of K⁻¹ b needs only L₂₂ᵀ. This is static condensation onto the
+// contact surface, taken from the factorisation's own ordering rather than a second matrix.
+#pragma once
+
+#include <Eigen/Dense>
+#include <memory>
+#include <vector>
+
+#include "core/spd_solver.hpp"
+
+namespace c2d::core {
+
+class TailCholesky {
+ public:
+  TailCholesky();
+  ~TailCholesky();
+  TailCholesky(const TailCholesky&) = delete;
+  TailCholesky& operator=(const TailCholesky&) = delete;
+
+  /// Factorises K (symmetric; the lower triangle is used) with the unknowns `tail` ordered
+  /// last. The ordering and symbolic analysis are kept while K's size, non-zero count and the
+  /// tail are unchanged. Reports kSingular when K is not positive definite.
+  SolveStatus factorize(const SpMat& k, const std::vector<int>& tail);
+
+  int size() const { return n_; }
+  /// k, the tail's size.
+  int tail_size() const { return static_cast<int>(tail_factor_.rows()); }
+  /// Per unknown: its row in L₂₂, or −1 outside the tail.
+  const std::vector<int>& tail_position() const { return tail_position_; }
+  /// L₂₂, dense, lower triangle meaningful (unit diagonal for an L D Lᵀ factor).
+  const Eigen::MatrixXd& tail_factor() const { return tail_factor_; }
+  /// D₂, the tail's pivots (ones for an L Lᵀ factor).
+  const VecX& tail_pivots() const { return tail_pivots_; }
+
+  /// w = (L D)⁻¹ P b, in the factor's order: the tail is w's last k entries.
+  SolveStatus forward(const VecX& b, VecX& w);
+  /// x = Pᵀ L⁻ᵀ w, so that x = K⁻¹ b for w = forward(b).
+  SolveStatus backward(const VecX& w, VecX& x);
+
+  /// Status, pivot ratio, factor size and the seconds of each phase (summed).
+  const SpdSolveReport& report() const { return report_; }
+
+ private:
+  struct Impl;
+  bool analyse(const SpMat& k, const std::vector<int>& tail);
+  bool extract_tail_factor();
+  SolveStatus fail(SolveStatus status, const std::string& message);
+  std::unique_ptr<Impl> impl_;
+  int n_ = 0;
+  std::vector<int> tail_position_;
+  Eigen::MatrixXd tail_factor_;
+  VecX tail_pivots_;
+  SpdSolveReport report_;
+};
+
+}  // namespace c2d::core
