@@ -1,8 +1,10 @@
 // Exceptions for user mistakes. Numerical failures are never exceptions: they are statuses.
 #pragma once
 
+#include <cstdio>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace c2d {
 
@@ -18,5 +20,25 @@ class NotSupportedError : public InputError {
  public:
   explicit NotSupportedError(const std::string& message) : InputError(message) {}
 };
+
+/// Text found in an input file, for an error message: single-quoted, at most 60 characters
+/// (then "..."), every control or non-ASCII byte written as \xNN, so that a binary file's bytes
+/// never reach the terminal.
+inline std::string quoted_found(std::string_view text) {
+  constexpr size_t kMax = 60;
+  std::string out = "'";
+  for (size_t i = 0; i < text.size() && i < kMax; ++i) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      char hex[5];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    }
+  }
+  if (text.size() > kMax) out += "...";
+  return out + "'";
+}
 
 }  // namespace c2d

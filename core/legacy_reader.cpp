@@ -18,7 +18,8 @@ namespace {
 class LineReader {
  public:
   explicit LineReader(const std::string& path) : path_(path), in_(path) {
-    if (!in_) throw InputError(path + ": cannot open the data file");
+    if (!in_) throw InputError(path + ": expected a readable data file, found none (no such file, or "
+                               "no permission to read it)");
     std::ifstream count(path);
     for (std::string line; std::getline(count, line);) ++lines_;
   }
@@ -39,7 +40,7 @@ class LineReader {
           v.push_back(std::stod(tok, &used));
           if (used != tok.size()) throw std::invalid_argument(tok);
         } catch (const std::exception&) {
-          fail("expected " + what + ", found '" + tok + "'");
+          fail("expected " + what + ", found " + quoted_found(tok));
         }
       }
       return v;
@@ -272,7 +273,8 @@ Scene read_legacy_scene(const std::string& path) {
   (void)tail;
   mesh.order = block.order;
   for (int i = 0; i < nn; ++i)
-    if (!seen[i]) throw InputError(path + ": node " + std::to_string(i + 1) + " is never defined");
+    if (!seen[i]) throw InputError(path + ": expected a line for every node 1.." + std::to_string(seen.size()) +
+                       ", found none for node " + std::to_string(i + 1));
   mesh.orient_counter_clockwise();
   mesh.build_boundary();
   scene.analysis.order = block.order;

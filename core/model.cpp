@@ -124,7 +124,8 @@ std::vector<int> select_nodes(const Model& model, const SelectionSpec& s) {
     case K::kNodes:
       for (int n : s.nodes) {
         if (n < 0 || n >= mesh.num_nodes())
-          throw InputError(s.at.where + ": node " + std::to_string(n + 1) + " does not exist");
+          throw InputError(s.at.where + ": expected a node number 1.." +
+                           std::to_string(mesh.nodes.size()) + ", found " + std::to_string(n + 1));
         out.push_back(n);
       }
       break;

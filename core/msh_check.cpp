@@ -20,14 +20,7 @@ namespace {
 constexpr long long kMaxTag = 2147483647;  // gmsh stores tags as int
 
 /// 'text', built without operator+ on a literal (GCC 12 warns falsely about it, -Wrestrict).
-std::string quoted(const std::string& text) {
-  std::string out;
-  out.reserve(text.size() + 2);
-  out += '\'';
-  out += text;
-  out += '\'';
-  return out;
-}
+std::string quoted(const std::string& text) { return quoted_found(text); }
 
 /// Node count of each element type gmsh can write (types 1-11 and the common higher orders).
 int nodes_of_type(long long type) {
@@ -372,7 +365,8 @@ void check_msh_text(const std::string& text, const std::string& path) {
 
 void check_msh_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the mesh file");
+  if (!in) throw InputError(path + ": expected a readable mesh file, found none (no such file, or no "
+                              "permission to read it)");
   std::ostringstream text;
   text << in.rdbuf();
   check_msh_text(text.str(), path);

@@ -120,7 +120,11 @@ std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<st
         auto& arr = *child->as_array();
         if (index >= 0) {
           if (index >= static_cast<int>(arr.size()) || !arr[index].is_table())
-            throw InputError(where + ": '" + key + "' has no table at index " + std::to_string(index));
+            throw InputError(where + ": expected a table at index " + std::to_string(index) +
+                             " of '" + key + "', found " +
+                             (index >= static_cast<int>(arr.size())
+                                  ? std::to_string(arr.size()) + " entries"
+                                  : std::string("a value there")));
           next.push_back(arr[index].as_table());
           continue;
         }
@@ -137,7 +141,7 @@ std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<st
           for (auto& entry : arr)
             if (entry.is_table()) next.push_back(entry.as_table());
       } else {
-        throw InputError(where + ": '" + key + "' is a value, not a table");
+        throw InputError(where + ": expected '" + key + "' to be a table, found a value");
       }
     }
     if (named) ++i;  // consumed the name
@@ -163,12 +167,13 @@ void apply_override(toml::table& root, const std::string& assignment) {
   std::vector<std::string> keys;
   std::stringstream ss(path);
   for (std::string k; std::getline(ss, k, '.');) {
-    if (k.empty()) throw InputError("--set " + assignment + ": empty key in path '" + path + "'");
+    if (k.empty()) throw InputError("--set " + assignment + ": expected KEY.KEY...=VALUE, found an empty key in '" +
+                       path + "'");
     keys.push_back(k);
   }
   const std::string last = keys.back();
   if (last.find('[') != std::string::npos && last.back() == ']')
-    throw InputError("--set " + assignment + ": an index on the last key");
+    throw InputError("--set " + assignment + ": expected a key after the last index, found none");
   keys.pop_back();
   for (toml::table* t : tables_on_path(root, keys, true, "--set " + assignment))
     t->insert_or_assign(last, value);
@@ -206,10 +211,11 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     throw InputError(path + ": expected a scene file of at most 1 GiB, found " +
                      std::to_string(fs::file_size(path, ec)) + " bytes");
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the scene file");
+  if (!in) throw InputError(path + ": expected a readable scene file, found none (no such file, or no "
+                              "permission to read it)");
   const std::string ext = std::filesystem::path(path).extension().string();
   if (ext == ".dat" || ext == ".txt") {
-    if (!overrides.empty()) throw InputError(path + ": --set applies to TOML scenes only");
+    if (!overrides.empty()) throw InputError(path + ": expected a TOML scene for --set, found a legacy data file");
     return read_legacy_scene(path);
   }
   std::stringstream buffer;

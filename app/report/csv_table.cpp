@@ -35,8 +35,9 @@ double CsvTable::number(size_t row, int column) const {
   char* end = nullptr;
   const double v = std::strtod(cell.c_str(), &end);
   if (end == cell.c_str() || *end != '\0')
-    throw InputError(path + ":" + std::to_string(row + 2) + ": column '" + columns[column] +
-                     "': expected a number, found '" + cell + "'");
+    throw InputError(path + ":" + std::to_string(row + 2) + ": column " +
+                     quoted_found(columns[column]) + ": expected a number, found " +
+                     quoted_found(cell));
   return v;
 }
 
@@ -49,7 +50,7 @@ std::vector<Vec2> CsvTable::points(const std::string& x, const std::string& y) c
 
 CsvTable read_csv(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the file");
+  if (!in) throw InputError(path + ": expected a readable file, found none");
   CsvTable t;
   t.path = path;
   std::string line;

@@ -197,7 +197,10 @@ std::string residual_chart(const std::string& dir, const CsvTable& t, TraceChart
 
 TraceCharts draw_trace_charts(const std::string& dir) {
   if (!std::filesystem::is_directory(dir))
-    throw InputError(dir + ": expected the output folder of a run, found no such folder");
+    throw InputError(dir + ": expected the output folder of a run, found " +
+                     (std::filesystem::exists(dir) ? "a file (trace reads the folder `contact2d "
+                                                     "run SCENE --out DIR` wrote)"
+                                                   : "no such folder"));
   const std::string trace_path = dir + "/trace.csv";
   if (!std::filesystem::exists(trace_path))
     throw InputError(trace_path + ": not found; `contact2d run SCENE --out " + dir + "` writes it");

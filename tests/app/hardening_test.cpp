@@ -761,3 +761,21 @@ TEST(Hardening, FailedLoadSteppedRunsSolverSectionSaysFailed) {
   EXPECT_NE(s["status"], "converged");
   EXPECT_NE(s["solver"]["status"], "converged");
 }
+
+// Finding 8, follow-up: the bytes of a binary file never reach the terminal (each control or
+// non-ASCII byte is written \xNN), and `trace` on a file says it is a file.
+TEST(Hardening, F8BinaryBytesAreEscapedAndTraceOnAFileSaysSo) {
+  const TempDir dir("f8_binary");
+  const std::string dat = dir.write("mesh.dat", std::string("ab\x01\xff 2 3\n", 10));
+  Outcome o = run_c2d({"run", dat, "--out", dir / "out", "--quiet"});
+  EXPECT_EQ(o.code, 2) << o.text;
+  EXPECT_NE(o.text.find("mesh.dat:1: expected NN NE ITER, found 'ab\\x01\\xff'"), std::string::npos)
+      << o.text;
+  EXPECT_EQ(o.text.find('\x01'), std::string::npos);
+  const std::string scene = dir.write("scene.toml", "[analysis]\n");
+  o = run_c2d({"trace", scene});
+  EXPECT_EQ(o.code, 2) << o.text;
+  EXPECT_NE(o.text.find(scene + ": expected the output folder of a run, found a file"),
+            std::string::npos)
+      << o.text;
+}
