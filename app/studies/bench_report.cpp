@@ -44,6 +44,36 @@ std::string verdict(bool measured, bool met) {
 
 }  // namespace
 
+namespace {
+
+/// Issue 19, item 2: the phases of a 1M-DOF T6 run against their targets, and a 1M-DOF Hertz
+/// T6 run (lagrange) scene to summary.
+void scene_to_summary_targets(std::ostringstream& md, const std::vector<BenchRow>& rows,
+                              bool quick) {
+  const std::string none = quick ? "–" : "failed";
+  const BenchRow* e = find_row(rows, "elasticity", "T6", "1M");
+  const bool ok = e && e->converged();
+  const auto phase = [&](const char* what, double v, double limit) {
+    md << "| 1M-DOF linear elastic run, T6, " << what << " | ≤ " << limit << " s | "
+       << (ok ? fmt_s(v) : none) << " | " << verdict(ok, v <= limit) << " |\n";
+  };
+  phase("meshing", ok ? e->t_mesh : NAN, 5.0);
+  phase("recovery (smoothing, ZZ)", ok ? e->t_recovery : NAN, 2.0);
+  phase("output (VTU, nodes.csv, summary)", ok ? e->t_output : NAN, 2.0);
+  const BenchRow* h = find_row(rows, "hertz_rigid", "T6", "1M", "", "lagrange");
+  const bool hok = h && h->converged();
+  md << "| 1M-DOF Hertz run, T6, lagrange, scene to summary | ≤ 30 s | "
+     << (hok ? fmt_s(h->t_total) + " at " + bench_cell(h->dofs) + " DOFs" : none) << " | "
+     << verdict(hok, hok && h->t_total <= 30) << " |\n";
+  const bool measured = hok && std::isfinite(h->peak_rss_mb);
+  md << "| 1M-DOF Hertz run, T6, lagrange, peak memory | ≤ 4 GB | "
+     << (measured ? rounded(h->peak_rss_mb / 1024) + " GB" : "–") << " | "
+     << (hok && !measured ? "not measured" : verdict(measured, measured && h->peak_rss_mb < 4096))
+     << " |\n";
+}
+
+}  // namespace
+
 std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick) {
   std::ostringstream md;
   md << "| target | required | measured | verdict |\n|---|---|---|---|\n";
@@ -57,13 +87,16 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
     const BenchRow* r = find_row(rows, "elasticity", el, "1M");
     const bool ok = r && r->converged();
     const double solve = ok ? r->t_assemble + r->t_solve : NAN;
-    md << "| 1M-DOF linear elastic solve, " << el << " (assemble + factorise + solve) | < 10 s | "
+    // Issue 19 tightens T6 to 8 s (T3 keeps the first bench's 10 s).
+    const double limit = std::string(el) == "T6" ? 8.0 : 10.0;
+    md << "| 1M-DOF linear elastic solve, " << el << " (assemble + factorise + solve) | < "
+       << limit << " s | "
        << (ok ? fmt_s(solve) + " at " + bench_cell(r->dofs) +
                     " DOFs; mesh excluded with recovery "
                     "and output: " +
                     fmt_s(r->excluding_mesh())
               : std::string(quick ? "–" : "failed"))
-       << " | " << verdict(ok, solve < 10) << " |\n";
+       << " | " << verdict(ok, solve < limit) << " |\n";
     // A merged bench knows no process's memory.
     const bool measured = ok && std::isfinite(r->peak_rss_mb);
     md << "| 1M-DOF linear elastic run, " << el << ", peak memory | < 4 GB | "
@@ -71,6 +104,7 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
        << (ok && !measured ? "not measured" : verdict(measured, measured && r->peak_rss_mb < 4096))
        << " |\n";
   }
+  scene_to_summary_targets(md, rows, quick);
   // Contact overhead: every Hertz ladder run and every method of the panel.
   // Issue 19's target: at every ladder rung (10k to 1M DOFs, T3 and T6, rigid and elastic
   // master), lagrange and ssn within 1.5 linear solves.
