@@ -189,24 +189,23 @@ bool TailCholesky::extract_tail_factor() {
   return true;
 }
 
-SolveStatus TailCholesky::forward(const VecX& b, VecX& w) {
+SolveStatus TailCholesky::apply_pair(int first, int second, const VecX& in, VecX& out,
+                                     const char* what) {
   if (report_.status != SolveStatus::kConverged) return report_.status;
   const Stopwatch clock;
-  VecX pb;
-  const bool ok = impl_->apply(CHOLMOD_P, b, pb) && impl_->apply(CHOLMOD_LD, pb, w);
+  VecX mid;
+  const bool ok = impl_->apply(first, in, mid) && impl_->apply(second, mid, out);
   report_.solve_seconds += clock.elapsed();
-  if (!ok || !w.allFinite()) return fail(SolveStatus::kFailed, "forward substitution failed");
+  if (!ok || !out.allFinite()) return fail(SolveStatus::kFailed, std::string(what) + " failed");
   return SolveStatus::kConverged;
 }
 
+SolveStatus TailCholesky::forward(const VecX& b, VecX& w) {
+  return apply_pair(CHOLMOD_P, CHOLMOD_LD, b, w, "forward substitution");
+}
+
 SolveStatus TailCholesky::backward(const VecX& w, VecX& x) {
-  if (report_.status != SolveStatus::kConverged) return report_.status;
-  const Stopwatch clock;
-  VecX y;
-  const bool ok = impl_->apply(CHOLMOD_Lt, w, y) && impl_->apply(CHOLMOD_Pt, y, x);
-  report_.solve_seconds += clock.elapsed();
-  if (!ok || !x.allFinite()) return fail(SolveStatus::kFailed, "back substitution failed");
-  return SolveStatus::kConverged;
+  return apply_pair(CHOLMOD_Lt, CHOLMOD_Pt, w, x, "back substitution");
 }
 
 }  // namespace c2d::core

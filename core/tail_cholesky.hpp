@@ -59,6 +59,8 @@ class TailCholesky {
   bool analyse(const SpMat& k, const std::vector<int>& tail);
   bool extract_tail_factor();
   SolveStatus fail(SolveStatus status, const std::string& message);
+  /// out = second(first(in)) for two CHOLMOD solve systems (CHOLMOD_P, _LD, _Lt, _Pt).
+  SolveStatus apply_pair(int first, int second, const VecX& in, VecX& out, const char* what);
   std::unique_ptr<Impl> impl_;
   int n_ = 0;
   std::vector<int> tail_position_;

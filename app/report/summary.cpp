@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -11,6 +12,9 @@
 #include "app/report/pressure_profile.hpp"
 #include "app/report/units.hpp"
 #include "core/springs.hpp"
+
+#include <sys/resource.h>
+#include <unistd.h>
 
 namespace c2d::app {
 
@@ -135,6 +139,26 @@ nlohmann::json solver_section(const core::Results& r) {
           {"message", r.solver.message}};
 }
 
+/// The process so far, as a study that merges case folders from other machines needs it:
+/// wall time since the process started (/proc/self/stat's start time against /proc/uptime,
+/// 10 ms resolution, library loading included) and peak resident memory (getrusage).
+nlohmann::json process_section() {
+  nlohmann::json j = nlohmann::json::object();
+  struct rusage use {};
+  if (::getrusage(RUSAGE_SELF, &use) == 0) j["peak_rss_mb"] = use.ru_maxrss / 1024.0;
+  std::ifstream stat("/proc/self/stat"), uptime("/proc/uptime");
+  std::string text;
+  double up = 0.0;
+  if (std::getline(stat, text) && (uptime >> up)) {
+    // Field 22, counted after the command name's closing parenthesis (field 2 may hold spaces).
+    std::istringstream rest(text.substr(text.rfind(')') + 2));
+    std::string field;
+    for (int k = 3; k <= 22 && rest >> field; ++k)
+      if (k == 22) j["wall_s"] = up - std::stod(field) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+  }
+  return j;
+}
+
 /// time_s, solver, error and probes.
 void add_results(nlohmann::json& j, const core::Results& r) {
   j["time_s"] = {{"mesh", r.time.mesh},     {"assemble", r.time.assemble},
@@ -242,6 +266,7 @@ nlohmann::json make_summary(const SummaryParts& p) {
     j["load_factor"] = global(*p.results, "load_factor");
   }
   if (!p.adapt.is_null()) j["adapt"] = p.adapt;
+  j["process"] = process_section();
   return j;
 }
 

@@ -97,7 +97,7 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
                     fmt_s(r->excluding_mesh())
               : std::string(quick ? "–" : "failed"))
        << " | " << verdict(ok, solve < limit) << " |\n";
-    // A merged bench knows no process's memory.
+    // Merged from folders whose summary.json has no "process" section: no memory known.
     const bool measured = ok && std::isfinite(r->peak_rss_mb);
     md << "| 1M-DOF linear elastic run, " << el << ", peak memory | < 4 GB | "
        << (measured ? rounded(r->peak_rss_mb / 1024) + " GB" : "–") << " | "

@@ -200,6 +200,11 @@ bool RunFigures::read(const CaseOutcome& c) {
   exit_code = c.exit_code;
   wall = c.wall_seconds;
   peak_rss_mb = c.peak_rss_mb;
+  if (c.has_summary && c.summary.contains("process")) {
+    // A merged case (run elsewhere): the run's own account of its wall time and memory.
+    if (!std::isfinite(wall)) wall = json_number(c.summary, {"process", "wall_s"});
+    if (!std::isfinite(peak_rss_mb)) peak_rss_mb = json_number(c.summary, {"process", "peak_rss_mb"});
+  }
   if (!c.has_summary) {
     status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
     return false;

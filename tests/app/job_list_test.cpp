@@ -241,6 +241,15 @@ TEST(JobList, CompareRunByParallelMergesToTheSameTable) {
           .get<double>();
     };
     EXPECT_NEAR(p_max(dir) / p_max(root / "run"), 1.0, 1e-12) << m;
+    // Each job's own account of its process, which a merge reads: a wall time between the
+    // solve's and a minute, a peak memory between 10 MB and the machine's 24 GB.
+    const auto j = nlohmann::json::parse(read_text(dir / "level0" / m / "summary.json"));
+    const double wall = j.at("process").at("wall_s").get<double>();
+    EXPECT_GE(wall, j.at("time_s").at("total").get<double>() - 0.02) << m;
+    EXPECT_LT(wall, 60.0) << m;
+    const double rss = j.at("process").at("peak_rss_mb").get<double>();
+    EXPECT_GT(rss, 10.0) << m;
+    EXPECT_LT(rss, 24.0 * 1024) << m;
   }
   EXPECT_EQ(read_text(dir / "compare.md").find("Missing cases"), std::string::npos);
   // The merge writes the HTML page through the same report: a row per case, the three charts.
