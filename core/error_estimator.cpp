@@ -14,8 +14,10 @@ void integrate(const Mesh& mesh, const std::vector<Material>& materials,
                const ElementStresses& stresses, const Eigen::Matrix3Xd& smoothed,
                ErrorEstimate& est, double& energy2) {
   using Tri = Triangle<NN>;
-  typename Tri::ShapeGrad g;
+  double energy = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : energy)
   for (int e = 0; e < mesh.num_elements(); ++e) {
+    typename Tri::ShapeGrad g;
     const typename Tri::Coords x = mesh.element_coords(e);
     const Material& mat = materials[mesh.element_material[e]];
     const Mat3 c = mat.compliance();
@@ -30,8 +32,9 @@ void integrate(const Mesh& mesh, const std::vector<Material>& materials,
       en2 += star.dot(c * star) * w;
     }
     est.element_error[e] = std::sqrt(std::max(err2, 0.0));
-    energy2 += en2;
+    energy += en2;
   }
+  energy2 += energy;
 }
 
 }  // namespace

@@ -12,7 +12,9 @@
 
 #include "core/errors.hpp"
 #include "core/mesh_budget.hpp"
+#include "core/mesh_refine.hpp"
 #include "core/msh_check.hpp"
+#include "core/point_cloud.hpp"
 
 namespace c2d::core {
 
@@ -36,102 +38,15 @@ double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
   return (p - (a + t * ab)).norm();
 }
 
+/// A boundary curve of a body's shape: its gmsh tag, its name, and for a circular arc its
+/// circle (where subdivision puts new boundary nodes).
 struct NamedCurve {
   int tag;
   std::string name;
+  bool arc = false;
+  Vec2 center = Vec2::Zero();
+  double radius = 0.0;
 };
-
-double cross(const Vec2& o, const Vec2& a, const Vec2& b) {
-  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
-}
-
-/// Convex hull, counter-clockwise, corners only (points on its edges are inserted afterwards).
-/// Andrew's monotone chain, O(n log n).
-std::vector<Vec2> convex_hull(std::vector<Vec2> p, double tol) {
-  std::sort(p.begin(), p.end(), [](const Vec2& a, const Vec2& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  std::vector<Vec2> h;
-  for (int pass = 0; pass < 2; ++pass) {
-    const size_t start = h.size();
-    for (const Vec2& q : p) {
-      while (h.size() >= start + 2 && cross(h[h.size() - 2], h.back(), q) <= tol) h.pop_back();
-      h.push_back(q);
-    }
-    h.pop_back();
-    std::reverse(p.begin(), p.end());
-  }
-  return h;
-}
-
-/// Winding-number test of a point against a closed polygon.
-bool inside_polygon(const std::vector<Vec2>& polygon, const Vec2& q) {
-  int winding = 0;
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    const Vec2 &a = polygon[i], &b = polygon[(i + 1) % polygon.size()];
-    if (a.y() <= q.y()) {
-      if (b.y() > q.y() && cross(a, b, q) > 0) ++winding;
-    } else if (b.y() <= q.y() && cross(a, b, q) < 0) {
-      --winding;
-    }
-  }
-  return winding != 0;
-}
-
-/// The checked point cloud of a `points` shape: its boundary polygon (given, else the convex
-/// hull) with the cloud points on its edges inserted as vertices, and the interior points.
-/// Throws InputError for fewer than 3 distinct points, duplicates, a collinear cloud, or points
-/// outside the given boundary.
-void split_point_cloud(const ShapeSpec& s, std::vector<Vec2>& boundary, std::vector<Vec2>& interior) {
-  Vec2 lo = Vec2::Constant(1e300), hi = Vec2::Constant(-1e300);
-  for (const auto& q : s.points) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-  for (const auto& q : s.boundary) lo = lo.cwiseMin(q), hi = hi.cwiseMax(q);
-  const double size = (hi - lo).norm();
-  const double tol = 1e-9 * size;
-  std::vector<std::pair<Vec2, int>> sorted;
-  for (size_t i = 0; i < s.points.size(); ++i) sorted.emplace_back(s.points[i], static_cast<int>(i));
-  std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) {
-    return a.first.x() < b.first.x() || (a.first.x() == b.first.x() && a.first.y() < b.first.y());
-  });
-  for (size_t i = 0; i < sorted.size(); ++i)
-    for (size_t j = i + 1; j < sorted.size() && sorted[j].first.x() - sorted[i].first.x() <= tol; ++j)
-      if ((sorted[j].first - sorted[i].first).norm() <= tol)
-        throw InputError("shape.points: points " + std::to_string(std::min(sorted[i].second, sorted[j].second) + 1) +
-                         " and " + std::to_string(std::max(sorted[i].second, sorted[j].second) + 1) +
-                         " coincide; expected distinct points");
-  std::vector<Vec2> polygon = s.boundary.empty() ? convex_hull(s.points, tol * size) : s.boundary;
-  const double area = signed_area(polygon);
-  if (2.0 * std::abs(area) <= 1e-12 * size * size)
-    throw InputError(std::string(s.boundary.empty() ? "shape.points" : "shape.boundary") +
-                     ": the points are collinear (no area to triangulate); expected a 2D cloud");
-  if (area < 0) std::reverse(polygon.begin(), polygon.end());
-  // Each cloud point: a polygon vertex, on a polygon edge (inserted there), inside, or outside.
-  std::vector<std::vector<std::pair<double, Vec2>>> on_edge(polygon.size());
-  for (size_t k = 0; k < s.points.size(); ++k) {
-    const Vec2& q = s.points[k];
-    bool placed = false;
-    for (size_t i = 0; i < polygon.size() && !placed; ++i) {
-      const Vec2 &a = polygon[i], &b = polygon[(i + 1) % polygon.size()];
-      if ((q - a).norm() <= tol) {
-        placed = true;
-      } else if ((q - b).norm() > tol && std::abs(cross(a, b, q)) <= tol * (b - a).norm()) {
-        const double t = (q - a).dot(b - a) / (b - a).squaredNorm();
-        if (t > 0 && t < 1) on_edge[i].emplace_back(t, q), placed = true;
-      }
-    }
-    if (placed) continue;
-    if (!inside_polygon(polygon, q))
-      throw InputError("shape.points: point " + std::to_string(k + 1) + " (" + std::to_string(q.x()) +
-                       ", " + std::to_string(q.y()) + ") lies outside the boundary polygon");
-    interior.push_back(q);
-  }
-  for (size_t i = 0; i < polygon.size(); ++i) {
-    boundary.push_back(polygon[i]);
-    std::sort(on_edge[i].begin(), on_edge[i].end(),
-              [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [t, q] : on_edge[i]) boundary.push_back(q);
-  }
-}
 
 // Builds the primitive in gmsh's built-in (geo) kernel; returns the named boundary curves.
 std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
@@ -175,7 +90,7 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
     }
     for (int i = 0; i < pieces; ++i) {
       const int c = geo::addCircleArc(arc_points[i], center, arc_points[i + 1]);
-      curves.push_back({c, "arc"});
+      curves.push_back({c, "arc", true, s.center, s.radius});
       loop.push_back(c);
     }
     if (!full) {
@@ -192,8 +107,9 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
   return curves;
 }
 
-// Reads the current gmsh model's 2D mesh into a Mesh (nodes compacted to those of triangles).
-Mesh read_gmsh_model(int order, const std::vector<NamedCurve>& named) {
+// Reads the current gmsh model's 2D mesh (nodes compacted to those of triangles) with the
+// segments of the named curves.
+CurveMesh read_gmsh_model(int order, const std::vector<NamedCurve>& named) {
   std::vector<std::size_t> node_tags;
   std::vector<double> coords, param;
   gmsh::model::mesh::getNodes(node_tags, coords, param, -1, -1, false, false);
@@ -204,11 +120,11 @@ Mesh read_gmsh_model(int order, const std::vector<NamedCurve>& named) {
   std::vector<std::vector<std::size_t>> elem_tags, elem_nodes;
   gmsh::model::mesh::getElements(types, elem_tags, elem_nodes, 2, -1);
   const int want = order == 1 ? 2 : 9;  // gmsh: 3-node and 6-node triangles
-  Mesh mesh;
+  CurveMesh mesh;
   mesh.order = order;
   std::unordered_map<std::size_t, int> index;  // gmsh tag -> mesh node
   auto node_of = [&](std::size_t tag) {
-    auto [it, inserted] = index.try_emplace(tag, mesh.num_nodes());
+    auto [it, inserted] = index.try_emplace(tag, static_cast<int>(mesh.nodes.size()));
     if (inserted) {
       const size_t p = tag_pos.at(tag);
       mesh.nodes.emplace_back(coords[3 * p], coords[3 * p + 1]);
@@ -227,37 +143,26 @@ Mesh read_gmsh_model(int order, const std::vector<NamedCurve>& named) {
     }
   }
   if (mesh.elements.empty()) throw InputError("the mesh has no triangles");
-  mesh.element_body.assign(mesh.elements.size(), 0);
-  mesh.element_material.assign(mesh.elements.size(), 0);
-  mesh.orient_counter_clockwise();
-  mesh.build_boundary();
-
-  // Named edges: boundary edges whose end nodes lie on a named curve's mesh.
-  std::map<std::pair<int, int>, int> edge_index;
-  for (size_t i = 0; i < mesh.boundary_edges.size(); ++i) {
-    const auto& be = mesh.boundary_edges[i];
-    edge_index[{std::min(be.nodes[0], be.nodes[1]), std::max(be.nodes[0], be.nodes[1])}] =
-        static_cast<int>(i);
-  }
-  for (const auto& curve : named) {
+  for (size_t c = 0; c < named.size(); ++c) {
     std::vector<int> ctypes;
     std::vector<std::vector<std::size_t>> ctags, cnodes;
-    gmsh::model::mesh::getElements(ctypes, ctags, cnodes, 1, curve.tag);
+    gmsh::model::mesh::getElements(ctypes, ctags, cnodes, 1, named[c].tag);
     for (size_t t = 0; t < ctypes.size(); ++t) {
       const size_t nn = ctypes[t] == 1 ? 2 : 3;
       for (size_t e = 0; e < ctags[t].size(); ++e) {
         auto a = index.find(cnodes[t][e * nn]), b = index.find(cnodes[t][e * nn + 1]);
-        if (a == index.end() || b == index.end()) continue;
-        auto it = edge_index.find({std::min(a->second, b->second), std::max(a->second, b->second)});
-        if (it != edge_index.end()) mesh.edge_groups[curve.name].push_back(it->second);
+        if (a != index.end() && b != index.end())
+          mesh.segments.push_back({a->second, b->second, static_cast<int>(c)});
       }
     }
   }
-  for (auto& [name, ids] : mesh.edge_groups) {
-    std::sort(ids.begin(), ids.end());
-    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-  }
   return mesh;
+}
+
+std::vector<std::string> curve_names(const std::vector<NamedCurve>& named) {
+  std::vector<std::string> names;
+  for (const auto& c : named) names.push_back(c.name);
+  return names;
 }
 
 /// Lawson's edge flips on the (linear) triangles of the model's surface: an interior edge whose
@@ -281,7 +186,7 @@ void make_delaunay() {
     std::vector<std::array<std::size_t, 3>> tri;
     for (size_t k = 0; k + 2 < nodes.size(); k += 3) {
       std::array<std::size_t, 3> t{nodes[k], nodes[k + 1], nodes[k + 2]};
-      if (cross(x[t[0]], x[t[1]], x[t[2]]) < 0) std::swap(t[1], t[2]);
+      if (orientation(x[t[0]], x[t[1]], x[t[2]]) < 0) std::swap(t[1], t[2]);
       tri.push_back(t);
     }
     auto angle_at = [&](std::size_t at, std::size_t a, std::size_t b) {
@@ -373,8 +278,10 @@ void set_background_size_field(const SizeField& f) {
 }
 
 /// Builds the body's shape and meshes it: sizes from the adapted size field, else from the
-/// body's mesh size and refinements; a point cloud is triangulated as given.
-std::vector<NamedCurve> mesh_shape(const BodySpec& body, int order) {
+/// body's mesh size and refinements times `coarsen` (which is 1 for a point cloud or an
+/// adapted field); a point cloud is triangulated as given. Order 2 is gmsh's only for a mesh
+/// not coarsened (a coarsened one is subdivided before it gets mid-side nodes).
+std::vector<NamedCurve> mesh_shape(const BodySpec& body, int order, double coarsen) {
   std::vector<NamedCurve> named = build_geometry(body.shape);
   // A point cloud is triangulated as given (Delaunay, no points added): a size far above
   // the cloud's extent.
@@ -389,7 +296,7 @@ std::vector<NamedCurve> mesh_shape(const BodySpec& body, int order) {
   const bool adapted = body.size_field && !body.size_field->empty() && !cloud;
   gmsh::option::setNumber("Mesh.MeshSizeMax", cloud     ? cloud_size
                                               : adapted ? body.size_field->max()
-                                                        : body.mesh_size);
+                                                        : body.mesh_size * coarsen);
   // A point cloud: MeshAdapt with the boundary imposed and the interior points embedded keeps
   // exactly the given points (gmsh's Delaunay mesher inserted points into a 3 x 3 grid, and
   // gmsh::model::mesh::triangulate drops hull edges); Lawson flips then make it Delaunay.
@@ -399,15 +306,38 @@ std::vector<NamedCurve> mesh_shape(const BodySpec& body, int order) {
     set_background_size_field(*body.size_field);
   } else {
     gmsh::model::mesh::setSizeCallback(
-        [&body, cloud, cloud_size](int, int, double x, double y, double) {
-          return cloud ? cloud_size : requested_size(body, {x, y});
+        [&body, cloud, cloud_size, coarsen](int, int, double x, double y, double) {
+          return cloud ? cloud_size : coarsen * requested_size(body, {x, y});
         });
   }
   gmsh::model::mesh::generate(2);
   if (!adapted) gmsh::model::mesh::removeSizeCallback();
   if (cloud) make_delaunay();
-  if (order == 2) gmsh::model::mesh::setOrder(2);
+  if (order == 2 && coarsen == 1.0) gmsh::model::mesh::setOrder(2);
   return named;
+}
+
+/// Subdivisions for a body: none for a file, a point cloud or an adapted size field (whose
+/// sizes are the adaptivity's own).
+int body_subdivisions(const BodySpec& body) {
+  const bool adapted = body.size_field && !body.size_field->empty();
+  if (!body.msh_file.empty() || body.shape.type == "points" || adapted) return 0;
+  return subdivision_levels(estimate_elements(body), kCoarseElements);
+}
+
+/// The coarse mesh read from gmsh, subdivided `levels` times, raised to order 2 if asked, and
+/// renumbered for locality; new boundary nodes on arcs go onto their circles.
+Mesh subdivided_mesh(const std::vector<NamedCurve>& named, int order, int levels) {
+  CurveMesh coarse = read_gmsh_model(1, named);
+  const CurveProjector onto_curve = [&named](int curve, Vec2& p) {
+    const NamedCurve& c = named[curve];
+    const Vec2 d = p - c.center;
+    if (c.arc && d.norm() > 0) p = c.center + c.radius * d / d.norm();
+  };
+  for (int k = 0; k < levels; ++k) subdivide(coarse, onto_curve);
+  if (order == 2) make_quadratic(coarse, onto_curve);
+  renumber_spatially(coarse);
+  return to_mesh(std::move(coarse), curve_names(named));
 }
 
 /// The triangulation of a point cloud must use the cloud's points and no others.
@@ -457,9 +387,11 @@ Mesh mesh_body(const BodySpec& body, int order) {
   gmsh::model::add(body.name);
   try {
     const bool from_file = !body.msh_file.empty();
-    const std::vector<NamedCurve> named =
-        from_file ? open_msh_file(body.msh_file, order) : mesh_shape(body, order);
-    Mesh mesh = read_gmsh_model(order, named);
+    const int levels = body_subdivisions(body);
+    const std::vector<NamedCurve> named = from_file ? open_msh_file(body.msh_file, order)
+                                                    : mesh_shape(body, order, std::ldexp(1.0, levels));
+    Mesh mesh = levels > 0 ? subdivided_mesh(named, order, levels)
+                           : to_mesh(read_gmsh_model(order, named), curve_names(named));
     if (body.shape.type == "points" && !from_file) check_cloud_vertices(body.shape, mesh);
     if (from_file) add_physical_node_groups(mesh);
     gmsh::clear();

@@ -192,6 +192,8 @@ struct Scene {
   /// not gnuplot's start-up time).
   bool output_fields = true;
   bool output_charts = true;
+  /// [output] vtu = "binary" (raw appended arrays, the default) or "ascii".
+  bool output_vtu_ascii = false;
   std::shared_ptr<ExplicitModel> explicit_model;  ///< set for legacy files
   std::shared_ptr<toml::table> raw;              ///< the parsed (overridden) TOML, for later modules
 };

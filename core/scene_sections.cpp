@@ -490,10 +490,11 @@ void parse_reference_and_output(const TomlView& root, Scene& scene) {
   if (root.has("output")) {
     const TomlView o = root["output"];
     o.require_table();
-    o.check_keys({"dir", "fields", "charts"});
+    o.check_keys({"dir", "fields", "charts", "vtu"});
     scene.output_dir = o["dir"].string_or("");
     scene.output_fields = o["fields"].boolean_or(true);
     scene.output_charts = o["charts"].boolean_or(true);
+    scene.output_vtu_ascii = o["vtu"].choice_or({"binary", "ascii"}, "binary") == "ascii";
   }
 }
 

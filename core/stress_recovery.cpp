@@ -1,10 +1,11 @@
 #include "core/stress_recovery.hpp"
 
+#include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "core/elasticity_kernels.hpp"
 #include "core/finite_strain_kernels.hpp"
-#include "core/spd_solver.hpp"
 #include "core/triangle.hpp"
 
 namespace c2d::core {
@@ -15,8 +16,9 @@ ElementStresses compute_element_stresses(const Mesh& mesh, const std::vector<Mat
   const int nn = mesh.nodes_per_element();
   s.at_points.resize(mesh.num_elements());
   s.at_nodes.resize(mesh.num_elements());
-  LocalVector ue(2 * nn);
+#pragma omp parallel for schedule(static)
   for (int e = 0; e < mesh.num_elements(); ++e) {
+    LocalVector ue(2 * nn);
     for (int i = 0; i < nn; ++i) ue.segment<2>(2 * i) = u.segment<2>(2 * mesh.elements[e][i]);
     const Eigen::MatrixX2d x = mesh.element_coords(e);
     const Material& mat = materials[mesh.element_material[e]];
@@ -36,44 +38,94 @@ Voigt interpolate_element_stress(const Eigen::Matrix3Xd& ps, double a, double b)
 
 namespace {
 
+/// The mass-weighted projection's system M S = R, element by element: M's element matrices
+/// are kept and applied without assembly.
+template <int NN>
+struct ElementMass {
+  std::vector<Eigen::Matrix<double, NN, NN>> mass;
+  Eigen::Matrix3Xd rhs, diagonal;  ///< per node: ∫ N σ_h dA, and M's diagonal (3 equal rows)
+
+  ElementMass(const Mesh& mesh, const std::vector<Material>& materials,
+              const ElementStresses& stresses)
+      : mass(mesh.num_elements()) {
+    using Tri = Triangle<NN>;
+    std::vector<Eigen::Matrix<double, NN, 3>> re(mesh.num_elements());
+#pragma omp parallel for schedule(static)
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      typename Tri::ShapeGrad g;
+      const typename Tri::Coords x = mesh.element_coords(e);
+      const double t = materials[mesh.element_material[e]].thickness;
+      mass[e].setZero();
+      re[e].setZero();
+      for (const auto& q : rule_degree4()) {
+        const double w = Tri::shape_grad(x, q.a, q.b, g) * q.weight * t;
+        const auto n = Tri::shape(q.a, q.b);
+        mass[e].noalias() += n * n.transpose() * w;
+        re[e].noalias() +=
+            n * interpolate_element_stress(stresses.at_points[e], q.a, q.b).transpose() * w;
+      }
+    }
+    rhs = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
+    diagonal = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
+    for (int e = 0; e < mesh.num_elements(); ++e)
+      for (int i = 0; i < NN; ++i) {
+        rhs.col(mesh.elements[e][i]) += re[e].row(i).transpose();
+        diagonal.col(mesh.elements[e][i]).array() += mass[e](i, i);
+      }
+  }
+
+  /// y = M x for the three stress components at once.
+  void apply(const Mesh& mesh, const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd& y) const {
+    y.setZero(3, x.cols());
+    Eigen::Matrix<double, 3, NN> xe;
+    for (int e = 0; e < mesh.num_elements(); ++e) {
+      const auto& nodes = mesh.elements[e];
+      for (int i = 0; i < NN; ++i) xe.col(i) = x.col(nodes[i]);
+      const Eigen::Matrix<double, 3, NN> ye = xe * mass[e];  // M_e symmetric
+      for (int i = 0; i < NN; ++i) y.col(nodes[i]) += ye.col(i);
+    }
+  }
+};
+
+/// Global L2 projection M S = R by conjugate gradients preconditioned with M's diagonal, the
+/// three components side by side. For straight-sided elements every element's diagonally
+/// scaled mass matrix is the same matrix, so the iteration count is bounded independently of
+/// the mesh (Wathen 1987): about 10 iterations for T3 and 25 for T6 to a relative residual of
+/// 1e-12, where a factorisation of M cost more than the displacement solve's triangular solves.
 template <int NN>
 Eigen::Matrix3Xd l2_projection(const Mesh& mesh, const std::vector<Material>& materials,
                                const ElementStresses& stresses) {
-  using Tri = Triangle<NN>;
-  std::vector<Triplet> mass;
-  mass.reserve(static_cast<size_t>(mesh.num_elements()) * NN * NN);
-  Eigen::MatrixX3d rhs = Eigen::MatrixX3d::Zero(mesh.num_nodes(), 3);
-  typename Tri::ShapeGrad g;
-  for (int e = 0; e < mesh.num_elements(); ++e) {
-    const typename Tri::Coords x = mesh.element_coords(e);
-    const double t = materials[mesh.element_material[e]].thickness;
-    Eigen::Matrix<double, NN, NN> me = Eigen::Matrix<double, NN, NN>::Zero();
-    Eigen::Matrix<double, NN, 3> re = Eigen::Matrix<double, NN, 3>::Zero();
-    for (const auto& q : rule_degree4()) {
-      const double w = Tri::shape_grad(x, q.a, q.b, g) * q.weight * t;
-      const auto n = Tri::shape(q.a, q.b);
-      me.noalias() += n * n.transpose() * w;
-      re.noalias() +=
-          n * interpolate_element_stress(stresses.at_points[e], q.a, q.b).transpose() * w;
-    }
-    for (int i = 0; i < NN; ++i) {
-      rhs.row(mesh.elements[e][i]) += re.row(i);
-      for (int j = 0; j < NN; ++j)
-        mass.emplace_back(mesh.elements[e][i], mesh.elements[e][j], me(i, j));
-    }
+  const ElementMass<NN> m(mesh, materials, stresses);
+  const Eigen::Index n = mesh.num_nodes();
+  const Eigen::Array3Xd inv_diag = m.diagonal.array().inverse();
+  Eigen::Matrix3Xd s = (m.rhs.array() * inv_diag).matrix();
+  Eigen::Matrix3Xd r(3, n), z(3, n), p(3, n), q(3, n);
+  m.apply(mesh, s, q);
+  r = m.rhs - q;
+  z = (r.array() * inv_diag).matrix();
+  p = z;
+  Eigen::Array3d rz = (r.array() * z.array()).rowwise().sum();
+  const Eigen::Array3d b2 = m.rhs.array().square().rowwise().sum();
+  constexpr double kTolerance = 1e-12;
+  constexpr int kMaxIterations = 1000;
+  for (int it = 0;; ++it) {
+    const Eigen::Array3d r2 = r.array().square().rowwise().sum();
+    if ((r2 <= kTolerance * kTolerance * b2).all()) break;
+    if (it == kMaxIterations || !r2.allFinite())
+      throw std::logic_error("L2 stress projection: conjugate gradients on the mass matrix did "
+                             "not converge (residual " + std::to_string(std::sqrt(r2.maxCoeff())) + ")");
+    m.apply(mesh, p, q);
+    const Eigen::Array3d pq = (p.array() * q.array()).rowwise().sum();
+    const Eigen::Array3d alpha = (pq > 0).select(rz / pq, 0.0);
+    s.array() += p.array().colwise() * alpha;
+    r.array() -= q.array().colwise() * alpha;
+    z = (r.array() * inv_diag).matrix();
+    const Eigen::Array3d rz_next = (r.array() * z.array()).rowwise().sum();
+    const Eigen::Array3d beta = (rz > 0).select(rz_next / rz, 0.0);
+    p = (z.array() + p.array().colwise() * beta).matrix();
+    rz = rz_next;
   }
-  SpMat m(mesh.num_nodes(), mesh.num_nodes());
-  m.setFromTriplets(mass.begin(), mass.end());
-  SpdSolver solver;
-  Eigen::Matrix3Xd out(3, mesh.num_nodes());
-  if (solver.factorize(m) != SolveStatus::kConverged)
-    throw std::logic_error("L2 stress projection: mass matrix not positive definite");
-  for (int c = 0; c < 3; ++c) {
-    VecX col;
-    solver.solve(rhs.col(c), col);
-    out.row(c) = col.transpose();
-  }
-  return out;
+  return s;
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 #include "core/writers.hpp"
 
+#include <bit>
 #include <charconv>
+#include <cstdint>
+#include <functional>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -60,6 +63,7 @@ class Text {
     s_.append(t);
     return *this;
   }
+  void append(const char* bytes, size_t n) { s_.append(bytes, n); }
   void reserve(size_t n) { s_.reserve(n); }
   std::string str() && { return std::move(s_); }
 
@@ -67,86 +71,146 @@ class Text {
   std::string s_;
 };
 
-void data_array(Text& os, const std::string& name, int components,
-                const std::function<double(int, int)>& value, int count) {
-  os << "        <DataArray type=\"Float64\" Name=\"" << name << "\" NumberOfComponents=\""
-     << components << "\" format=\"ascii\">\n";
-  for (int i = 0; i < count; ++i) {
-    os << "          ";
-    for (int c = 0; c < components; ++c) os << value(i, c) << (c + 1 < components ? " " : "");
-    os << '\n';
+/// One VTK DataArray: doubles (Float64), or integers of the type named.
+struct DataArray {
+  DataArray(std::string n, int c, std::string t = "Float64")
+      : name(std::move(n)), components(c), type(std::move(t)) {}
+  std::string name;
+  int components = 1;
+  std::string type;
+  std::vector<double> real;
+  std::vector<std::int32_t> integer;  ///< Int32 arrays
+  std::vector<std::uint8_t> byte;     ///< UInt8 arrays
+
+  size_t bytes() const {
+    return real.size() * sizeof(double) + integer.size() * sizeof(std::int32_t) + byte.size();
+  }
+  const char* data() const {
+    if (!real.empty()) return reinterpret_cast<const char*>(real.data());
+    if (!integer.empty()) return reinterpret_cast<const char*>(integer.data());
+    return reinterpret_cast<const char*>(byte.data());
+  }
+};
+
+DataArray reals(const std::string& name, int components, int count,
+                const std::function<double(int, int)>& value) {
+  DataArray a(name, components);
+  a.real.resize(static_cast<size_t>(count) * components);
+  for (int i = 0; i < count; ++i)
+    for (int c = 0; c < components; ++c) a.real[static_cast<size_t>(i) * components + c] = value(i, c);
+  return a;
+}
+
+/// The array's opening tag; ASCII arrays then hold their values, appended ones point into the
+/// appended block at `offset`.
+void open_array(Text& os, const DataArray& a, VtuEncoding encoding, size_t offset) {
+  os << "        <DataArray type=\"" << a.type << "\" Name=\"" << a.name << "\"";
+  if (a.components > 1) os << " NumberOfComponents=\"" << a.components << "\"";
+  if (encoding == VtuEncoding::kAscii) {
+    os << " format=\"ascii\">\n";
+    return;
+  }
+  os << " format=\"appended\" offset=\"" << std::to_string(offset) << "\"/>\n";
+}
+
+void ascii_values(Text& os, const DataArray& a) {
+  const size_t n = a.real.size() + a.integer.size() + a.byte.size();
+  for (size_t i = 0; i < n; ++i) {
+    os << (i % a.components == 0 ? "          " : " ");
+    if (!a.real.empty()) os << a.real[i];
+    else if (!a.integer.empty()) os << static_cast<int>(a.integer[i]);
+    else os << static_cast<int>(a.byte[i]);
+    if ((i + 1) % a.components == 0) os << '\n';
   }
   os << "        </DataArray>\n";
 }
 
-}  // namespace
+/// The grid's arrays in document order: points, cells, point data, cell data.
+struct GridArrays {
+  DataArray points;
+  std::vector<DataArray> cells, point_data, cell_data;
+};
 
-std::string vtu_document(const Model& model, const Results& r) {
+GridArrays grid_arrays(const Model& model, const Results& r) {
   const Mesh& mesh = model.mesh;
-  const int nn = mesh.nodes_per_element();
-  Text os;
-  os.reserve(static_cast<size_t>(mesh.num_nodes()) * 220 + static_cast<size_t>(mesh.num_elements()) * 120);
-  os << "<?xml version=\"1.0\"?>\n"
-        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-        "  <UnstructuredGrid>\n"
-     << "    <Piece NumberOfPoints=\"" << mesh.num_nodes() << "\" NumberOfCells=\""
-     << mesh.num_elements() << "\">\n";
-  os << "      <Points>\n";
-  data_array(os, "Points", 3, [&](int i, int c) { return c < 2 ? mesh.nodes[i][c] : 0.0; },
-             mesh.num_nodes());
-  os << "      </Points>\n      <Cells>\n"
-        "        <DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">\n";
-  for (const auto& el : mesh.elements) {
-    os << "         ";
-    for (int i = 0; i < nn; ++i) os << ' ' << el[i];
-    os << '\n';
+  const int nn = mesh.nodes_per_element(), nodes = mesh.num_nodes(), elements = mesh.num_elements();
+  GridArrays g{DataArray("Points", 3), {}, {}, {}};
+  g.points = reals("Points", 3, nodes, [&](int i, int c) { return c < 2 ? mesh.nodes[i][c] : 0.0; });
+  DataArray conn("connectivity", 1, "Int32"), offsets("offsets", 1, "Int32"), types("types", 1, "UInt8");
+  for (const auto& el : mesh.elements) conn.integer.insert(conn.integer.end(), el.begin(), el.begin() + nn);
+  for (int e = 0; e < elements; ++e) offsets.integer.push_back((e + 1) * nn);
+  types.byte.assign(elements, nn == 3 ? 5 : 22);
+  g.cells = {std::move(conn), std::move(offsets), std::move(types)};
+  auto& pd = g.point_data;
+  pd.push_back(reals("displacement", 3, nodes, [&](int i, int c) { return c < 2 ? r.displacement[2 * i + c] : 0.0; }));
+  pd.push_back(reals("reaction", 3, nodes, [&](int i, int c) { return c < 2 ? r.reaction[2 * i + c] : 0.0; }));
+  pd.push_back(reals("stress_smoothed", 3, nodes, [&](int i, int c) { return r.nodal_stress(c, i); }));
+  for (const char* q : {"vm", "s1", "s2"}) {
+    const std::string name = std::string(q == std::string("vm") ? "von_mises" : q) + "_smoothed";
+    pd.push_back(reals(name, 1, nodes, [&](int i, int) { return nodal_quantity(model, r, q, i); }));
   }
-  os << "        </DataArray>\n"
-        "        <DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">\n         ";
-  for (int e = 0; e < mesh.num_elements(); ++e) os << ' ' << (e + 1) * nn;
-  os << "\n        </DataArray>\n"
-        "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n         ";
-  for (int e = 0; e < mesh.num_elements(); ++e) os << ' ' << (nn == 3 ? 5 : 22);
-  os << "\n        </DataArray>\n      </Cells>\n";
-
-  os << "      <PointData Vectors=\"displacement\">\n";
-  data_array(os, "displacement", 3,
-             [&](int i, int c) { return c < 2 ? r.displacement[2 * i + c] : 0.0; },
-             mesh.num_nodes());
-  data_array(os, "reaction", 3, [&](int i, int c) { return c < 2 ? r.reaction[2 * i + c] : 0.0; },
-             mesh.num_nodes());
-  data_array(os, "stress_smoothed", 3, [&](int i, int c) { return r.nodal_stress(c, i); },
-             mesh.num_nodes());
-  data_array(os, "von_mises_smoothed", 1,
-             [&](int i, int) { return nodal_quantity(model, r, "vm", i); }, mesh.num_nodes());
-  data_array(os, "s1_smoothed", 1, [&](int i, int) { return nodal_quantity(model, r, "s1", i); },
-             mesh.num_nodes());
-  data_array(os, "s2_smoothed", 1, [&](int i, int) { return nodal_quantity(model, r, "s2", i); },
-             mesh.num_nodes());
   for (const auto& entry : r.point_fields) {  // (a structured binding: clang 14 cannot capture it)
     const VecX& field = entry.second;
-    data_array(os, entry.first, 1, [&](int i, int) { return field[i]; }, mesh.num_nodes());
+    pd.push_back(reals(entry.first, 1, nodes, [&](int i, int) { return field[i]; }));
   }
-  os << "      </PointData>\n      <CellData>\n";
   auto element_mean = [&](int e) -> Voigt { return r.element_stresses.at_points[e].rowwise().mean(); };
-  data_array(os, "stress_element", 3, [&](int e, int c) { return element_mean(e)[c]; },
-             mesh.num_elements());
-  data_array(os, "von_mises_element", 1,
-             [&](int e, int) {
-               const Voigt s = element_mean(e);
-               return von_mises(s, model.materials[mesh.element_material[e]].sigma_zz(s));
-             },
-             mesh.num_elements());
-  data_array(os, "zz_local_parameter", 1,
-             [&](int e, int) {
-               return r.error.local_parameter.empty() ? 0.0 : r.error.local_parameter[e];
-             },
-             mesh.num_elements());
-  data_array(os, "body_id", 1, [&](int e, int) { return mesh.element_body[e]; },
-             mesh.num_elements());
-  data_array(os, "material_id", 1, [&](int e, int) { return mesh.element_material[e]; },
-             mesh.num_elements());
-  os << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  auto& cd = g.cell_data;
+  cd.push_back(reals("stress_element", 3, elements, [&](int e, int c) { return element_mean(e)[c]; }));
+  cd.push_back(reals("von_mises_element", 1, elements, [&](int e, int) {
+    const Voigt s = element_mean(e);
+    return von_mises(s, model.materials[mesh.element_material[e]].sigma_zz(s));
+  }));
+  cd.push_back(reals("zz_local_parameter", 1, elements, [&](int e, int) {
+    return r.error.local_parameter.empty() ? 0.0 : r.error.local_parameter[e];
+  }));
+  cd.push_back(reals("body_id", 1, elements, [&](int e, int) { return mesh.element_body[e]; }));
+  cd.push_back(reals("material_id", 1, elements, [&](int e, int) { return mesh.element_material[e]; }));
+  return g;
+}
+
+}  // namespace
+
+std::string vtu_document(const Model& model, const Results& r, VtuEncoding encoding) {
+  const GridArrays g = grid_arrays(model, r);
+  std::vector<const DataArray*> order{&g.points};
+  for (const auto* list : {&g.cells, &g.point_data, &g.cell_data})
+    for (const auto& a : *list) order.push_back(&a);
+  const bool ascii = encoding == VtuEncoding::kAscii;
+  size_t payload = 0;
+  for (const auto* a : order) payload += a->bytes() + sizeof(std::uint64_t);
+  Text os;
+  os.reserve(ascii ? payload * 3 : payload + 4096);
+  os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\""
+     << (std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian")
+     << "\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n"
+     << "    <Piece NumberOfPoints=\"" << model.mesh.num_nodes() << "\" NumberOfCells=\""
+     << model.mesh.num_elements() << "\">\n";
+  size_t offset = 0;
+  auto emit = [&](const DataArray& a) {
+    open_array(os, a, encoding, offset);
+    if (ascii) ascii_values(os, a);
+    offset += a.bytes() + sizeof(std::uint64_t);
+  };
+  os << "      <Points>\n";
+  emit(g.points);
+  os << "      </Points>\n      <Cells>\n";
+  for (const auto& a : g.cells) emit(a);
+  os << "      </Cells>\n      <PointData Vectors=\"displacement\">\n";
+  for (const auto& a : g.point_data) emit(a);
+  os << "      </PointData>\n      <CellData>\n";
+  for (const auto& a : g.cell_data) emit(a);
+  os << "      </CellData>\n    </Piece>\n  </UnstructuredGrid>\n";
+  if (!ascii) {
+    // Raw appended data: after '_', each array as its byte count (UInt64) and its bytes.
+    os << "  <AppendedData encoding=\"raw\">\n   _";
+    for (const auto* a : order) {
+      const std::uint64_t n = a->bytes();
+      os.append(reinterpret_cast<const char*>(&n), sizeof n);
+      os.append(a->data(), a->bytes());
+    }
+    os << "\n  </AppendedData>\n";
+  }
+  os << "</VTKFile>\n";
   return std::move(os).str();
 }
 

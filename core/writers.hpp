@@ -12,9 +12,16 @@ namespace c2d::core {
 /// reader never sees a half-written file. Throws std::runtime_error on I/O failure.
 void write_file_atomic(const std::string& path, const std::string& content);
 
-/// VTK XML unstructured grid (ASCII): displacement, element and smoothed stresses, von Mises,
-/// principal stresses, ZZ local parameter, body id, material id.
-std::string vtu_document(const Model& model, const Results& results);
+/// How a VTU file holds its arrays: raw binary appended after the XML (about a tenth of the
+/// time and half the size of text, exact, read by ParaView and VTK since 2004) or ASCII text
+/// (12 significant digits, readable by eye).
+enum class VtuEncoding { kBinary, kAscii };
+
+/// VTK XML unstructured grid (format version 1.0, UInt64 block headers): displacement,
+/// reaction, element and smoothed stresses, von Mises, principal stresses, ZZ local parameter,
+/// body id, material id.
+std::string vtu_document(const Model& model, const Results& results,
+                         VtuEncoding encoding = VtuEncoding::kBinary);
 
 /// ParaView collection listing (time, file) pairs.
 std::string pvd_document(const std::vector<std::pair<double, std::string>>& steps);

@@ -52,15 +52,19 @@ TEST(ClipBand, BandsOfALinearFieldHaveTheirExactAreas) {
   EXPECT_NEAR(polygon_area(app::clip_band(x, v, -1.0, 2.0)), 0.5, 1e-15);
 }
 
-TEST(ReadVtu, ReadsBackWhatRunWrites) {
-  // A T6 cantilever: points, cells and the smoothed stresses round-trip through the ASCII VTU
-  // (12 significant digits).
+class ReadVtu : public ::testing::TestWithParam<core::VtuEncoding> {};
+
+TEST_P(ReadVtu, ReadsBackWhatRunWrites) {
+  // A T6 cantilever: points, cells and the smoothed stresses round-trip through the VTU, exactly
+  // through raw binary arrays, to 12 significant digits through ASCII.
+  const bool ascii = GetParam() == core::VtuEncoding::kAscii;
+  const double digits = ascii ? 1e-11 : 0.0;
   const core::Scene scene = core::load_scene(std::string(C2D_SOURCE_DIR) + "/examples/cantilever.toml",
                                              {"body.beam.mesh.size=0.2"});
   const core::Model model = core::build_model(scene);
   const core::Results r = nonlinear::solve_linear_static(model, scene.analysis);
   const auto path = std::filesystem::temp_directory_path() / "c2d_read_vtu.vtu";
-  core::write_file_atomic(path.string(), core::vtu_document(model, r));
+  core::write_file_atomic(path.string(), core::vtu_document(model, r, GetParam()));
   const app::VtuData v = app::read_vtu(path.string());
   EXPECT_EQ(v.order, 2);
   ASSERT_EQ(v.points.size(), static_cast<size_t>(model.mesh.num_nodes()));
@@ -69,13 +73,17 @@ TEST(ReadVtu, ReadsBackWhatRunWrites) {
     for (int i = 0; i < 6; ++i) ASSERT_EQ(v.cells[e][i], model.mesh.elements[e][i]);
   const auto& s = v.point_data.at("stress_smoothed");
   const auto& vm = v.point_data.at("von_mises_smoothed");
+  const auto& u = v.point_data.at("displacement");
   const double scale = r.nodal_stress.cwiseAbs().maxCoeff();
   for (int n = 0; n < model.mesh.num_nodes(); ++n) {
-    EXPECT_NEAR((v.points[n] - model.mesh.nodes[n]).norm(), 0.0, 1e-11);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(s[3 * n + c], r.nodal_stress(c, n), 1e-11 * scale);
-    EXPECT_NEAR(vm[n], core::nodal_quantity(model, r, "vm", n), 1e-11 * scale);
+    EXPECT_NEAR((v.points[n] - model.mesh.nodes[n]).norm(), 0.0, 1e-11 * ascii);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(s[3 * n + c], r.nodal_stress(c, n), digits * scale);
+    for (int c = 0; c < 2; ++c)
+      EXPECT_NEAR(u[3 * n + c], r.displacement[2 * n + c], digits * r.displacement.cwiseAbs().maxCoeff());
+    EXPECT_NEAR(vm[n], core::nodal_quantity(model, r, "vm", n), digits * scale);
   }
   EXPECT_EQ(v.cell_data.at("zz_local_parameter").size(), v.cells.size());
+  EXPECT_EQ(v.components.at("stress_element"), 3);
   // A file that is not one: the error names it.
   core::write_file_atomic(path.string(), "<VTKFile></VTKFile>\n");
   try {
@@ -85,7 +93,26 @@ TEST(ReadVtu, ReadsBackWhatRunWrites) {
     EXPECT_NE(std::string(e.what()).find(path.string() + ": expected a VTK UnstructuredGrid"),
               std::string::npos) << e.what();
   }
+  // A binary file cut short: the array that runs past the end is named.
+  if (!ascii) {
+    std::string doc = core::vtu_document(model, r, GetParam());
+    doc.resize(doc.size() - 1000);
+    core::write_file_atomic(path.string(), doc);
+    try {
+      app::read_vtu(path.string());
+      FAIL() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("DataArray 'material_id': expected"), std::string::npos)
+          << e.what();
+    }
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(Encodings, ReadVtu,
+                         ::testing::Values(core::VtuEncoding::kBinary, core::VtuEncoding::kAscii),
+                         [](const auto& info) {
+                           return info.param == core::VtuEncoding::kAscii ? "Ascii" : "Binary";
+                         });
 
 TEST(Gnuplot, ChartLeavesOnlyItsPicturesInTheFolder) {
   // Issue 16, finding 7: a chart's data and script are made in a private temporary folder, so
