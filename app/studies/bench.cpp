@@ -308,7 +308,7 @@ std::string bench_title(const BenchStudy& s) {
 
 /// What bench.md and bench.html share besides the intro: the targets, then the slopes.
 struct BenchText {
-  std::string date, targets, slopes, chart_error;
+  std::string date, targets, slopes, jobs, chart_error;
 };
 
 /// bench.md: when and where, how the figures were taken, the targets, the tables, the slopes.
@@ -325,6 +325,8 @@ std::string bench_md(const BenchStudy& s, const std::vector<size_t>& missing, co
         "same mesh: for lagrange and ssn their own factorisation of K_ρ (ordered with the contact "
         "surface last), timed in the same process; for the other methods the lagrange run's.\n\n"
      << methods_md(s.rows) << "\n"
+     << "## Study times against --jobs\n\n"
+     << b.jobs << "\n"
      << "## Cost against size\n\n"
      << b.slopes << "\n"
      << markdown_images(charts)
@@ -339,7 +341,8 @@ HtmlReport bench_html(const BenchStudy& s, const std::vector<size_t>& missing, c
           b.date,
           bench_intro_md(s, b.date),
           b.targets,
-          missing_cases_md(s.cases, missing) + "## Cost against size\n\n" + b.slopes,
+          missing_cases_md(s.cases, missing) + "## Study times against --jobs\n\n" + b.jobs +
+              "\n## Cost against size\n\n" + b.slopes,
           "bench.csv",
           csv,
           charts};
@@ -379,16 +382,18 @@ BenchStudy bench_from_manifest(const StudyManifest& m) {
 /// The assembly throughput (measured here, now), bench.md and the charts from the finished
 /// rows, listing the `missing` cases; the targets on the terminal unless quiet. Returns 1 when a
 /// case crashed or is missing or a chart failed, else 0.
-int report_bench(BenchStudy& s, const std::vector<size_t>& missing, bool quiet) {
+int report_bench(BenchStudy& s, const std::vector<size_t>& missing, const JobsComparison& jobs,
+                 bool quiet) {
   fill_overheads(s.rows);
   const std::string csv = csv_of(s.rows);
   core::write_file_atomic(s.out + "/bench.csv", csv);
   if (!quiet) std::printf("bench: assembly throughput (structured grids, in process)\n");
   const Throughput t = measure_assembly(s.quick);
-  BenchText text{utc_now_text(), targets_md(s.rows, t, s.quick), "", ""};
+  BenchText text{utc_now_text(), targets_md(s.rows, t, s.quick, jobs), phase_slopes_md(s.rows),
+                 jobs_md(jobs), ""};
   std::vector<ReportChart> charts;
   std::string& chart_error = text.chart_error;
-  chart_error = chart_time(s.out, s.rows, text.slopes, charts);
+  chart_error = chart_time(s.out, s.rows, charts);
   if (chart_error.empty())
     chart_error = chart_accuracy(s.out, s.rows, charts);
   else
@@ -442,7 +447,10 @@ int run_bench(const BenchOptions& o) {
     core::write_file_atomic(s.out + "/bench.csv", csv_of(s.rows));  // complete after the last
   });
   s.runs = std::to_string(s.rows.size()) + " runs in " + rounded(clock.elapsed()) + " s";
-  return report_bench(s, {}, o.quiet);
+  if (!o.quiet) std::printf("bench: compare with --jobs 1 and --jobs 2\n");
+  const JobsComparison jobs = compare_jobs(fs::absolute(o.examples).lexically_normal().string(),
+                                           s.out, o.quick);
+  return report_bench(s, {}, jobs, o.quiet);
 }
 
 int merge_bench(const StudyManifest& m, bool quiet) {
@@ -453,7 +461,9 @@ int merge_bench(const StudyManifest& m, bool quiet) {
            std::to_string(s.cases.size()) +
            " runs merged from their folders (machine and assembly throughput: the merging "
            "machine's)";
-  return report_bench(s, missing, quiet);
+  JobsComparison jobs;
+  jobs.error = "a merge does not run compare (it measures one machine running cases side by side)";
+  return report_bench(s, missing, jobs, quiet);
 }
 
 }  // namespace c2d::app

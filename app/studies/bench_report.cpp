@@ -74,7 +74,8 @@ void scene_to_summary_targets(std::ostringstream& md, const std::vector<BenchRow
 
 }  // namespace
 
-std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick) {
+std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick,
+                       const JobsComparison& jobs) {
   std::ostringstream md;
   md << "| target | required | measured | verdict |\n|---|---|---|---|\n";
   md << "| refill assembly, T3, per core | ≥ 2 M elements/s | " << rounded(t.t3_serial / 1e6)
@@ -145,6 +146,54 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
      << (std::isfinite(worst_detection) ? "worst " + percent_text(worst_detection)
                                         : std::string("–"))
      << " | " << verdict(std::isfinite(worst_detection), worst_detection <= 0.05) << " |\n";
+  const double jobs_worst = jobs.worst_difference();
+  md << "| compare's solve times, --jobs 1 against --jobs 2 (" << jobs.scene << ", "
+     << jobs.methods << ") | within 15 % | "
+     << (std::isfinite(jobs_worst) ? "worst " + rounded(100 * jobs_worst) + " % (table below)"
+                                   : "not measured: " + jobs.error)
+     << " | " << verdict(std::isfinite(jobs_worst), jobs_worst <= 0.15) << " |\n";
+  return md.str();
+}
+
+std::string phase_slopes_md(const std::vector<BenchRow>& rows) {
+  struct Phase {
+    const char* name;
+    double (*time)(const BenchRow&);
+  };
+  static const Phase phases[] = {
+      {"mesh", [](const BenchRow& r) { return r.t_mesh; }},
+      {"assemble", [](const BenchRow& r) { return r.t_assemble; }},
+      {"factorise", [](const BenchRow& r) { return r.t_symbolic + r.t_numeric; }},
+      {"triangular", [](const BenchRow& r) { return r.t_triangular; }},
+      {"contact other", [](const BenchRow& r) { return r.t_contact_other; }},
+      {"recovery", [](const BenchRow& r) { return r.t_recovery; }},
+      {"output", [](const BenchRow& r) { return r.t_output; }},
+      {"run without mesh", [](const BenchRow& r) { return r.excluding_mesh(); }},
+  };
+  std::ostringstream md;
+  md << "Fitted slope of log time against log DOFs over the ladder's rungs (1: linear in size; a "
+        "2D sparse factorisation's flops grow as n^1.5 at best). Contact rungs: the lagrange "
+        "runs.\n\n| series |";
+  for (const auto& p : phases) md << " " << p.name << " |";
+  md << "\n|---|";
+  for (size_t i = 0; i < std::size(phases); ++i) md << "---|";
+  md << "\n";
+  std::map<std::string, std::vector<const BenchRow*>> series;
+  for (const auto& r : rows)
+    if (r.converged() && r.c.family != "methods" && std::isfinite(r.dofs) &&
+        (r.c.method.empty() || r.c.method == "lagrange"))
+      series[r.c.family + " " + r.c.element].push_back(&r);
+  for (const auto& [name, list] : series) {
+    if (list.size() < 2) continue;
+    md << "| " << name << " |";
+    for (const auto& p : phases) {
+      std::vector<double> x, y;
+      for (const BenchRow* r : list)
+        if (std::isfinite(p.time(*r)) && p.time(*r) > 0) x.push_back(r->dofs), y.push_back(p.time(*r));
+      md << " " << (x.size() >= 2 ? rounded(loglog_slope(x, y)) : std::string("–")) << " |";
+    }
+    md << "\n";
+  }
   return md.str();
 }
 
@@ -186,11 +235,9 @@ std::string methods_md(const std::vector<BenchRow>& rows) {
 }
 
 std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows,
-                       std::string& slopes_md, std::vector<ReportChart>& charts) {
+                       std::vector<ReportChart>& charts) {
   std::ostringstream data, left, right;
   int block = 0;
-  std::ostringstream slopes;
-  slopes << "| series | fitted slope (log time / log DOFs) |\n|---|---|\n";
   auto series = [&](std::ostringstream& plot, const std::string& title,
                     const std::vector<std::pair<double, double>>& pts) {
     if (pts.size() < 2) return;
@@ -198,7 +245,6 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
     for (const auto& [a, b] : pts) x.push_back(a), y.push_back(b), data << a << ' ' << b << '\n';
     data << "\n\n";
     const double slope = loglog_slope(x, y);
-    slopes << "| " << title << " | " << rounded(slope) << " |\n";
     plot << (plot.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/time_vs_dofs.dat")
          << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
          << gp_text(title + " (slope " + rounded(slope) + ")") << " noenhanced";
@@ -219,7 +265,6 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
       phases["output"].emplace_back(r.dofs, r.t_output);
     }
   for (const auto& [name, pts] : phases) series(right, "elasticity T6: " + name, pts);
-  slopes_md = slopes.str();
   ReportChart chart{"time_vs_dofs", "time against DOFs", "no run converged with DOFs to draw"};
   if (block == 0) {
     charts.push_back(chart);

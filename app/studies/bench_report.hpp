@@ -8,6 +8,7 @@
 
 #include "app/report/html_report.hpp"
 #include "app/studies/bench.hpp"
+#include "app/studies/bench_jobs.hpp"
 #include "app/studies/study.hpp"
 
 namespace c2d::app {
@@ -38,7 +39,11 @@ std::string bench_cell(double v);
 std::string rounded(double v);
 
 /// The targets with the measured figure beside each, and a verdict.
-std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick);
+/// `jobs`: compare's solve times with --jobs 1 and 2 (not measured by a merge).
+std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick,
+                       const JobsComparison& jobs);
+/// The fitted slope of log time against log DOFs, per phase, for every ladder family and element.
+std::string phase_slopes_md(const std::vector<BenchRow>& rows);
 
 /// The ladder's runs: phase times, memory, accuracy, overhead.
 std::string ladder_md(const std::vector<BenchRow>& rows);
@@ -47,11 +52,10 @@ std::string ladder_md(const std::vector<BenchRow>& rows);
 std::string methods_md(const std::vector<BenchRow>& rows);
 
 /// Time against DOFs, log-log: left, the whole run without meshing per family; right, the
-/// phases of the linear elastic T6 ladder. Each line's title carries its fitted slope, also
-/// given as a table in `slopes_md`. Adds the chart (written or why not) to `charts`; returns ""
-/// or the chart's failure.
+/// phases of the linear elastic T6 ladder. Each line's title carries its fitted slope. Adds the
+/// chart (written or why not) to `charts`; returns "" or the chart's failure.
 std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows,
-                       std::string& slopes_md, std::vector<ReportChart>& charts);
+                       std::vector<ReportChart>& charts);
 
 /// Accuracy against time: every method on the time-to-accuracy scenes (one panel per scene,
 /// one line per method through its meshes), with the lagrange Hertz ladders for scale. Adds the
