@@ -71,11 +71,13 @@ void Assembler::build_pattern() {
 
 void Assembler::build_scatter() {
   const int ndofe = 2 * mesh_.nodes_per_element();
-  std::array<int, kMaxElementDofs> gd;
   scatter_.assign(static_cast<size_t>(mesh_.num_elements()) * ndofe * ndofe, -1);
   const int* outer = k_ff_.outerIndexPtr();
   const int* inner = k_ff_.innerIndexPtr();
+  // Each element's positions are its own: the searches run on every thread.
+#pragma omp parallel for schedule(static)
   for (int e = 0; e < mesh_.num_elements(); ++e) {
+    std::array<int, kMaxElementDofs> gd;
     element_dofs(e, gd);
     int* s = &scatter_[static_cast<size_t>(e) * ndofe * ndofe];
     for (int b = 0; b < ndofe; ++b) {  // column-major local matrix
