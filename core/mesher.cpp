@@ -277,11 +277,10 @@ void set_background_size_field(const SizeField& f) {
   gmsh::model::mesh::field::setAsBackgroundMesh(field);
 }
 
-/// Builds the body's shape and meshes it: sizes from the adapted size field, else from the
-/// body's mesh size and refinements times `coarsen` (which is 1 for a point cloud or an
-/// adapted field); a point cloud is triangulated as given. Order 2 is gmsh's only for a mesh
-/// not coarsened (a coarsened one is subdivided before it gets mid-side nodes).
-std::vector<NamedCurve> mesh_shape(const BodySpec& body, int order, double coarsen) {
+/// Builds the body's shape and meshes it with linear triangles: sizes from the adapted size
+/// field, else from the body's mesh size and refinements times `coarsen` (which is 1 for a
+/// point cloud or an adapted field); a point cloud is triangulated as given.
+std::vector<NamedCurve> mesh_shape(const BodySpec& body, double coarsen) {
   std::vector<NamedCurve> named = build_geometry(body.shape);
   // A point cloud is triangulated as given (Delaunay, no points added): a size far above
   // the cloud's extent.
@@ -313,7 +312,6 @@ std::vector<NamedCurve> mesh_shape(const BodySpec& body, int order, double coars
   gmsh::model::mesh::generate(2);
   if (!adapted) gmsh::model::mesh::removeSizeCallback();
   if (cloud) make_delaunay();
-  if (order == 2 && coarsen == 1.0) gmsh::model::mesh::setOrder(2);
   return named;
 }
 
@@ -389,7 +387,10 @@ Mesh mesh_body(const BodySpec& body, int order) {
     const bool from_file = !body.msh_file.empty();
     const int levels = body_subdivisions(body);
     const std::vector<NamedCurve> named = from_file ? open_msh_file(body.msh_file, order)
-                                                    : mesh_shape(body, order, std::ldexp(1.0, levels));
+                                                    : mesh_shape(body, std::ldexp(1.0, levels));
+    // Mid-side nodes: gmsh's on its own mesh (a file's order is converted on opening), ours on
+    // a subdivided one.
+    if (!from_file && levels == 0 && order == 2) gmsh::model::mesh::setOrder(2);
     Mesh mesh = levels > 0 ? subdivided_mesh(named, order, levels)
                            : to_mesh(read_gmsh_model(order, named), curve_names(named));
     if (body.shape.type == "points" && !from_file) check_cloud_vertices(body.shape, mesh);

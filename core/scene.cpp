@@ -15,6 +15,20 @@ namespace c2d::core {
 
 namespace {
 
+/// [output]: the default folder, which files a run writes, and the VTU encoding.
+void parse_output(const TomlView& root, Scene& scene) {
+  if (!root.has("output")) return;
+  const TomlView o = root["output"];
+  o.require_table();
+  o.check_keys({"dir", "fields", "charts", "vtu"});
+  scene.output_dir = o["dir"].string_or("");
+  scene.output_fields = o["fields"].boolean_or(true);
+  scene.output_charts = o["charts"].boolean_or(true);
+  scene.output_vtu = o["vtu"].choice_or({"binary", "ascii"}, "binary") == "ascii"
+                         ? VtuEncoding::kAscii
+                         : VtuEncoding::kBinary;
+}
+
 Scene build_scene(const toml::table& root_table, const std::string& file) {
   Scene scene;
   scene.path = file;
@@ -80,7 +94,8 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
   }
   // [[contact]] and [[obstacle]] belong to the constraints module, which parses them from
   // Scene::raw (constraints/contact_scene.hpp).
-  parse_reference_and_output(root, scene);
+  parse_reference(root, scene);
+  parse_output(root, scene);
   return scene;
 }
 

@@ -173,6 +173,11 @@ struct ExplicitModel {
   std::vector<Gap> gaps;
 };
 
+/// How a VTU file holds its arrays: raw binary appended after the XML (about a tenth of the
+/// time and half the size of text, exact, read by ParaView and VTK since 2004) or ASCII text
+/// (12 significant digits, readable by eye).
+enum class VtuEncoding { kBinary, kAscii };
+
 struct Scene {
   std::string path, title, units;
   AnalysisSpec analysis;
@@ -193,7 +198,7 @@ struct Scene {
   bool output_fields = true;
   bool output_charts = true;
   /// [output] vtu = "binary" (raw appended arrays, the default) or "ascii".
-  bool output_vtu_ascii = false;
+  VtuEncoding output_vtu = VtuEncoding::kBinary;
   std::shared_ptr<ExplicitModel> explicit_model;  ///< set for legacy files
   std::shared_ptr<toml::table> raw;              ///< the parsed (overridden) TOML, for later modules
 };

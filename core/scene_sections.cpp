@@ -477,7 +477,7 @@ LoadSpec parse_load(const TomlView& l) {
   return ls;
 }
 
-void parse_reference_and_output(const TomlView& root, Scene& scene) {
+void parse_reference(const TomlView& root, Scene& scene) {
   if (root.has("reference")) {
     const TomlView r = root["reference"];
     r.require_table();
@@ -486,15 +486,6 @@ void parse_reference_and_output(const TomlView& root, Scene& scene) {
       const std::string k(key.str());
       if (k != "kind") scene.reference[k] = r[k].number();
     }
-  }
-  if (root.has("output")) {
-    const TomlView o = root["output"];
-    o.require_table();
-    o.check_keys({"dir", "fields", "charts", "vtu"});
-    scene.output_dir = o["dir"].string_or("");
-    scene.output_fields = o["fields"].boolean_or(true);
-    scene.output_charts = o["charts"].boolean_or(true);
-    scene.output_vtu_ascii = o["vtu"].choice_or({"binary", "ascii"}, "binary") == "ascii";
   }
 }
 

@@ -23,7 +23,7 @@ BodySpec parse_body(const TomlView& b, const Scene& scene);
 SupportSpec parse_support(const TomlView& s);
 SpringSpec parse_spring(const TomlView& s, int index);
 LoadSpec parse_load(const TomlView& l);
-/// [reference] and [output].
-void parse_reference_and_output(const TomlView& root, Scene& scene);
+/// [reference]: the kind of reference and its values (what a run is checked against).
+void parse_reference(const TomlView& root, Scene& scene);
 
 }  // namespace c2d::core

@@ -43,7 +43,8 @@ namespace {
 template <int NN>
 struct ElementMass {
   std::vector<Eigen::Matrix<double, NN, NN>> mass;
-  Eigen::Matrix3Xd rhs, diagonal;  ///< per node: ∫ N σ_h dA, and M's diagonal (3 equal rows)
+  Eigen::Matrix3Xd rhs;  ///< per node: ∫ N σ_h dA
+  VecX diagonal;         ///< per node: M's diagonal
 
   ElementMass(const Mesh& mesh, const std::vector<Material>& materials,
               const ElementStresses& stresses)
@@ -66,11 +67,11 @@ struct ElementMass {
       }
     }
     rhs = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
-    diagonal = Eigen::Matrix3Xd::Zero(3, mesh.num_nodes());
+    diagonal = VecX::Zero(mesh.num_nodes());
     for (int e = 0; e < mesh.num_elements(); ++e)
       for (int i = 0; i < NN; ++i) {
         rhs.col(mesh.elements[e][i]) += re[e].row(i).transpose();
-        diagonal.col(mesh.elements[e][i]).array() += mass[e](i, i);
+        diagonal[mesh.elements[e][i]] += mass[e](i, i);
       }
   }
 
@@ -97,12 +98,12 @@ Eigen::Matrix3Xd l2_projection(const Mesh& mesh, const std::vector<Material>& ma
                                const ElementStresses& stresses) {
   const ElementMass<NN> m(mesh, materials, stresses);
   const Eigen::Index n = mesh.num_nodes();
-  const Eigen::Array3Xd inv_diag = m.diagonal.array().inverse();
-  Eigen::Matrix3Xd s = (m.rhs.array() * inv_diag).matrix();
+  const Eigen::RowVectorXd inv_diag = m.diagonal.cwiseInverse().transpose();
+  Eigen::Matrix3Xd s = (m.rhs.array().rowwise() * inv_diag.array()).matrix();
   Eigen::Matrix3Xd r(3, n), z(3, n), p(3, n), q(3, n);
   m.apply(mesh, s, q);
   r = m.rhs - q;
-  z = (r.array() * inv_diag).matrix();
+  z = (r.array().rowwise() * inv_diag.array()).matrix();
   p = z;
   Eigen::Array3d rz = (r.array() * z.array()).rowwise().sum();
   const Eigen::Array3d b2 = m.rhs.array().square().rowwise().sum();
@@ -119,7 +120,7 @@ Eigen::Matrix3Xd l2_projection(const Mesh& mesh, const std::vector<Material>& ma
     const Eigen::Array3d alpha = (pq > 0).select(rz / pq, 0.0);
     s.array() += p.array().colwise() * alpha;
     r.array() -= q.array().colwise() * alpha;
-    z = (r.array() * inv_diag).matrix();
+    z = (r.array().rowwise() * inv_diag.array()).matrix();
     const Eigen::Array3d rz_next = (r.array() * z.array()).rowwise().sum();
     const Eigen::Array3d beta = (rz > 0).select(rz_next / rz, 0.0);
     p = (z.array() + p.array().colwise() * beta).matrix();

@@ -134,8 +134,8 @@ struct GridArrays {
 GridArrays grid_arrays(const Model& model, const Results& r) {
   const Mesh& mesh = model.mesh;
   const int nn = mesh.nodes_per_element(), nodes = mesh.num_nodes(), elements = mesh.num_elements();
-  GridArrays g{DataArray("Points", 3), {}, {}, {}};
-  g.points = reals("Points", 3, nodes, [&](int i, int c) { return c < 2 ? mesh.nodes[i][c] : 0.0; });
+  GridArrays g{reals("Points", 3, nodes, [&](int i, int c) { return c < 2 ? mesh.nodes[i][c] : 0.0; }),
+               {}, {}, {}};
   DataArray conn("connectivity", 1, "Int32"), offsets("offsets", 1, "Int32"), types("types", 1, "UInt8");
   for (const auto& el : mesh.elements) conn.integer.insert(conn.integer.end(), el.begin(), el.begin() + nn);
   for (int e = 0; e < elements; ++e) offsets.integer.push_back((e + 1) * nn);
@@ -145,9 +145,10 @@ GridArrays grid_arrays(const Model& model, const Results& r) {
   pd.push_back(reals("displacement", 3, nodes, [&](int i, int c) { return c < 2 ? r.displacement[2 * i + c] : 0.0; }));
   pd.push_back(reals("reaction", 3, nodes, [&](int i, int c) { return c < 2 ? r.reaction[2 * i + c] : 0.0; }));
   pd.push_back(reals("stress_smoothed", 3, nodes, [&](int i, int c) { return r.nodal_stress(c, i); }));
-  for (const char* q : {"vm", "s1", "s2"}) {
-    const std::string name = std::string(q == std::string("vm") ? "von_mises" : q) + "_smoothed";
-    pd.push_back(reals(name, 1, nodes, [&](int i, int) { return nodal_quantity(model, r, q, i); }));
+  for (const auto& [q, name] : {std::pair{"vm", "von_mises_smoothed"}, std::pair{"s1", "s1_smoothed"},
+                                std::pair{"s2", "s2_smoothed"}}) {
+    const char* quantity = q;  // (a structured binding: clang 14 cannot capture it)
+    pd.push_back(reals(name, 1, nodes, [&](int i, int) { return nodal_quantity(model, r, quantity, i); }));
   }
   for (const auto& entry : r.point_fields) {  // (a structured binding: clang 14 cannot capture it)
     const VecX& field = entry.second;

@@ -12,11 +12,6 @@ namespace c2d::core {
 /// reader never sees a half-written file. Throws std::runtime_error on I/O failure.
 void write_file_atomic(const std::string& path, const std::string& content);
 
-/// How a VTU file holds its arrays: raw binary appended after the XML (about a tenth of the
-/// time and half the size of text, exact, read by ParaView and VTK since 2004) or ASCII text
-/// (12 significant digits, readable by eye).
-enum class VtuEncoding { kBinary, kAscii };
-
 /// VTK XML unstructured grid (format version 1.0, UInt64 block headers): displacement,
 /// reaction, element and smoothed stresses, von Mises, principal stresses, ZZ local parameter,
 /// body id, material id.

@@ -23,10 +23,7 @@ int cmd_mesh(const Options& o) {
   create_output_folder(out);
   const core::Results empty = core::Results::zeros(
       model.mesh.num_nodes(), model.mesh.num_elements(), model.mesh.nodes_per_element());
-  core::write_file_atomic(
-      out + "/mesh.vtu",
-      core::vtu_document(model, empty,
-                         scene.output_vtu_ascii ? core::VtuEncoding::kAscii : core::VtuEncoding::kBinary));
+  core::write_file_atomic(out + "/mesh.vtu", core::vtu_document(model, empty, scene.output_vtu));
   const auto [hmin, hmax] = model.mesh.edge_length_range();
   std::cout << (model.mesh.order == 1 ? "T3" : "T6") << " mesh: " << model.mesh.num_nodes()
             << " nodes, " << model.mesh.num_elements() << " elements, " << model.mesh.num_dofs()

@@ -68,8 +68,8 @@ Appended find_appended(const std::string& path, const std::string& text, size_t 
   Appended a;
   a.text = &text;
   const std::string file_tag = text.substr(0, text.find('>', text.find("<VTKFile")));
-  if (attribute(file_tag, "header_type") == "UInt32" || attribute(file_tag, "header_type").empty())
-    a.header = 4;
+  const std::string header_type = attribute(file_tag, "header_type");
+  if (header_type == "UInt32" || header_type.empty()) a.header = 4;
   if (appended_at == std::string::npos) return a;
   if (attribute(file_tag, "byte_order") != "LittleEndian")
     throw InputError(path + ": expected byte_order=\"LittleEndian\", found '" +

@@ -173,10 +173,7 @@ void RunOutput::write_series(Series& files, const std::string& pvd, const char* 
   if (!scene_.output_fields) return;
   char name[32];
   std::snprintf(name, sizeof name, pattern, number);
-  core::write_file_atomic(
-      dir_ + "/" + name,
-      core::vtu_document(model, results,
-                         scene_.output_vtu_ascii ? core::VtuEncoding::kAscii : core::VtuEncoding::kBinary));
+  core::write_file_atomic(dir_ + "/" + name, core::vtu_document(model, results, scene_.output_vtu));
   files.emplace_back(time, name);
   core::write_file_atomic(dir_ + "/" + pvd, core::pvd_document(files));
 }

@@ -51,7 +51,6 @@ JobsComparison compare_jobs(const std::string& examples, const std::string& out,
   }
   c.repeats = 3;
   const std::string exe = this_executable();
-  std::vector<std::vector<double>> all(2);
   std::vector<double> lo, hi;
   for (int rep = 0; rep < c.repeats && c.error.empty(); ++rep)
     for (int jobs : {1, 2}) {
