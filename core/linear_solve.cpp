@@ -3,6 +3,7 @@
 #include "core/assembler.hpp"
 #include "core/elasticity_kernels.hpp"
 #include "core/error_estimator.hpp"
+#include "core/fill_ordering.hpp"
 #include "core/spd_solver.hpp"
 #include "core/springs.hpp"
 #include "core/stopwatch.hpp"
@@ -12,10 +13,11 @@ namespace c2d::core {
 
 namespace {
 
-void solve_plain(const AnalysisSpec& analysis, const SpMat& k_ff, const VecX& rhs, VecX& u_free,
-                 Results& r) {
+void solve_plain(const Model& model, const AnalysisSpec& analysis, const SpMat& k_ff,
+                 const VecX& rhs, VecX& u_free, Results& r) {
   SpdSolver solver(analysis.solver == "ldlt" ? SpdSolver::Backend::kEigenLdlt
                                              : SpdSolver::Backend::kCholmod);
+  solver.set_ordering(corner_graph_ordering(model.mesh, model.dofs), "corner_amd");
   r.status = solver.factorize(k_ff);
   if (r.status == SolveStatus::kConverged) r.status = solver.solve(rhs, u_free);
   r.solver = solver.report();
@@ -52,7 +54,7 @@ Results solve_linear(const Model& model, const AnalysisSpec& analysis, const Lin
 
   VecX u_free;
   if (solve) solve(k_ff, rhs, u_prescribed, u_free, r);
-  else solve_plain(analysis, k_ff, rhs, u_free, r);
+  else solve_plain(model, analysis, k_ff, rhs, u_free, r);
   r.time.solve = clock.lap();
   // A contact method that stopped at its iteration limit or on a cycle still has a displacement
   // worth reporting; any other failure has none.

@@ -19,6 +19,24 @@ class Cholmod : public Eigen::CholmodDecomposition<SpMat, Eigen::Lower> {
   double rcond() {
     return m_cholmodFactor ? cholmod_rcond(m_cholmodFactor, &cholmod()) : 0.0;
   }
+  /// Eigen's analyzePattern with a given elimination order (CHOLMOD's analysis then computes
+  /// the elimination tree, its postorder and the supernodes, but no ordering of its own).
+  void analyzePattern(const SpMat& matrix, const std::vector<int>& order) {
+    if (order.empty()) return Base::analyzePattern(matrix);
+    if (m_cholmodFactor) cholmod_free_factor(&m_cholmodFactor, &cholmod());
+    cholmod_sparse a = Eigen::viewAsCholmod(matrix.selfadjointView<Eigen::Lower>());
+    const int method = cholmod().method[0].ordering;
+    cholmod().method[0].ordering = CHOLMOD_GIVEN;
+    m_cholmodFactor = cholmod_analyze_p(&a, const_cast<int*>(order.data()), nullptr, 0, &cholmod());
+    cholmod().method[0].ordering = method;
+    m_isInitialized = true;
+    m_info = m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
+    m_analysisIsOk = m_cholmodFactor != nullptr;
+    m_factorizationIsOk = false;
+  }
+
+ private:
+  using Base = Eigen::CholmodDecomposition<SpMat, Eigen::Lower>;
 };
 
 /// Below this pivot ratio the matrix is singular to working precision (a rigid-body mode left
@@ -35,6 +53,8 @@ struct SpdSolver::Impl {
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt;
   Eigen::Index analysed_rows = -1, analysed_nnz = -1;
   const SpMat* matrix = nullptr;
+  std::vector<int> order;  ///< the caller's elimination order, empty for CHOLMOD's AMD
+  std::string order_name;
 };
 
 SpdSolver::SpdSolver(Backend preferred, bool fallback) : impl_(std::make_unique<Impl>()) {
@@ -56,6 +76,12 @@ SpdSolver::SpdSolver(Backend preferred, bool fallback) : impl_(std::make_unique<
 }
 
 SpdSolver::~SpdSolver() = default;
+
+void SpdSolver::set_ordering(std::vector<int> order, std::string name) {
+  impl_->order = std::move(order);
+  impl_->order_name = std::move(name);
+  reset_pattern();
+}
 
 void SpdSolver::reset_pattern() {
   impl_->analysed_rows = -1;
@@ -85,7 +111,8 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     if (b == Backend::kCholmod) {
       report_.backend = "cholmod";
       if (!same_pattern || m.active != b) {
-        m.cholmod.analyzePattern(k);
+        const bool given = static_cast<Eigen::Index>(m.order.size()) == k.rows();
+        m.cholmod.analyzePattern(k, given ? m.order : std::vector<int>{});
         report_.symbolic_analyses++;
         report_.symbolic_seconds += lap();
       }
@@ -95,7 +122,9 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
       const cholmod_common& c = m.cholmod.cholmod();
       static const char* const kOrderings[] = {"natural", "given", "amd", "metis", "nesdis", "colamd", "postordered"};
       const int o = c.method[c.selected].ordering;
-      report_.ordering = o >= 0 && o <= 6 ? kOrderings[o] : "unknown";
+      report_.ordering = static_cast<Eigen::Index>(m.order.size()) == k.rows() ? m.order_name
+                         : o >= 0 && o <= 6                               ? kOrderings[o]
+                                                                          : "unknown";
       report_.supernodal = m.cholmod.is_supernodal();
       report_.factor_nonzeros = c.lnz;
       return m.cholmod.info() == Eigen::Success;

@@ -5,6 +5,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/solver_status.hpp"
 #include "core/types.hpp"
@@ -48,6 +49,10 @@ class SpdSolver {
   /// relative column residual.
   SolveStatus solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x);
   const SpdSolveReport& report() const { return report_; }
+  /// Eliminates in `order` (entry k: the unknown eliminated k-th, e.g. corner_graph_ordering)
+  /// instead of CHOLMOD's AMD, for matrices of that size (any other size: AMD); the report
+  /// names it `name`. CHOLMOD's backend only; LDLT keeps its own AMD.
+  void set_ordering(std::vector<int> order, std::string name);
   /// Forgets the symbolic analysis (call when the pattern changed).
   void reset_pattern();
 
