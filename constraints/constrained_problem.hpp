@@ -60,6 +60,9 @@ struct ConstrainedProblem {
   /// Optional warm start of the friction states per row: 1 stick, 2 slip along +t, 3 slip
   /// along −t, 0 none given (a closed row then starts sticking).
   std::vector<char> initial_friction;
+  /// Optional fill-reducing elimination order of the n unknowns (core/fill_ordering.hpp, from
+  /// the mesh); null or another size: CHOLMOD orders the matrices itself.
+  std::shared_ptr<const std::vector<int>> ordering;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.

@@ -53,6 +53,10 @@ SaddlePointSolver::SaddlePointSolver(const ConstrainedProblem& p, double s) : p_
   for (const auto& e : t) touched[e.row()] = 1;
   for (int d = 0; d < n; ++d)
     if (touched[d]) tail_dofs_.push_back(d);
+  if (p.ordering) {
+    chol_.set_ordering(*p.ordering, "corner_amd");
+    tail_.set_ordering(*p.ordering);
+  }
 }
 
 SaddlePointSolver::~SaddlePointSolver() = default;

@@ -49,6 +49,7 @@ struct TailCholesky::Impl {
   Eigen::Index rows = -1, nnz = -1;  ///< the analysed pattern
   std::vector<int> tail;             ///< the analysed tail
   SpMat compressed;                  ///< K's copy when K is not compressed
+  std::vector<int> order;            ///< the caller's order, empty for CAMD
 
   Impl() {
     cholmod_start(&c);
@@ -75,6 +76,11 @@ struct TailCholesky::Impl {
 TailCholesky::TailCholesky() : impl_(std::make_unique<Impl>()) {}
 TailCholesky::~TailCholesky() = default;
 
+void TailCholesky::set_ordering(std::vector<int> order) {
+  impl_->order = std::move(order);
+  impl_->rows = -1;  // analyse again
+}
+
 SolveStatus TailCholesky::fail(SolveStatus status, const std::string& message) {
   report_.status = status;
   report_.message = message;
@@ -85,10 +91,17 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   Impl& m = *impl_;
   if (m.factor) cholmod_free_factor(&m.factor, &m.c);
   cholmod_sparse a = view_lower(k);
-  // CAMD with two constraint sets: every other unknown (set 0) before the tail (set 1).
+  // Every other unknown (set 0) before the tail (set 1): the given order partitioned so, else
+  // CAMD with the two sets as constraints.
   std::vector<int> member(n_, 0), perm(n_);
   for (int d : tail) member[d] = 1;
-  if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) return false;
+  if (static_cast<int>(m.order.size()) == n_) {
+    auto it = perm.begin();
+    for (int set = 0; set < 2; ++set)
+      it = std::copy_if(m.order.begin(), m.order.end(), it, [&](int d) { return member[d] == set; });
+  } else if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) {
+    return false;
+  }
   m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
   if (!m.factor) return false;
   m.rows = k.rows();
@@ -108,8 +121,8 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
   Impl& m = *impl_;
   report_.message.clear();
   report_.backend = "cholmod";
-  report_.ordering = "camd";
   n_ = static_cast<int>(k.rows());
+  report_.ordering = static_cast<int>(m.order.size()) == n_ ? "given_tail_last" : "camd";
   if (!k.coeffs().allFinite())
     return fail(SolveStatus::kFailed, "the stiffness matrix has non-finite entries");
   const SpMat* kk = &k;

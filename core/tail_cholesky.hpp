@@ -7,7 +7,8 @@
 // L D Lᵀ with unit L, which also factorises a symmetric indefinite K with nonzero pivots, as
 // SpdSolver's does: the same matrices factorise on either path.
 //
-// The ordering is CHOLMOD's CAMD (minimum degree under the constraint "tail last"); L₂₂ is the
+// The ordering is CHOLMOD's CAMD (minimum degree under the constraint "tail last"), or a given
+// fill-reducing order with the tail moved last (set_ordering); L₂₂ is the
 // Cholesky factor of the tail's Schur complement, i.e. the stiffness condensed onto the tail.
 // A right-hand side that lives on the tail (a constraint row's Cᵀ when the tail holds every
 // unknown the constraints touch) then costs dense O(k²) work on L₂₂ instead of two sparse
@@ -35,6 +36,9 @@ class TailCholesky {
   /// last. The ordering and symbolic analysis are kept while K's size, non-zero count and the
   /// tail are unchanged. Reports kSingular when K is not positive definite.
   SolveStatus factorize(const SpMat& k, const std::vector<int>& tail);
+  /// Orders matrices of `order`'s size by `order` (e.g. corner_graph_ordering) with the tail
+  /// moved last, both parts keeping their relative order, instead of CAMD on the matrix.
+  void set_ordering(std::vector<int> order);
 
   int size() const { return n_; }
   /// k, the tail's size.

@@ -7,6 +7,8 @@
 //  - a right-hand side on the tail stays on the tail through the forward substitution (the
 //    other entries exactly zero) and equals D₂⁻¹ L₂₂⁻¹ b_T there;
 //  - a matrix with a zero pivot is reported singular.
+// The first two hold for CHOLMOD's CAMD order and for a given order with the tail moved last
+// (set_ordering; here the unknowns in reverse, which no fill-reducing method would choose).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -43,13 +45,26 @@ std::vector<int> edge() {
   return tail;
 }
 
+/// Parameter: whether the factor takes a given order (the unknowns reversed) instead of CAMD.
+class TailOrder : public ::testing::TestWithParam<bool> {
+ protected:
+  void order(core::TailCholesky& f) const {
+    if (!GetParam()) return;
+    std::vector<int> reversed(kSide * kSide);
+    for (int k = 0; k < kSide * kSide; ++k) reversed[k] = kSide * kSide - 1 - k;
+    f.set_ordering(reversed);
+  }
+};
+
 }  // namespace
 
-TEST(TailCholesky, TailFactorIsTheCholeskyFactorOfTheSchurComplement) {
+TEST_P(TailOrder, TailFactorIsTheCholeskyFactorOfTheSchurComplement) {
   const SpMat k = laplacian(0.01);
   const std::vector<int> tail = edge();
   core::TailCholesky f;
+  order(f);
   ASSERT_EQ(f.factorize(k, tail), SolveStatus::kConverged) << f.report().message;
+  EXPECT_EQ(f.report().ordering, GetParam() ? "given_tail_last" : "camd");
   ASSERT_EQ(f.tail_size(), kSide);
   // Dense Schur complement in the tail's order.
   const int n = static_cast<int>(k.rows()), t = f.tail_size();
@@ -72,10 +87,11 @@ TEST(TailCholesky, TailFactorIsTheCholeskyFactorOfTheSchurComplement) {
             1e-12 * schur.norm());
 }
 
-TEST(TailCholesky, ForwardThenBackwardSolvesAndTailVectorsStayOnTheTail) {
+TEST_P(TailOrder, ForwardThenBackwardSolvesAndTailVectorsStayOnTheTail) {
   const SpMat k = laplacian(0.01);
   const std::vector<int> tail = edge();
   core::TailCholesky f;
+  order(f);
   ASSERT_EQ(f.factorize(k, tail), SolveStatus::kConverged) << f.report().message;
   const int n = static_cast<int>(k.rows()), t = f.tail_size();
   VecX b(n);
@@ -96,6 +112,9 @@ TEST(TailCholesky, ForwardThenBackwardSolvesAndTailVectorsStayOnTheTail) {
                           .cwiseQuotient(f.tail_pivots());
   EXPECT_LT((w.tail(t) - expect).norm(), 1e-14 * expect.norm());
 }
+
+INSTANTIATE_TEST_SUITE_P(TailCholesky, TailOrder, ::testing::Values(false, true),
+                         [](const auto& info) { return info.param ? "Given" : "Camd"; });
 
 TEST(TailCholesky, IndefiniteMatrixSolvesAndASingularOneIsNamed) {
   // Shifted by −4.5 the Laplacian's eigenvalues span (−4.5, 3.5): indefinite, nonsingular.
