@@ -1,6 +1,6 @@
 #include "core/fill_ordering.hpp"
 
-#include <cholmod.h>
+#include <Eigen/CholmodSupport>
 
 #include <algorithm>
 #include <numeric>
@@ -35,17 +35,11 @@ std::vector<int> amd_corner_order(const Mesh& mesh, const std::vector<int>& corn
     count[j] = start;
   }
   count[nc] = out;
-  cholmod_sparse g{};
-  g.nrow = g.ncol = static_cast<size_t>(nc);
-  g.nzmax = rows.size();
-  g.p = count.data();
-  g.i = rows.data();
+  rows.resize(out);
+  std::vector<double> ones(out, 1.0);  // AMD reads the pattern only
+  Eigen::Map<SpMat> pattern(nc, nc, out, count.data(), rows.data(), ones.data());
+  cholmod_sparse g = Eigen::viewAsCholmod(Eigen::Ref<SpMat>(pattern));
   g.stype = -1;
-  g.itype = CHOLMOD_INT;
-  g.xtype = CHOLMOD_PATTERN;
-  g.dtype = CHOLMOD_DOUBLE;
-  g.sorted = 1;
-  g.packed = 1;
   cholmod_common c;
   cholmod_start(&c);
   c.print = 0;
