@@ -110,8 +110,8 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     auto lap = [&clock] { return clock.lap(); };
     if (b == Backend::kCholmod) {
       report_.backend = "cholmod";
+      const bool given = static_cast<Eigen::Index>(m.order.size()) == k.rows();
       if (!same_pattern || m.active != b) {
-        const bool given = static_cast<Eigen::Index>(m.order.size()) == k.rows();
         m.cholmod.analyzePattern(k, given ? m.order : std::vector<int>{});
         report_.symbolic_analyses++;
         report_.symbolic_seconds += lap();
@@ -122,9 +122,7 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
       const cholmod_common& c = m.cholmod.cholmod();
       static const char* const kOrderings[] = {"natural", "given", "amd", "metis", "nesdis", "colamd", "postordered"};
       const int o = c.method[c.selected].ordering;
-      report_.ordering = static_cast<Eigen::Index>(m.order.size()) == k.rows() ? m.order_name
-                         : o >= 0 && o <= 6                               ? kOrderings[o]
-                                                                          : "unknown";
+      report_.ordering = given ? m.order_name : o >= 0 && o <= 6 ? kOrderings[o] : "unknown";
       report_.supernodal = m.cholmod.is_supernodal();
       report_.factor_nonzeros = c.lnz;
       return m.cholmod.info() == Eigen::Success;
