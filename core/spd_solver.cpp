@@ -107,18 +107,17 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
   const bool same_pattern = m.analysed_rows == k.rows() && m.analysed_nnz == k.nonZeros();
   auto try_backend = [&](Backend b) -> bool {
     Stopwatch clock;
-    auto lap = [&clock] { return clock.lap(); };
     if (b == Backend::kCholmod) {
       report_.backend = "cholmod";
       const bool given = static_cast<Eigen::Index>(m.order.size()) == k.rows();
       if (!same_pattern || m.active != b) {
         m.cholmod.analyzePattern(k, given ? m.order : std::vector<int>{});
         report_.symbolic_analyses++;
-        report_.symbolic_seconds += lap();
+        report_.symbolic_seconds += clock.lap();
       }
       m.cholmod.factorize(k);
       report_.numeric_factorizations++;
-      report_.numeric_seconds += lap();
+      report_.numeric_seconds += clock.lap();
       const cholmod_common& c = m.cholmod.cholmod();
       static const char* const kOrderings[] = {"natural", "given", "amd", "metis", "nesdis", "colamd", "postordered"};
       const int o = c.method[c.selected].ordering;
@@ -131,11 +130,11 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     if (!same_pattern || m.active != b) {
       m.ldlt.analyzePattern(k);
       report_.symbolic_analyses++;
-      report_.symbolic_seconds += lap();
+      report_.symbolic_seconds += clock.lap();
     }
     m.ldlt.factorize(k);
     report_.numeric_factorizations++;
-    report_.numeric_seconds += lap();
+    report_.numeric_seconds += clock.lap();
     report_.ordering = "amd";
     report_.supernodal = false;
     if (m.ldlt.info() != Eigen::Success) return false;
