@@ -94,8 +94,9 @@ std::string jobs_md(const JobsComparison& c) {
   std::ostringstream md;
   md << "`contact2d compare " << c.scene << " --methods " << c.methods
      << " --levels 1`, with `--jobs 1` and with `--jobs 2`, " << c.repeats
-     << " time(s) each, interleaved; the fastest solve of each setting (every case has cores / "
-        "jobs threads). Spread: the slowest over the fastest of all "
+     << " time(s) each, interleaved; the fastest solve of each setting (with --jobs 2 the "
+        "times come from compare's timing pass, each case alone). Spread: the slowest over the "
+        "fastest of all "
      << 2 * c.repeats << " runs of a method, the machine's noise.\n\n";
   if (!c.error.empty()) return md.str() + "Not measured: " + c.error + "\n";
   md << "| method | solve, --jobs 1 | solve, --jobs 2 | difference | spread |\n|---|---|---|---|---|\n";

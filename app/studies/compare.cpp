@@ -149,6 +149,8 @@ int run_compare(const CompareOptions& o) {
                                                  : std::string())
                 << std::endl;
   });
+  retime_cases(s.cases, s.out, o.jobs, o.quiet,
+               [&](size_t i, const RunFigures& f) { take_times(s.rows[i], f); });
   return report_compare(s, {}, o.quiet);
 }
 

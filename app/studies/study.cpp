@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <iostream>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -124,6 +125,12 @@ int threads_per_case(int jobs) {
 
 std::string timing_note(int jobs) {
   const int cores = std::max(1u, std::thread::hardware_concurrency());
+  if (jobs > 1)
+    return "Times: the cases ran " + std::to_string(jobs) + " at a time on " +
+           std::to_string(cores) + " cores for their results; their times come from a separate "
+           "pass that ran each case again alone, with " + std::to_string(threads_per_case(1)) +
+           " thread(s) for BLAS and OpenMP and without charts or fields, so they are taken as "
+           "--jobs 1 takes them.";
   std::string note = "Times: each case ran as its own process, " + std::to_string(jobs) +
                      " at a time on " + std::to_string(cores) + " cores, ";
   if (std::getenv("OPENBLAS_NUM_THREADS") || std::getenv("OMP_NUM_THREADS"))
@@ -169,6 +176,37 @@ void run_cases(const std::vector<StudyCase>& cases, const std::string& study_dir
   worker();
   for (auto& t : pool) t.join();
   if (first_error) std::rethrow_exception(first_error);
+}
+
+void retime_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
+                  bool quiet, const std::function<void(size_t, const RunFigures&)>& take) {
+  if (jobs <= 1 || cases.empty()) return;
+  std::vector<StudyCase> timing = cases;
+  for (auto& c : timing) {
+    c.folder = "timing/" + c.folder;
+    c.args.insert(c.args.end(),
+                  {"--set", "output.charts=false", "--set", "output.fields=false"});
+  }
+  if (!quiet) std::cout << "timing     each case again, alone (times independent of --jobs)\n";
+  size_t done = 0;
+  run_cases(timing, study_dir, 1, [&](size_t i, const CaseOutcome& c) {
+    RunFigures f;
+    f.read(c);
+    take(i, f);
+    if (!quiet)
+      std::cout << "[" << ++done << "/" << timing.size() << "] timed " << cases[i].folder
+                << ", solve " << csv_number(f.t_solve, 3) << " s" << std::endl;
+  });
+  fs::remove_all(study_dir + "/timing");
+}
+
+void take_times(RunFigures& row, const RunFigures& timed) {
+  if (!timed.has_summary) return;
+  row.t_mesh = timed.t_mesh;
+  row.t_assemble = timed.t_assemble;
+  row.t_solve = timed.t_solve;
+  row.t_total = timed.t_total;
+  row.wall = timed.wall;
 }
 
 double json_number(const nlohmann::json& j, std::initializer_list<const char*> path) {

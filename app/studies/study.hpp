@@ -101,6 +101,17 @@ struct RunFigures {
   std::string csv_status() const;
 };
 
+/// The times of cases that ran `jobs` > 1 at a time, taken again in a separate pass: each case
+/// runs once more alone, with every core's threads and without charts or fields, into
+/// study_dir/timing/ (removed after), and `take(i, figures)` receives that run's figures. Cases
+/// side by side measure each other (on 2 cores compare's solve times differed by up to 29 %
+/// between --jobs 1 and 2); alone, every case is timed as --jobs 1 times it. No-op for jobs 1.
+void retime_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
+                  bool quiet, const std::function<void(size_t, const RunFigures&)>& take);
+/// Replaces the times of `row` (mesh, assemble, solve, total, process wall) by those of a timing
+/// run, when that run left a summary.
+void take_times(RunFigures& row, const RunFigures& timed);
+
 /// A number as a CSV cell with `digits` significant digits; empty when not finite.
 std::string csv_number(double v, int digits = 8);
 

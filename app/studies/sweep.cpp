@@ -389,6 +389,8 @@ int run_sweep(const SweepOptions& o) {
                                                  : std::string())
                 << std::endl;
   });
+  retime_cases(s.cases, s.out, o.jobs, o.quiet,
+               [&](size_t i, const RunFigures& f) { take_times(s.rows[i], f); });
   return report_sweep(s, {}, o.quiet);
 }
 

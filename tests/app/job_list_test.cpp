@@ -178,6 +178,12 @@ TEST(JobList, CompareRunByParallelMergesToTheSameTable) {
   args.insert(args.end(), {"--jobs", "2", "--out", (root / "run").string()});
   std::string output;
   ASSERT_EQ(contact2d(args, &output), 0) << output;
+  // Two at a time: the times come from a second pass, each case alone, whose folders go.
+  EXPECT_NE(read_text(root / "run" / "compare.md").find("their times come from a separate pass"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(root / "run" / "timing"));
+  for (const auto& row : read_table(root / "run" / "compare.csv").rows)
+    EXPECT_GT(std::stod(row.at("time_solve")), 0.0) << row.at("method");
 
   // The same study as a job list, in a folder whose name holds a space and a quote.
   const fs::path dir = root / "study it's";
