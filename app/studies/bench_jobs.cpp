@@ -49,7 +49,7 @@ JobsComparison compare_jobs(const std::string& examples, const std::string& out,
     c.error = "not run by --quick (on its scenes a solve lasts milliseconds, below the noise)";
     return c;
   }
-  c.repeats = 5;
+  c.repeats = 7;
   const std::string exe = this_executable();
   std::vector<double> lo, hi;
   for (int rep = 0; rep < c.repeats && c.error.empty(); ++rep)
