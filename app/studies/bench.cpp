@@ -288,6 +288,35 @@ struct BenchStudy {
   std::vector<BenchRow> rows;
 };
 
+/// The contact rungs below 1M DOFs run kRepeats more times, one at a time, and each row keeps
+/// its fastest run (least solve time; the case folder holds the first run's outputs). Their
+/// solves last 50 ms to 1 s, where one run's noise moved a 10k rung's overhead from 1.36 to 1.54.
+void repeat_short_contact_rungs(BenchStudy& s, bool quiet) {
+  constexpr int kRepeats = 2;
+  std::vector<StudyCase> again;
+  std::vector<size_t> row_of;
+  for (size_t i = 0; i < s.rows.size(); ++i) {
+    const BenchRow& r = s.rows[i];
+    if (r.c.family.rfind("hertz_", 0) != 0 || r.c.nominal == "1M" || !r.converged()) continue;
+    for (int k = 1; k <= kRepeats; ++k) {
+      again.push_back(s.cases[i]);
+      again.back().folder = "repeat" + std::to_string(k) + "/" + s.cases[i].folder;
+      row_of.push_back(i);
+    }
+  }
+  if (!quiet && !again.empty())
+    std::printf("bench: %zu short contact runs again, the fastest kept\n", again.size());
+  run_cases(again, s.out, 1, [&](size_t j, const CaseOutcome& outcome) {
+    BenchRow r;
+    r.c = s.rows[row_of[j]].c;
+    read_row(r, outcome);
+    if (r.converged() && r.t_solve < s.rows[row_of[j]].t_solve) s.rows[row_of[j]] = r;
+  });
+  for (int k = 1; k <= kRepeats; ++k) fs::remove_all(s.out + "/repeat" + std::to_string(k));
+  fill_overheads(s.rows);
+  core::write_file_atomic(s.out + "/bench.csv", csv_of(s.rows));
+}
+
 /// Under bench.md's and bench.html's title: when and where, and how the figures were taken.
 std::string bench_intro_md(const BenchStudy& s, const std::string& date) {
   return date + "; " + machine_line() + "; " + s.runs +
@@ -419,7 +448,8 @@ int run_bench(const BenchOptions& o) {
   BenchStudy s;
   s.quick = o.quick;
   s.out = o.out.empty() ? "out/bench" : o.out;
-  s.timing = timing_note(1);
+  s.timing = "The Hertz rungs below 1M DOFs ran three times, each row the fastest (least solve "
+             "time). " + timing_note(1);
   const std::vector<BenchCase> ladder = bench_ladder(o.quick);
   for (const auto& c : ladder)
     if (!fs::exists(o.examples + "/" + c.scene))
@@ -446,6 +476,7 @@ int run_bench(const BenchOptions& o) {
     fill_overheads(s.rows);
     core::write_file_atomic(s.out + "/bench.csv", csv_of(s.rows));  // complete after the last
   });
+  repeat_short_contact_rungs(s, o.quiet);
   s.runs = std::to_string(s.rows.size()) + " runs in " + rounded(clock.elapsed()) + " s";
   if (!o.quiet) std::printf("bench: compare with --jobs 1 and --jobs 2\n");
   const JobsComparison jobs = compare_jobs(fs::absolute(o.examples).lexically_normal().string(),
