@@ -7,7 +7,6 @@
 
 #include "constraints/discretizations/node_to_node.hpp"
 #include "core/errors.hpp"
-#include "core/fill_ordering.hpp"
 
 namespace c2d::constraints {
 
@@ -17,10 +16,7 @@ double chord(const std::vector<Vec2>& x, const MasterEdge& e) {
 
 ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
                        const core::Scene& scene)
-    : model_(model),
-      spec_(spec),
-      ordering_(std::make_shared<const std::vector<int>>(
-          core::corner_graph_ordering(model.mesh, model.dofs))) {
+    : model_(model), spec_(spec) {
   const core::Mesh& mesh = model.mesh;
   for (size_t c = 0; c < spec.pairs.size(); ++c) {
     const ContactPairSpec& cs = spec.pairs[c];
@@ -108,7 +104,7 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   ConstrainedProblem p;
   p.stiffness = k_ff;
   p.load = f_ff;
-  p.ordering = ordering_;
+  p.ordering = model_.fill_order;
   const int m = static_cast<int>(rows.size());
   std::vector<Eigen::Triplet<double>> t;
   p.gap0 = VecX(m);

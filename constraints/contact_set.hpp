@@ -172,7 +172,6 @@ class ContactSet {
   const core::Model& model_;
   ContactSceneSpec spec_;
   std::vector<std::unique_ptr<ContactDiscretization>> pairs_;  ///< one per [[contact]] (+ gaps)
-  std::shared_ptr<const std::vector<int>> ordering_;  ///< the mesh's, for every problem()
   std::vector<int> first_slot_;              ///< per pair: the slot of its first row
   std::vector<EqualityRow> equality_rows_;
   std::vector<char> plate_row_kept_;         ///< per row rigid_plate_rows makes, in order

@@ -3,7 +3,6 @@
 #include "core/assembler.hpp"
 #include "core/elasticity_kernels.hpp"
 #include "core/error_estimator.hpp"
-#include "core/fill_ordering.hpp"
 #include "core/spd_solver.hpp"
 #include "core/springs.hpp"
 #include "core/stopwatch.hpp"
@@ -17,7 +16,7 @@ void solve_plain(const Model& model, const AnalysisSpec& analysis, const SpMat& 
                  const VecX& rhs, VecX& u_free, Results& r) {
   SpdSolver solver(analysis.solver == "ldlt" ? SpdSolver::Backend::kEigenLdlt
                                              : SpdSolver::Backend::kCholmod);
-  solver.set_ordering(corner_graph_ordering(model.mesh, model.dofs), "corner_amd");
+  if (model.fill_order) solver.set_ordering(*model.fill_order, "corner_amd");
   r.status = solver.factorize(k_ff);
   if (r.status == SolveStatus::kConverged) r.status = solver.solve(rhs, u_free);
   r.solver = solver.report();

@@ -8,6 +8,7 @@
 
 #include "core/elasticity_kernels.hpp"
 #include "core/errors.hpp"
+#include "core/fill_ordering.hpp"
 #include "core/mesher.hpp"
 #include "core/rigid_plate.hpp"
 #include "core/toml_view.hpp"
@@ -409,6 +410,8 @@ Model build_model(const Scene& scene) {
   apply_loads(scene, model);
   add_follower_loads(scene, model);
   add_springs(scene, model);
+  model.fill_order =
+      std::make_shared<const std::vector<int>>(corner_graph_ordering(model.mesh, model.dofs));
   return model;
 }
 

@@ -1,6 +1,7 @@
 // The discrete model built from a scene: mesh, materials, Dirichlet conditions, load vector.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,10 @@ struct Model {
   SpMat follower_matrix;
   VecX follower_reference;  ///< M X (full; empty when none)
   std::string follower_where;  ///< the first follower load's table, for messages
+  /// The free DOFs' fill-reducing elimination order (corner_graph_ordering of mesh and dofs),
+  /// set once by build_model for every factorisation of the run: the plain solve, the finite-
+  /// strain Newton, the contact methods. Null: CHOLMOD orders each matrix itself.
+  std::shared_ptr<const std::vector<int>> fill_order;
 };
 
 /// The full vector of prescribed displacements at load factor λ (zero on free DOFs): λ × the

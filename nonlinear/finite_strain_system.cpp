@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/fill_ordering.hpp"
 #include "core/finite_strain_kernels.hpp"
 #include "core/springs.hpp"
 
@@ -13,7 +12,7 @@ using namespace c2d::core;
 
 FiniteStrainSystem::FiniteStrainSystem(const Model& model)
     : model_(model), assembler_(model.mesh, model.dofs), f_dead_(model.external_force) {
-  solver_.set_ordering(corner_graph_ordering(model.mesh, model.dofs), "corner_amd");
+  if (model.fill_order) solver_.set_ordering(*model.fill_order, "corner_amd");
   VecX all = model.dofs.restrict(model.external_force).cwiseAbs();
   for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
     double peak = 0.0;

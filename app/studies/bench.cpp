@@ -313,8 +313,6 @@ void repeat_short_contact_rungs(BenchStudy& s, bool quiet) {
     if (r.converged() && r.t_solve < s.rows[row_of[j]].t_solve) s.rows[row_of[j]] = r;
   });
   for (int k = 1; k <= kRepeats; ++k) fs::remove_all(s.out + "/repeat" + std::to_string(k));
-  fill_overheads(s.rows);
-  core::write_file_atomic(s.out + "/bench.csv", csv_of(s.rows));
 }
 
 /// Under bench.md's and bench.html's title: when and where, and how the figures were taken.
