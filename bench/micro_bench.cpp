@@ -65,8 +65,9 @@ void BM_AssembleT3TwoThreads(benchmark::State& s) { refill(s, 1, 2); }
 void BM_AssembleT6TwoThreads(benchmark::State& s) { refill(s, 2, 2); }
 
 /// One analysis, factorisation and solve of a T6 grid; `corner`: the mesh's corner-graph order
-/// (core/fill_ordering.hpp), else CHOLMOD's AMD on the matrix.
-void factorize_solve(benchmark::State& state, bool corner) {
+/// (core/fill_ordering.hpp), else CHOLMOD's AMD on the matrix; `split`: with its two-way split
+/// (two threads, if OpenMP offers them).
+void factorize_solve(benchmark::State& state, bool corner, bool split = false) {
   const Grid g = make_grid(static_cast<int>(state.range(0)), 2);
   Assembler a(g.mesh, g.dofs);
   a.assemble([&](int e, LocalMatrix& ke) { ke = element_stiffness(g.mesh.element_coords(e), g.material); },
@@ -74,7 +75,11 @@ void factorize_solve(benchmark::State& state, bool corner) {
   const VecX b = VecX::Ones(g.dofs.num_free());
   for (auto _ : state) {
     SpdSolver solver;
-    if (corner) solver.set_ordering(corner_graph_ordering(g.mesh, g.dofs), "corner_amd");
+    if (corner)
+      solver.set_ordering(std::make_shared<const FillOrder>(
+                              split ? mesh_fill_order(g.mesh, g.dofs)
+                                    : FillOrder{corner_graph_ordering(g.mesh, g.dofs), {}}),
+                          "corner_amd");
     solver.factorize(a.matrix());
     VecX x;
     solver.solve(b, x);
@@ -86,6 +91,7 @@ void factorize_solve(benchmark::State& state, bool corner) {
 }
 void BM_FactorizeSolveT6(benchmark::State& s) { factorize_solve(s, false); }
 void BM_FactorizeSolveT6CornerOrder(benchmark::State& s) { factorize_solve(s, true); }
+void BM_FactorizeSolveT6Split(benchmark::State& s) { factorize_solve(s, true, true); }
 
 void BM_Detection(benchmark::State& state) {
   // A master polyline of n edges along y = 0 and n slave points just above it.
@@ -121,6 +127,7 @@ BENCHMARK(BM_AssembleT3TwoThreads)->Arg(300)->Unit(benchmark::kMillisecond)->Use
 BENCHMARK(BM_AssembleT6TwoThreads)->Arg(150)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FactorizeSolveT6)->Arg(50)->Arg(150)->Arg(350)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_FactorizeSolveT6CornerOrder)->Arg(50)->Arg(150)->Arg(350)->Unit(benchmark::kMillisecond)->Iterations(1);
+BENCHMARK(BM_FactorizeSolveT6Split)->Arg(50)->Arg(150)->Arg(350)->Unit(benchmark::kMillisecond)->Iterations(1);
 BENCHMARK(BM_Detection)->Arg(1000)->Arg(100000)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

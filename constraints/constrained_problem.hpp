@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "constraints/friction_law.hpp"
+#include "core/fill_ordering.hpp"
 #include "core/solver_status.hpp"
 #include "core/types.hpp"
 
@@ -62,7 +63,7 @@ struct ConstrainedProblem {
   std::vector<char> initial_friction;
   /// Optional fill-reducing elimination order of the n unknowns (core/fill_ordering.hpp, from
   /// the mesh); null or another size: CHOLMOD orders the matrices itself.
-  std::shared_ptr<const std::vector<int>> ordering;
+  std::shared_ptr<const core::FillOrder> ordering;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.

@@ -54,8 +54,8 @@ SaddlePointSolver::SaddlePointSolver(const ConstrainedProblem& p, double s) : p_
   for (int d = 0; d < n; ++d)
     if (touched[d]) tail_dofs_.push_back(d);
   if (p.ordering) {
-    chol_.set_ordering(*p.ordering, "corner_amd");
-    tail_.set_ordering(*p.ordering);
+    chol_.set_ordering(p.ordering, "corner_amd");
+    tail_.set_ordering(p.ordering);
   }
 }
 

@@ -196,7 +196,7 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
 
 PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p)
     : p_(p), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()) {
-  if (p.ordering) solver_.set_ordering(*p.ordering, "corner_amd");
+  if (p.ordering) solver_.set_ordering(p.ordering, "corner_amd");
 }
 
 SolveStatus PenalizedSolver::solve_set(const std::vector<char>& set, const VecX& k_gap,

@@ -22,11 +22,11 @@ class Assembler {
   /// Element matrix callback: fills the local matrix of element e (2 * nodes_per_element square).
   using ElementMatrixFn = std::function<void(int e, LocalMatrix& ke)>;
 
-  /// Refills K_ff; when u_constrained is given, also returns lift = K_fc u_c. With more than
-  /// one thread (set_threads), chunks of consecutive elements of one colour (no node shared
-  /// between them) are assembled concurrently, colour after colour: `element_matrix` must then be safe to call from several
-  /// threads at once. The sums per entry run in colour order, so K_ff differs from the serial
-  /// one by round-off only.
+  /// Refills K_ff; when u_constrained is given, also returns lift = K_fc u_c. Chunks of
+  /// consecutive elements of one colour (no node shared between them) are assembled colour
+  /// after colour, concurrently with more than one thread (set_threads): `element_matrix` must
+  /// then be safe to call from several threads at once. The sums per entry run in colour order
+  /// whatever the threads, so K_ff is the same to the last bit on one thread as on several.
   void assemble(const ElementMatrixFn& element_matrix, const VecX* u_full, VecX* lift);
 
   /// Threads for assemble() (OpenMP): 1 = serial (the default), 0 = as many as OpenMP offers.

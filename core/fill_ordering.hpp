@@ -19,4 +19,25 @@ namespace c2d::core {
 /// an empty vector if the mesh has no elements.
 std::vector<int> corner_graph_ordering(const Mesh& mesh, const DofMap& dofs);
 
+/// A fill order for SpdSolver, with a two-way split for its two-thread factorisation
+/// (core/split_cholesky.hpp).
+struct FillOrder {
+  std::vector<int> order;         ///< the free DOFs in elimination order
+  /// Per free DOF: 0 or 1, the two halves, or 2, the separator between them (no element holds
+  /// DOFs of both halves). Empty: no split.
+  std::vector<signed char> part;
+};
+
+/// Below this many free DOFs the fill order carries no split: one factorisation costs a few
+/// tens of milliseconds and the second thread saves little of it.
+constexpr int kMinSplitUnknowns = 40000;
+
+/// corner_graph_ordering, plus (from `min_split_unknowns` free DOFs on) a split: METIS bisects
+/// the corner graph by a vertex separator (CHOLMOD's cholmod_bisect); a T6 mid-side node joins
+/// its edge's half, the separator when both its corners are in it; nodes outside every element
+/// and free DOFs beyond the nodes' join the separator. No split when CHOLMOD was built without
+/// METIS or a half is empty.
+FillOrder mesh_fill_order(const Mesh& mesh, const DofMap& dofs,
+                          int min_split_unknowns = kMinSplitUnknowns);
+
 }  // namespace c2d::core

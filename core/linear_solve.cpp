@@ -16,7 +16,7 @@ void solve_plain(const Model& model, const AnalysisSpec& analysis, const SpMat& 
                  const VecX& rhs, VecX& u_free, Results& r) {
   SpdSolver solver(analysis.solver == "ldlt" ? SpdSolver::Backend::kEigenLdlt
                                              : SpdSolver::Backend::kCholmod);
-  if (model.fill_order) solver.set_ordering(*model.fill_order, "corner_amd");
+  if (model.fill_order) solver.set_ordering(model.fill_order, "corner_amd");
   r.status = solver.factorize(k_ff);
   if (r.status == SolveStatus::kConverged) r.status = solver.solve(rhs, u_free);
   r.solver = solver.report();

@@ -1,6 +1,7 @@
 #include "core/mesher.hpp"
 
 #include <gmsh.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <array>
@@ -375,11 +376,27 @@ void add_physical_node_groups(Mesh& mesh) {
 
 }  // namespace
 
+/// gmsh sets OpenMP's thread count (the calling thread's) to its option General.NumThreads, 1,
+/// when it starts, which left every later parallel loop of the run (assembly, the split
+/// factorisation) on one thread. gmsh meshes on one thread as it always did; the caller's count
+/// is restored when it returns.
+class OneThreadForGmsh {
+ public:
+  OneThreadForGmsh() : saved_(omp_get_max_threads()) { omp_set_num_threads(1); }
+  ~OneThreadForGmsh() { omp_set_num_threads(saved_); }
+  OneThreadForGmsh(const OneThreadForGmsh&) = delete;
+  OneThreadForGmsh& operator=(const OneThreadForGmsh&) = delete;
+
+ private:
+  int saved_;
+};
+
 Mesh mesh_body(const BodySpec& body, int order) {
   // gmsh's model is process-wide: one body at a time, whatever the calling thread (the Python
   // module runs scenes in several threads).
   static std::mutex gmsh_mutex;
   const std::lock_guard<std::mutex> lock(gmsh_mutex);
+  const OneThreadForGmsh one_thread;
   ensure_gmsh();
   gmsh::clear();
   gmsh::model::add(body.name);

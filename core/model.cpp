@@ -410,8 +410,7 @@ Model build_model(const Scene& scene) {
   apply_loads(scene, model);
   add_follower_loads(scene, model);
   add_springs(scene, model);
-  model.fill_order =
-      std::make_shared<const std::vector<int>>(corner_graph_ordering(model.mesh, model.dofs));
+  model.fill_order = std::make_shared<const FillOrder>(mesh_fill_order(model.mesh, model.dofs));
   return model;
 }
 

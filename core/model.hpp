@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/dof_map.hpp"
+#include "core/fill_ordering.hpp"
 #include "core/material.hpp"
 #include "core/mesh.hpp"
 #include "core/scene.hpp"
@@ -68,10 +69,10 @@ struct Model {
   SpMat follower_matrix;
   VecX follower_reference;  ///< M X (full; empty when none)
   std::string follower_where;  ///< the first follower load's table, for messages
-  /// The free DOFs' fill-reducing elimination order (corner_graph_ordering of mesh and dofs),
+  /// The free DOFs' fill-reducing elimination order and split (mesh_fill_order of mesh and dofs),
   /// set once by build_model for every factorisation of the run: the plain solve, the finite-
   /// strain Newton, the contact methods. Null: CHOLMOD orders each matrix itself.
-  std::shared_ptr<const std::vector<int>> fill_order;
+  std::shared_ptr<const FillOrder> fill_order;
 };
 
 /// The full vector of prescribed displacements at load factor λ (zero on free DOFs): λ × the

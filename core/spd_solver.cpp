@@ -4,7 +4,9 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <omp.h>
 
+#include "core/split_cholesky.hpp"
 #include "core/stopwatch.hpp"
 
 namespace c2d::core {
@@ -53,8 +55,76 @@ struct SpdSolver::Impl {
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt;
   Eigen::Index analysed_rows = -1, analysed_nnz = -1;
   const SpMat* matrix = nullptr;
-  std::vector<int> order;  ///< the caller's elimination order, empty for CHOLMOD's AMD
+  std::shared_ptr<const FillOrder> fill;  ///< the caller's elimination order, null for AMD
   std::string order_name;
+  SplitCholesky split;
+  bool use_split = false;  ///< the analysed pattern factorises split in two halves
+  int threads = 1;
+
+  bool given(const SpMat& k) const {
+    return fill && static_cast<Eigen::Index>(fill->order.size()) == k.rows();
+  }
+  /// The analysis of K's pattern: split when the fill order carries a split that applies, else
+  /// CHOLMOD's. The split does not depend on the threads (one thread runs the halves one after
+  /// the other, as fast as one factorisation of the whole), so neither do the numbers.
+  void analyse(const SpMat& k) {
+    threads = omp_get_max_threads();
+    use_split = given(k) && static_cast<Eigen::Index>(fill->part.size()) == k.rows() &&
+                split.analyse(k, fill->order, fill->part, threads);
+    if (!use_split) cholmod.analyzePattern(k, given(k) ? fill->order : std::vector<int>{});
+  }
+
+  /// CHOLMOD's factorisation, split or whole, analysing first if asked; false when K is not
+  /// positive definite.
+  bool factorize_cholmod(const SpMat& k, bool analyse_pattern, SpdSolveReport& r) {
+    Stopwatch clock;
+    r.backend = "cholmod";
+    if (analyse_pattern) {
+      analyse(k);
+      r.symbolic_analyses++;
+      r.symbolic_seconds += clock.lap();
+    }
+    r.numeric_factorizations++;
+    if (use_split) {
+      const SolveStatus st = split.factorize(k, threads);
+      r.numeric_seconds += clock.lap();
+      r.ordering = order_name + "_split";
+      r.supernodal = true;
+      r.factor_nonzeros = split.factor_nonzeros();
+      r.separator = split.separator_size();
+      return st == SolveStatus::kConverged;
+    }
+    cholmod.factorize(k);
+    r.numeric_seconds += clock.lap();
+    const cholmod_common& c = cholmod.cholmod();
+    static const char* const kOrderings[] = {"natural", "given", "amd", "metis", "nesdis", "colamd", "postordered"};
+    const int o = c.method[c.selected].ordering;
+    r.ordering = given(k) ? order_name : o >= 0 && o <= 6 ? kOrderings[o] : "unknown";
+    r.supernodal = cholmod.is_supernodal();
+    r.factor_nonzeros = c.lnz;
+    r.separator = 0;
+    return cholmod.info() == Eigen::Success;
+  }
+
+  /// Eigen's LDLT, analysing first if asked; false unless every pivot is positive and finite.
+  bool factorize_ldlt(const SpMat& k, bool analyse_pattern, SpdSolveReport& r) {
+    Stopwatch clock;
+    r.backend = "eigen_ldlt";
+    if (analyse_pattern) {
+      ldlt.analyzePattern(k);
+      r.symbolic_analyses++;
+      r.symbolic_seconds += clock.lap();
+    }
+    ldlt.factorize(k);
+    r.numeric_factorizations++;
+    r.numeric_seconds += clock.lap();
+    r.ordering = "amd";
+    r.supernodal = false;
+    r.separator = 0;
+    if (ldlt.info() != Eigen::Success) return false;
+    const VecX d = ldlt.vectorD();
+    return d.minCoeff() > 0.0 && std::isfinite(d.sum());
+  }
 };
 
 SpdSolver::SpdSolver(Backend preferred, bool fallback) : impl_(std::make_unique<Impl>()) {
@@ -77,8 +147,8 @@ SpdSolver::SpdSolver(Backend preferred, bool fallback) : impl_(std::make_unique<
 
 SpdSolver::~SpdSolver() = default;
 
-void SpdSolver::set_ordering(std::vector<int> order, std::string name) {
-  impl_->order = std::move(order);
+void SpdSolver::set_ordering(std::shared_ptr<const FillOrder> fill, std::string name) {
+  impl_->fill = std::move(fill);
   impl_->order_name = std::move(name);
   reset_pattern();
 }
@@ -105,41 +175,10 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     return report_.status;
   }
   const bool same_pattern = m.analysed_rows == k.rows() && m.analysed_nnz == k.nonZeros();
-  auto try_backend = [&](Backend b) -> bool {
-    Stopwatch clock;
-    if (b == Backend::kCholmod) {
-      report_.backend = "cholmod";
-      const bool given = static_cast<Eigen::Index>(m.order.size()) == k.rows();
-      if (!same_pattern || m.active != b) {
-        m.cholmod.analyzePattern(k, given ? m.order : std::vector<int>{});
-        report_.symbolic_analyses++;
-        report_.symbolic_seconds += clock.lap();
-      }
-      m.cholmod.factorize(k);
-      report_.numeric_factorizations++;
-      report_.numeric_seconds += clock.lap();
-      const cholmod_common& c = m.cholmod.cholmod();
-      static const char* const kOrderings[] = {"natural", "given", "amd", "metis", "nesdis", "colamd", "postordered"};
-      const int o = c.method[c.selected].ordering;
-      report_.ordering = given ? m.order_name : o >= 0 && o <= 6 ? kOrderings[o] : "unknown";
-      report_.supernodal = m.cholmod.is_supernodal();
-      report_.factor_nonzeros = c.lnz;
-      return m.cholmod.info() == Eigen::Success;
-    }
-    report_.backend = "eigen_ldlt";
-    if (!same_pattern || m.active != b) {
-      m.ldlt.analyzePattern(k);
-      report_.symbolic_analyses++;
-      report_.symbolic_seconds += clock.lap();
-    }
-    m.ldlt.factorize(k);
-    report_.numeric_factorizations++;
-    report_.numeric_seconds += clock.lap();
-    report_.ordering = "amd";
-    report_.supernodal = false;
-    if (m.ldlt.info() != Eigen::Success) return false;
-    const VecX d = m.ldlt.vectorD();
-    return d.minCoeff() > 0.0 && std::isfinite(d.sum());
+  auto try_backend = [&](Backend b) {
+    const bool analyse = !same_pattern || m.active != b;
+    return b == Backend::kCholmod ? m.factorize_cholmod(k, analyse, report_)
+                                  : m.factorize_ldlt(k, analyse, report_);
   };
   bool ok = try_backend(m.preferred);
   m.active = m.preferred;
@@ -156,7 +195,7 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     const double dmax = d.cwiseAbs().maxCoeff(), dmin = d.cwiseAbs().minCoeff();
     report_.pivot_ratio = dmax > 0 ? dmin / dmax : 0.0;
   } else if (ok) {
-    report_.pivot_ratio = m.cholmod.rcond();
+    report_.pivot_ratio = m.use_split ? m.split.pivot_ratio() : m.cholmod.rcond();
   }
   if (ok && report_.pivot_ratio < kSingularPivotRatio) ok = false;
   if (!ok) {
@@ -177,7 +216,13 @@ SolveStatus SpdSolver::solve(const VecX& b, VecX& x) {
   }
   if (report_.status != SolveStatus::kConverged) return report_.status;
   const Stopwatch clock;
-  x = m.active == Backend::kCholmod ? VecX(m.cholmod.solve(b)) : VecX(m.ldlt.solve(b));
+  if (m.active == Backend::kCholmod && m.use_split) {
+    Eigen::MatrixXd xm;
+    if (m.split.solve(b, xm, m.threads) != SolveStatus::kConverged) xm.setConstant(b.size(), 1, NAN);
+    x = xm.col(0);
+  } else {
+    x = m.active == Backend::kCholmod ? VecX(m.cholmod.solve(b)) : VecX(m.ldlt.solve(b));
+  }
   const double bn = b.norm();
   const VecX r = (*m.matrix).selfadjointView<Eigen::Lower>() * x - b;
   report_.relative_residual = bn > 0 ? r.norm() / bn : r.norm();
@@ -201,8 +246,12 @@ SolveStatus SpdSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) {
   }
   if (report_.status != SolveStatus::kConverged) return report_.status;
   const Stopwatch clock;
-  x = m.active == Backend::kCholmod ? Eigen::MatrixXd(m.cholmod.solve(b))
-                                    : Eigen::MatrixXd(m.ldlt.solve(b));
+  if (m.active == Backend::kCholmod && m.use_split) {
+    if (m.split.solve(b, x, m.threads) != SolveStatus::kConverged) x.setConstant(b.rows(), b.cols(), NAN);
+  } else {
+    x = m.active == Backend::kCholmod ? Eigen::MatrixXd(m.cholmod.solve(b))
+                                      : Eigen::MatrixXd(m.ldlt.solve(b));
+  }
   // The residual of a fixed combination of the columns, K (X w) − B w: one product instead of
   // one per column (which cost more than the solve itself for a hundred columns). A column
   // solved badly shows in the combination unless its error cancels exactly against another's.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fill_ordering.hpp"
 #include "core/solver_status.hpp"
 #include "core/types.hpp"
 
@@ -26,6 +27,9 @@ struct SpdSolveReport {
   std::string ordering;           ///< CHOLMOD's chosen ordering (amd, metis, nesdis, ...)
   bool supernodal = false;        ///< CHOLMOD's factor is supernodal
   double factor_nonzeros = 0;     ///< non-zeros of L (fill)
+  /// Unknowns in the separator of a two-way split factorisation (SplitCholesky); 0: one
+  /// factorisation of the whole matrix.
+  int separator = 0;
 };
 
 class SpdSolver {
@@ -49,10 +53,12 @@ class SpdSolver {
   /// relative column residual.
   SolveStatus solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x);
   const SpdSolveReport& report() const { return report_; }
-  /// Eliminates in `order` (entry k: the unknown eliminated k-th, e.g. corner_graph_ordering)
-  /// instead of CHOLMOD's AMD, for matrices of that size (any other size: AMD); the report
-  /// names it `name`. CHOLMOD's backend only; LDLT keeps its own AMD.
-  void set_ordering(std::vector<int> order, std::string name);
+  /// Eliminates in `fill`'s order (e.g. mesh_fill_order) instead of CHOLMOD's AMD, for
+  /// matrices of its size (any other size: AMD); the report names it `name`. When `fill`
+  /// carries a split, the two halves factorise separately, side by side when OpenMP offers two
+  /// threads (SplitCholesky; a split that does not apply to the matrix: one factorisation).
+  /// CHOLMOD's backend only; LDLT keeps its own AMD.
+  void set_ordering(std::shared_ptr<const FillOrder> fill, std::string name);
   /// Forgets the symbolic analysis (call when the pattern changed).
   void reset_pattern();
 

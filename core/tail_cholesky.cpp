@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/factor_blocks.hpp"
 #include "core/stopwatch.hpp"
 
 namespace c2d::core {
@@ -49,7 +50,9 @@ struct TailCholesky::Impl {
   Eigen::Index rows = -1, nnz = -1;  ///< the analysed pattern
   std::vector<int> tail;             ///< the analysed tail
   SpMat compressed;                  ///< K's copy when K is not compressed
-  std::vector<int> order;            ///< the caller's order, empty for CAMD
+  std::shared_ptr<const FillOrder> fill;  ///< the caller's order, null for CAMD
+
+  bool given(int n) const { return fill && static_cast<int>(fill->order.size()) == n; }
 
   Impl() {
     cholmod_start(&c);
@@ -76,8 +79,8 @@ struct TailCholesky::Impl {
 TailCholesky::TailCholesky() : impl_(std::make_unique<Impl>()) {}
 TailCholesky::~TailCholesky() = default;
 
-void TailCholesky::set_ordering(std::vector<int> order) {
-  impl_->order = std::move(order);
+void TailCholesky::set_ordering(std::shared_ptr<const FillOrder> fill) {
+  impl_->fill = std::move(fill);
   impl_->rows = -1;  // analyse again
 }
 
@@ -95,10 +98,10 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   // CAMD with the two sets as constraints.
   std::vector<int> member(n_, 0), perm(n_);
   for (int d : tail) member[d] = 1;
-  if (static_cast<int>(m.order.size()) == n_) {
+  if (m.given(n_)) {
     auto it = perm.begin();
     for (int set = 0; set < 2; ++set)
-      it = std::copy_if(m.order.begin(), m.order.end(), it, [&](int d) { return member[d] == set; });
+      it = std::copy_if(m.fill->order.begin(), m.fill->order.end(), it, [&](int d) { return member[d] == set; });
   } else if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) {
     return false;
   }
@@ -122,7 +125,7 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
   report_.message.clear();
   report_.backend = "cholmod";
   n_ = static_cast<int>(k.rows());
-  report_.ordering = static_cast<int>(m.order.size()) == n_ ? "given_tail_last" : "camd";
+  report_.ordering = m.given(n_) ? "given_tail_last" : "camd";
   if (!k.coeffs().allFinite())
     return fail(SolveStatus::kFailed, "the stiffness matrix has non-finite entries");
   const SpMat* kk = &k;
@@ -162,44 +165,8 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
 }
 
 bool TailCholesky::extract_tail_factor() {
-  const cholmod_factor& f = *impl_->factor;
-  if (!f.x) return false;
-  const int k = static_cast<int>(impl_->tail.size()), k0 = n_ - k;
-  tail_factor_ = Eigen::MatrixXd::Zero(k, k);
-  tail_pivots_ = VecX::Ones(k);
-  const auto* x = static_cast<const double*>(f.x);
-  if (f.is_super) {
-    // Supernode s holds columns super[s] .. super[s+1]−1 as a dense column-major block whose
-    // rows are s[pi[s]] .. s[pi[s+1]−1] (the supernode's own columns first).
-    const auto* super = static_cast<const int*>(f.super);
-    const auto* pi = static_cast<const int*>(f.pi);
-    const auto* px = static_cast<const int*>(f.px);
-    const auto* rows = static_cast<const int*>(f.s);
-    for (size_t s = 0; s < f.nsuper; ++s) {
-      const int c1 = super[s], c2 = super[s + 1];
-      if (c2 <= k0) continue;
-      const int nsrow = pi[s + 1] - pi[s];
-      for (int j = std::max(c1, k0); j < c2; ++j)
-        for (int r = 0; r < nsrow; ++r) {
-          const int row = rows[pi[s] + r];
-          if (row >= j)
-            tail_factor_(row - k0, j - k0) =
-                x[static_cast<size_t>(px[s]) + r + static_cast<size_t>(j - c1) * nsrow];
-        }
-    }
-    return true;
-  }
-  const auto* lp = static_cast<const int*>(f.p);
-  const auto* li = static_cast<const int*>(f.i);
-  const auto* lnz = static_cast<const int*>(f.nz);
-  // Column j: the diagonal first (D_jj for L D Lᵀ, whose L has a unit diagonal), then below.
-  for (int j = k0; j < n_; ++j)
-    for (int q = lp[j]; q < lp[j] + lnz[j]; ++q) tail_factor_(li[q] - k0, j - k0) = x[q];
-  if (!f.is_ll) {
-    tail_pivots_ = tail_factor_.diagonal();
-    tail_factor_.diagonal().setOnes();
-  }
-  return true;
+  return trailing_block(*impl_->factor, n_ - static_cast<int>(impl_->tail.size()), tail_factor_,
+                        tail_pivots_);
 }
 
 SolveStatus TailCholesky::apply_pair(int first, int second, const VecX& in, VecX& out,

@@ -21,6 +21,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/fill_ordering.hpp"
 #include "core/spd_solver.hpp"
 
 namespace c2d::core {
@@ -36,9 +37,9 @@ class TailCholesky {
   /// last. The ordering and symbolic analysis are kept while K's size, non-zero count and the
   /// tail are unchanged. Reports kSingular when K is not positive definite.
   SolveStatus factorize(const SpMat& k, const std::vector<int>& tail);
-  /// Orders matrices of `order`'s size by `order` (e.g. corner_graph_ordering) with the tail
+  /// Orders matrices of its size by `fill`'s order (e.g. mesh_fill_order) with the tail
   /// moved last, both parts keeping their relative order, instead of CAMD on the matrix.
-  void set_ordering(std::vector<int> order);
+  void set_ordering(std::shared_ptr<const FillOrder> fill);
 
   int size() const { return n_; }
   /// k, the tail's size.

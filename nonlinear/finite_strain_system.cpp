@@ -12,7 +12,7 @@ using namespace c2d::core;
 
 FiniteStrainSystem::FiniteStrainSystem(const Model& model)
     : model_(model), assembler_(model.mesh, model.dofs), f_dead_(model.external_force) {
-  if (model.fill_order) solver_.set_ordering(*model.fill_order, "corner_amd");
+  if (model.fill_order) solver_.set_ordering(model.fill_order, "corner_amd");
   VecX all = model.dofs.restrict(model.external_force).cwiseAbs();
   for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
     double peak = 0.0;

@@ -136,6 +136,7 @@ nlohmann::json solver_section(const core::Results& r) {
           {"ordering", r.solver.ordering},
           {"supernodal", r.solver.supernodal},
           {"factor_nonzeros", r.solver.factor_nonzeros},
+          {"separator", r.solver.separator},
           {"message", r.solver.message}};
 }
 

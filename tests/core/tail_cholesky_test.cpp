@@ -52,7 +52,7 @@ class TailOrder : public ::testing::TestWithParam<bool> {
     if (!GetParam()) return;
     std::vector<int> reversed(kSide * kSide);
     for (int k = 0; k < kSide * kSide; ++k) reversed[k] = kSide * kSide - 1 - k;
-    f.set_ordering(reversed);
+    f.set_ordering(std::make_shared<const core::FillOrder>(core::FillOrder{reversed, {}}));
   }
 };
 
