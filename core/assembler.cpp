@@ -75,7 +75,7 @@ void Assembler::build_scatter() {
   const int* outer = k_ff_.outerIndexPtr();
   const int* inner = k_ff_.innerIndexPtr();
   // Each element's positions are its own: the searches run on every thread.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (mesh_.num_elements() >= kMinParallelElements)
   for (int e = 0; e < mesh_.num_elements(); ++e) {
     std::array<int, kMaxElementDofs> gd;
     element_dofs(e, gd);
@@ -130,7 +130,9 @@ void Assembler::element_dofs(int e, std::array<int, kMaxElementDofs>& dofs) cons
 }
 
 void Assembler::set_threads(int threads) {
-  threads_ = threads > 0 ? threads : omp_get_max_threads();
+  threads_ = threads > 0 ? threads
+             : mesh_.num_elements() >= kMinParallelElements ? omp_get_max_threads()
+                                                            : 1;
 }
 
 void Assembler::add_element(int e, const LocalMatrix& ke, const VecX* u_full, VecX* lift) {

@@ -29,7 +29,8 @@ class Assembler {
   /// whatever the threads, so K_ff is the same to the last bit on one thread as on several.
   void assemble(const ElementMatrixFn& element_matrix, const VecX* u_full, VecX* lift);
 
-  /// Threads for assemble() (OpenMP): 1 = serial (the default), 0 = as many as OpenMP offers.
+  /// Threads for assemble() (OpenMP): 1 = serial (the default), 0 = as many as OpenMP offers
+  /// from kMinParallelElements elements on (one below).
   void set_threads(int threads);
   /// Colours of element chunks: the first elements of chunks that share no node; a chunk is
   /// chunk_size() consecutive elements (fewer at the end).

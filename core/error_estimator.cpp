@@ -14,8 +14,10 @@ void integrate(const Mesh& mesh, const std::vector<Material>& materials,
                const ElementStresses& stresses, const Eigen::Matrix3Xd& smoothed,
                ErrorEstimate& est, double& energy2) {
   using Tri = Triangle<NN>;
-  double energy = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : energy)
+  // Each element's energy on its own, summed in element order after: the sum does not depend
+  // on the threads.
+  std::vector<double> energy(mesh.num_elements(), 0.0);
+#pragma omp parallel for schedule(static) if (mesh.num_elements() >= kMinParallelElements)
   for (int e = 0; e < mesh.num_elements(); ++e) {
     typename Tri::ShapeGrad g;
     const typename Tri::Coords x = mesh.element_coords(e);
@@ -32,9 +34,9 @@ void integrate(const Mesh& mesh, const std::vector<Material>& materials,
       en2 += star.dot(c * star) * w;
     }
     est.element_error[e] = std::sqrt(std::max(err2, 0.0));
-    energy += en2;
+    energy[e] = en2;
   }
-  energy2 += energy;
+  for (double en2 : energy) energy2 += en2;
 }
 
 }  // namespace

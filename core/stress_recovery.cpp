@@ -16,7 +16,7 @@ ElementStresses compute_element_stresses(const Mesh& mesh, const std::vector<Mat
   const int nn = mesh.nodes_per_element();
   s.at_points.resize(mesh.num_elements());
   s.at_nodes.resize(mesh.num_elements());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (mesh.num_elements() >= kMinParallelElements)
   for (int e = 0; e < mesh.num_elements(); ++e) {
     LocalVector ue(2 * nn);
     for (int i = 0; i < nn; ++i) ue.segment<2>(2 * i) = u.segment<2>(2 * mesh.elements[e][i]);
@@ -51,7 +51,7 @@ struct ElementMass {
       : mass(mesh.num_elements()) {
     using Tri = Triangle<NN>;
     std::vector<Eigen::Matrix<double, NN, 3>> re(mesh.num_elements());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (mesh.num_elements() >= kMinParallelElements)
     for (int e = 0; e < mesh.num_elements(); ++e) {
       typename Tri::ShapeGrad g;
       const typename Tri::Coords x = mesh.element_coords(e);
