@@ -136,6 +136,13 @@ struct ConstraintSolution {
   /// the method's own work (assembling its systems, W and Schur matrices, active-set logic).
   double symbolic_seconds = 0, numeric_seconds = 0, solve_seconds = 0;
   int symbolic_analyses = 0;
+  /// The last factorisation's ordering, whether supernodal, its factor's non-zeros and its
+  /// split's separator (core::SpdSolveReport's; empty, false, 0 and 0 where the method did not
+  /// say).
+  std::string ordering;
+  bool supernodal = false;
+  double factor_nonzeros = 0;
+  int separator = 0;
   /// Conditioning of the last factorisation: CHOLMOD's pivot ratio (penalty-type methods) or the
   /// saddle point's reciprocal condition estimate (lagrange, ssn); NaN where the method has none.
   double pivot_ratio = std::numeric_limits<double>::quiet_NaN();

@@ -20,6 +20,12 @@ struct KktSolveReport {
   double symbolic_seconds = 0;  ///< summed over analyses (of every factor the solver keeps)
   double numeric_seconds = 0;   ///< summed over numeric factorisations
   double solve_seconds = 0;     ///< summed over solves, residual checks included
+  /// The last factorisation's ordering (SpdSolveReport's, "umfpack" for an LU), whether it is
+  /// supernodal, its factor's non-zeros and its split's separator (0: not split).
+  std::string ordering = "umfpack";
+  bool supernodal = false;
+  double factor_nonzeros = 0;
+  int separator = 0;
 };
 
 class KktSolver {

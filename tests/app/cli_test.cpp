@@ -98,6 +98,24 @@ TEST(Cli, CantileverRunWritesSummaryAndValidVtu) {
   EXPECT_TRUE(fs::exists(out / "deformed.png"));
 }
 
+TEST(Cli, LargeRunFactorisesSplitAndSaysSo) {
+  // From 40,000 free DOFs the stiffness factorises as two halves and the separator
+  // (core/split_cholesky.hpp): the cantilever at 47k DOFs (T6), tip against Timoshenko (0.5 %).
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_split";
+  fs::remove_all(out);
+  ASSERT_EQ(run_args({"run", example("cantilever.toml"), "--set", "analysis.mesh_scale=0.28",
+                      "--set", "output.charts=false", "--out", out.string(), "--quiet"}),
+            0);
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json s = nlohmann::json::parse(in);
+  EXPECT_EQ(s["status"], "converged");
+  EXPECT_GT(s["mesh"]["nodes"].get<int>() * 2, 40000);
+  EXPECT_EQ(s["solver"]["ordering"], "corner_amd_split");
+  EXPECT_GT(s["solver"]["separator"].get<int>(), 0);
+  EXPECT_LT(s["solver"]["relative_residual"].get<double>(), 1e-8);
+  EXPECT_NEAR(s["probes"]["tip_uy"].get<double>(), -0.012208, 0.005 * 0.012208);
+}
+
 TEST(Cli, BadInputExitsTwoWithOneLine) {
   std::string output;
   EXPECT_EQ(run("run " + example("cantilever.toml") + " --set analysis.element=Q8 --quiet", &output), 2);
@@ -139,6 +157,10 @@ TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
   const nlohmann::json s = nlohmann::json::parse(in);
   EXPECT_EQ(s["status"], "converged");
   EXPECT_EQ(s["method"], "ssn");
+  // The method's factorisation, named in the solver section.
+  EXPECT_FALSE(s["solver"]["ordering"].get<std::string>().empty());
+  EXPECT_GT(s["solver"]["factor_nonzeros"].get<double>(), 0.0);
+  EXPECT_GT(s["solver"]["pivot_ratio"].get<double>(), 0.0);
   for (const char* key : {"active_nodes", "p_max", "length", "max_penetration", "total_force"})
     EXPECT_TRUE(s["contact"].contains(key)) << key;
   EXPECT_NEAR(s["probes"]["a_uy"].get<double>(), -0.0077, 0.02 * 0.0077);
