@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 #include "core/assembler.hpp"
@@ -208,6 +209,38 @@ TEST_P(SplitCholeskyElements, SpdSolverSplitsWhateverTheThreadsAndFallsBackWhenI
   EXPECT_EQ(whole.report().separator, 0);
   EXPECT_LT(tension_error(g, u), 1e-10);
   omp_set_num_threads(threads);
+}
+
+TEST(SplitCholesky, TwoSeparateBodiesNeedNoSeparator) {
+  // K = diag(K₁, K₁), the halves the two bodies: an empty separator, each body solved alone.
+  const StructuredGrid g = tension_square(12, 2);
+  const SpMat k1 = stiffness(g);
+  const int n1 = static_cast<int>(k1.rows());
+  std::vector<Eigen::Triplet<double>> t;
+  for (int j = 0; j < n1; ++j)
+    for (SpMat::InnerIterator it(k1, j); it; ++it) {
+      t.emplace_back(it.row(), j, it.value());
+      t.emplace_back(n1 + it.row(), n1 + j, it.value());
+    }
+  SpMat k(2 * n1, 2 * n1);
+  k.setFromTriplets(t.begin(), t.end());
+  k.makeCompressed();
+  std::vector<int> order(2 * n1);
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<signed char> part(2 * n1, 0);
+  std::fill(part.begin() + n1, part.end(), static_cast<signed char>(1));
+  SplitCholesky split;
+  ASSERT_TRUE(split.analyse(k, order, part, 2));
+  EXPECT_EQ(split.separator_size(), 0);
+  ASSERT_EQ(split.factorize(k, 2), SolveStatus::kConverged);
+  EXPECT_GT(split.pivot_ratio(), 0.0);
+  const VecX f1 = tension_load(g);
+  VecX f(2 * n1);
+  f << f1, 2.0 * f1;
+  Eigen::MatrixXd x;
+  ASSERT_EQ(split.solve(f, x, 2), SolveStatus::kConverged);
+  EXPECT_LT(tension_error(g, x.col(0).head(n1)), 1e-10);
+  EXPECT_LT(tension_error(g, 0.5 * x.col(0).tail(n1)), 1e-10);
 }
 
 TEST(SplitFillOrder, SmallMeshesCarryNoSplit) {
