@@ -80,6 +80,22 @@ void diagonal_range(const cholmod_factor& f, int k, double& smallest, double& la
   });
 }
 
+cholmod_sparse lower_view(size_t n, size_t nnz, const int* start, const int* rows, const double* x) {
+  cholmod_sparse a{};
+  a.nrow = a.ncol = n;
+  a.nzmax = nnz;
+  a.p = const_cast<int*>(start);
+  a.i = const_cast<int*>(rows);
+  a.x = const_cast<double*>(x);
+  a.stype = -1;
+  a.itype = CHOLMOD_INT;
+  a.xtype = CHOLMOD_REAL;
+  a.dtype = CHOLMOD_DOUBLE;
+  a.sorted = 1;
+  a.packed = 1;
+  return a;
+}
+
 cholmod_dense dense_view(const Eigen::MatrixXd& m) {
   cholmod_dense d{};
   d.nrow = d.d = static_cast<size_t>(m.rows());

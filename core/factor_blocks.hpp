@@ -18,6 +18,10 @@ bool trailing_block(const cholmod_factor& f, int k0, Eigen::MatrixXd& l, VecX& p
 /// The smallest and largest |L_jj| (|D_jj| for an L D Lᵀ factor) over the columns before k.
 void diagonal_range(const cholmod_factor& f, int k, double& smallest, double& largest);
 
+/// A CHOLMOD view of a symmetric matrix's lower triangle in compressed columns (n × n, nnz
+/// entries, rows sorted within each column; no copy).
+cholmod_sparse lower_view(size_t n, size_t nnz, const int* start, const int* rows, const double* x);
+
 /// A CHOLMOD dense view of `m` (column-major, no copy).
 cholmod_dense dense_view(const Eigen::MatrixXd& m);
 

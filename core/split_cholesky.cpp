@@ -94,19 +94,7 @@ struct SplitCholesky::Half {
   int size() const { return static_cast<int>(unknowns.size()); }
 
   cholmod_sparse view() {
-    cholmod_sparse a{};
-    a.nrow = a.ncol = unknowns.size();
-    a.nzmax = rows.size();
-    a.p = start.data();
-    a.i = rows.data();
-    a.x = values.data();
-    a.stype = -1;
-    a.itype = CHOLMOD_INT;
-    a.xtype = CHOLMOD_REAL;
-    a.dtype = CHOLMOD_DOUBLE;
-    a.sorted = 1;
-    a.packed = 1;
-    return a;
+    return lower_view(unknowns.size(), rows.size(), start.data(), rows.data(), values.data());
   }
 
   /// M_h's pattern from K's lower triangle (`row` maps an unknown of K to its row of M_h, −1

@@ -17,19 +17,8 @@ constexpr double kSingularPivotRatio = 1e-14;
 
 /// A CHOLMOD view of K's lower triangle (no copy; K must be compressed).
 cholmod_sparse view_lower(const SpMat& k) {
-  cholmod_sparse a{};
-  a.nrow = a.ncol = static_cast<size_t>(k.rows());
-  a.nzmax = static_cast<size_t>(k.nonZeros());
-  a.p = const_cast<int*>(k.outerIndexPtr());
-  a.i = const_cast<int*>(k.innerIndexPtr());
-  a.x = const_cast<double*>(k.valuePtr());
-  a.stype = -1;
-  a.itype = CHOLMOD_INT;
-  a.xtype = CHOLMOD_REAL;
-  a.dtype = CHOLMOD_DOUBLE;
-  a.sorted = 1;
-  a.packed = 1;
-  return a;
+  return lower_view(static_cast<size_t>(k.rows()), static_cast<size_t>(k.nonZeros()),
+                    k.outerIndexPtr(), k.innerIndexPtr(), k.valuePtr());
 }
 
 cholmod_dense view(const VecX& v) {
