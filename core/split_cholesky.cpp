@@ -153,7 +153,8 @@ struct SplitCholesky::Half {
     if (!trailing_block(*factor, own, l_ss, ones)) return false;
     const int s = size() - own;
     t_ss = Eigen::MatrixXd::Zero(s, s);
-    t_ss.selfadjointView<Eigen::Lower>().rankUpdate(l_ss);  // l_ss is zero above its diagonal
+    if (s > 0)  // (Eigen's products do not take empty operands)
+      t_ss.selfadjointView<Eigen::Lower>().rankUpdate(l_ss);  // l_ss is zero above its diagonal
     return true;
   }
 
@@ -249,6 +250,7 @@ SolveStatus SplitCholesky::factorize(const SpMat& k, int threads) {
   for (int r = 0; r < s; ++r)
     for (SpMat::InnerIterator it(k, m.separator[r]); it; ++it)
       if (const int i = sep_row[it.row()]; i >= r) m.schur(i, r) -= it.value();
+  if (s == 0) return SolveStatus::kConverged;  // the halves are separate bodies
   m.schur_factor.compute(m.schur);
   return m.schur_factor.info() == Eigen::Success ? SolveStatus::kConverged
                                                   : SolveStatus::kSingular;
@@ -293,14 +295,17 @@ SolveStatus SplitCholesky::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, i
   // The separator: S x_S = b_S + Σ_h L_SSʰ w_Sʰ.
   Eigen::MatrixXd x_s(s, cols);
   for (int r = 0; r < s; ++r) x_s.row(r) = b.row(m.separator[r]);
-  for (int h = 0; h < 2; ++h)
-    x_s.noalias() += m.halves[h].l_ss.triangularView<Eigen::Lower>() * w[h].bottomRows(s);
-  if (s > 0) x_s = m.schur_factor.solve(x_s);
+  if (s > 0) {
+    for (int h = 0; h < 2; ++h)
+      x_s.noalias() += m.halves[h].l_ss.triangularView<Eigen::Lower>() * w[h].bottomRows(s);
+    x_s = m.schur_factor.solve(x_s);
+  }
   // Backward: L_hᵀ y = [w_hʰ; L_SSʰᵀ x_S], y_h = x_h.
   x.resize(b.rows(), cols);
   const bool backward = for_both_halves(threads, [&](int h) {
     Half& half = m.halves[h];
-    w[h].bottomRows(s).noalias() = half.l_ss.triangularView<Eigen::Lower>().transpose() * x_s;
+    if (s > 0)
+      w[h].bottomRows(s).noalias() = half.l_ss.triangularView<Eigen::Lower>().transpose() * x_s;
     if (!half.apply(CHOLMOD_Lt, w[h])) return false;
     for (int r = 0; r < half.own; ++r) x.row(half.unknowns[r]) = w[h].row(r);
     return true;
