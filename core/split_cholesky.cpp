@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <new>
 #include <numeric>
 
@@ -20,28 +21,44 @@ namespace {
 /// OpenBLAS on one thread while the halves factorise (side by side, OpenBLAS's own threads
 /// would compete for the same cores; and one after the other, the halves' numbers then do not
 /// depend on the thread count), restored after. Looked up at run time: another BLAS
-/// (reference, BLIS) has no such call and is left as it is.
+/// (reference, BLIS) has no such call and is left as it is. OpenBLAS's count is the process's:
+/// with factorisations in several threads at once (the Python module), the first in saves it
+/// and the last out restores it.
 class SerialBlas {
  public:
   SerialBlas() {
-    set_ = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-    auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    if (!set_ || !get) {
-      set_ = nullptr;
-      return;
-    }
-    saved_ = get();
+    static const auto set =
+        reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    static const auto get =
+        reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    if (!set || !get) return;
+    set_ = set;
+    const std::lock_guard<std::mutex> lock(mutex());
+    if (state().users++ == 0) state().saved = get();
     set_(1);
   }
   ~SerialBlas() {
-    if (set_) set_(saved_);
+    if (!set_) return;
+    const std::lock_guard<std::mutex> lock(mutex());
+    if (--state().users == 0) set_(state().saved);
   }
   SerialBlas(const SerialBlas&) = delete;
   SerialBlas& operator=(const SerialBlas&) = delete;
 
  private:
+  struct State {
+    int users = 0;
+    int saved = 1;
+  };
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  static State& state() {
+    static State s;
+    return s;
+  }
   void (*set_)(int) = nullptr;
-  int saved_ = 1;
 };
 
 /// Runs body(h) for the halves h = 0, 1, side by side on two threads when `threads` > 1;

@@ -11,6 +11,7 @@
 //  - SpdSolver with a split fill order reports the split (ordering "corner_amd_split", the
 //    separator's size), gives the same numbers to the last bit on one thread as on two, and
 //    falls back to one factorisation when the split does not apply.
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -110,6 +111,9 @@ TEST_P(SplitCholeskyElements, SolvesUniaxialTensionExactly) {
   for (int j = 0; j < k.outerSize(); ++j)
     for (SpMat::InnerIterator it(k, j); it; ++it)
       ASSERT_NE(fill.part[it.row()] + fill.part[j], 1) << "K(" << it.row() << ", " << j << ")";
+  // OpenBLAS's thread count (when OpenBLAS is the BLAS) is the same after as before.
+  const auto blas_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  const int blas_before = blas_threads ? blas_threads() : 0;
   SplitCholesky split;
   ASSERT_TRUE(split.analyse(k, fill.order, fill.part, 2));
   const int sep = split.separator_size();
@@ -120,6 +124,9 @@ TEST_P(SplitCholeskyElements, SolvesUniaxialTensionExactly) {
   Eigen::MatrixXd x;
   ASSERT_EQ(split.solve(tension_load(g), x, 2), SolveStatus::kConverged);
   EXPECT_LT(tension_error(g, x.col(0)), 1e-10);
+  if (blas_threads) {
+    EXPECT_EQ(blas_threads(), blas_before);
+  }
   // One thread: the halves one after the other, the same numbers.
   Eigen::MatrixXd x1;
   ASSERT_EQ(split.factorize(k, 1), SolveStatus::kConverged);
