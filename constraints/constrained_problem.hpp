@@ -18,6 +18,7 @@
 #include "constraints/friction_law.hpp"
 #include "core/fill_ordering.hpp"
 #include "core/solver_status.hpp"
+#include "core/spd_solver.hpp"
 #include "core/types.hpp"
 
 namespace c2d::constraints {
@@ -136,13 +137,8 @@ struct ConstraintSolution {
   /// the method's own work (assembling its systems, W and Schur matrices, active-set logic).
   double symbolic_seconds = 0, numeric_seconds = 0, solve_seconds = 0;
   int symbolic_analyses = 0;
-  /// The last factorisation's ordering, whether supernodal, its factor's non-zeros and its
-  /// split's separator (core::SpdSolveReport's; empty, false, 0 and 0 where the method did not
-  /// say).
-  std::string ordering;
-  bool supernodal = false;
-  double factor_nonzeros = 0;
-  int separator = 0;
+  /// The last factorisation's (its ordering empty where the method did not say).
+  core::FactorInfo factor;
   /// Conditioning of the last factorisation: CHOLMOD's pivot ratio (penalty-type methods) or the
   /// saddle point's reciprocal condition estimate (lagrange, ssn); NaN where the method has none.
   double pivot_ratio = std::numeric_limits<double>::quiet_NaN();

@@ -6,11 +6,14 @@
 #include <string>
 
 #include "core/solver_status.hpp"
+#include "core/spd_solver.hpp"
 #include "core/types.hpp"
 
 namespace c2d::constraints {
 
-struct KktSolveReport {
+/// FactorInfo: the last factorisation's (SpdSolveReport's, "umfpack" for an LU).
+struct KktSolveReport : core::FactorInfo {
+  KktSolveReport() { ordering = "umfpack"; }
   SolveStatus status = SolveStatus::kFailed;
   std::string message;
   double relative_residual = 0.0;
@@ -20,12 +23,6 @@ struct KktSolveReport {
   double symbolic_seconds = 0;  ///< summed over analyses (of every factor the solver keeps)
   double numeric_seconds = 0;   ///< summed over numeric factorisations
   double solve_seconds = 0;     ///< summed over solves, residual checks included
-  /// The last factorisation's ordering (SpdSolveReport's, "umfpack" for an LU), whether it is
-  /// supernodal, its factor's non-zeros and its split's separator (0: not split).
-  std::string ordering = "umfpack";
-  bool supernodal = false;
-  double factor_nonzeros = 0;
-  int separator = 0;
 };
 
 class KktSolver {

@@ -132,11 +132,9 @@ void SaddlePointSolver::sync_report() {
   report_.symbolic_analyses = c.symbolic_analyses + t.symbolic_analyses + l.symbolic_analyses;
   report_.numeric_seconds = c.numeric_seconds + t.numeric_seconds + l.numeric_seconds;
   report_.solve_seconds = c.solve_seconds + t.solve_seconds + l.solve_seconds + dense_seconds_;
-  const core::SpdSolveReport* last = path_ == Path::kLu ? nullptr : condensed_ ? &t : &c;
-  report_.ordering = last ? last->ordering : l.ordering;
-  report_.factor_nonzeros = last ? last->factor_nonzeros : l.factor_nonzeros;
-  report_.separator = last ? last->separator : 0;
-  report_.supernodal = last && last->supernodal;
+  using Info = const core::FactorInfo&;
+  static_cast<core::FactorInfo&>(report_) =
+      path_ == Path::kLu ? Info(l) : condensed_ ? Info(t) : Info(c);
 }
 
 SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool all_rows,

@@ -59,10 +59,7 @@ void copy_solver_figures(const Report& r, ConstraintSolution& s) {
   s.symbolic_seconds = r.symbolic_seconds;
   s.numeric_seconds = r.numeric_seconds;
   s.solve_seconds = r.solve_seconds;
-  s.ordering = r.ordering;
-  s.factor_nonzeros = r.factor_nonzeros;
-  s.separator = r.separator;
-  s.supernodal = r.supernodal;
+  s.factor = r;
 }
 
 /// Solves the equality problem of the gap rows marked in a set: fills u, λ (0 off the set; a

@@ -164,7 +164,7 @@ void Assembler::assemble(const ElementMatrixFn& element_matrix, const VecX* u_fu
   // sums its elements colour after colour, in element order within a chunk, on one thread as on
   // several: K_ff does not depend on the thread count to the last bit.
   const int ne = mesh_.num_elements();
-#pragma omp parallel num_threads(std::max(1, threads_))
+#pragma omp parallel num_threads(threads_)
   {
     LocalMatrix ke(ndofe, ndofe);
     for (const auto& colour : colours_) {

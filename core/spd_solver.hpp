@@ -13,7 +13,19 @@
 
 namespace c2d::core {
 
-struct SpdSolveReport {
+/// What a factorisation was, as summary.json's solver section names it. The reports of the
+/// solvers (SpdSolveReport, KktSolveReport) are one, and the contact methods' solutions carry
+/// their last one's.
+struct FactorInfo {
+  std::string ordering;           ///< CHOLMOD's chosen ordering (amd, metis, nesdis, ...)
+  bool supernodal = false;        ///< CHOLMOD's factor is supernodal
+  double factor_nonzeros = 0;     ///< non-zeros of L (fill)
+  /// Unknowns in the separator of a two-way split factorisation (SplitCholesky); 0: one
+  /// factorisation of the whole matrix.
+  int separator = 0;
+};
+
+struct SpdSolveReport : FactorInfo {
   SolveStatus status = SolveStatus::kFailed;
   std::string backend;            ///< "cholmod" or "eigen_ldlt"
   std::string message;            ///< why it failed, empty on success
@@ -24,12 +36,6 @@ struct SpdSolveReport {
   double symbolic_seconds = 0;    ///< fill-reducing ordering and symbolic analysis, summed
   double numeric_seconds = 0;     ///< numeric factorisations, summed
   double solve_seconds = 0;       ///< triangular solves and residual checks, summed
-  std::string ordering;           ///< CHOLMOD's chosen ordering (amd, metis, nesdis, ...)
-  bool supernodal = false;        ///< CHOLMOD's factor is supernodal
-  double factor_nonzeros = 0;     ///< non-zeros of L (fill)
-  /// Unknowns in the separator of a two-way split factorisation (SplitCholesky); 0: one
-  /// factorisation of the whole matrix.
-  int separator = 0;
 };
 
 class SpdSolver {

@@ -429,12 +429,7 @@ void StrategyTotals::add(const ConstraintSolution& s) {
   numeric_seconds += s.numeric_seconds;
   solve_seconds += s.solve_seconds;
   pivot_ratio = s.pivot_ratio;
-  if (!s.ordering.empty()) {
-    ordering = s.ordering;
-    supernodal = s.supernodal;
-    factor_nonzeros = s.factor_nonzeros;
-    separator = s.separator;
-  }
+  if (!s.factor.ordering.empty()) factor = s.factor;
 }
 
 double residual_floor_scale(const core::Model& model) {

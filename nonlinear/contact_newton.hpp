@@ -64,10 +64,7 @@ struct StrategyTotals {
   int iterations = 0, factorizations = 0, symbolic_analyses = 0;
   double seconds = 0, symbolic_seconds = 0, numeric_seconds = 0, solve_seconds = 0;
   double pivot_ratio = std::numeric_limits<double>::quiet_NaN();
-  std::string ordering;  ///< the last factorisation's (empty: none said)
-  bool supernodal = false;
-  double factor_nonzeros = 0;
-  int separator = 0;
+  core::FactorInfo factor;  ///< the last factorisation's (ordering empty: none said)
   std::vector<constraints::IterationRecord> history;
   std::vector<double> penalty_history;
   void add(const constraints::ConstraintSolution& s);

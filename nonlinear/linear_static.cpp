@@ -58,10 +58,7 @@ void solve_with_contact_step(const constraints::ContactSet& contact, const Model
   r.solver.numeric_seconds = step.strategy.numeric_seconds;
   r.solver.solve_seconds = step.strategy.solve_seconds;
   if (std::isfinite(step.strategy.pivot_ratio)) r.solver.pivot_ratio = step.strategy.pivot_ratio;
-  r.solver.ordering = step.strategy.ordering;
-  r.solver.supernodal = step.strategy.supernodal;
-  r.solver.factor_nonzeros = step.strategy.factor_nonzeros;
-  r.solver.separator = step.strategy.separator;
+  static_cast<FactorInfo&>(r.solver) = step.strategy.factor;
   u_free = step.u_free;
   store_contact_results(report, model.mesh.num_nodes(), r);
   if (report_out) *report_out = std::move(report);

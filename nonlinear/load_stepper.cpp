@@ -143,12 +143,7 @@ class LoadStepper {
     totals_.numeric_seconds += t.numeric_seconds;
     totals_.solve_seconds += t.solve_seconds;
     if (std::isfinite(t.pivot_ratio)) totals_.pivot_ratio = t.pivot_ratio;
-    if (!t.ordering.empty()) {
-      totals_.ordering = t.ordering;
-      totals_.supernodal = t.supernodal;
-      totals_.factor_nonzeros = t.factor_nonzeros;
-      totals_.separator = t.separator;
-    }
+    if (!t.factor.ordering.empty()) totals_.factor = t.factor;
     detection_seconds_ += cstep.detection_seconds;
   }
 
@@ -289,12 +284,8 @@ class LoadStepper {
       r_.solver.numeric_seconds += totals_.numeric_seconds;
       r_.solver.solve_seconds += totals_.solve_seconds;
       if (std::isfinite(totals_.pivot_ratio)) r_.solver.pivot_ratio = totals_.pivot_ratio;
-      if (!totals_.ordering.empty()) {
-        r_.solver.ordering = totals_.ordering;
-        r_.solver.supernodal = totals_.supernodal;
-        r_.solver.factor_nonzeros = totals_.factor_nonzeros;
-        r_.solver.separator = totals_.separator;
-      }
+      if (!totals_.factor.ordering.empty())
+        static_cast<core::FactorInfo&>(r_.solver) = totals_.factor;
       if (contact_report) *contact_report = last_contact_;
     }
     r_.time.recovery = recovery_seconds_ + recovery_clock.elapsed();
