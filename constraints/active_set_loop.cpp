@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "constraints/saddle_point_solver.hpp"
+#include "core/interrupt.hpp"
 #include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
@@ -93,6 +94,7 @@ void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_
   std::string why =
       "active set still changing after " + std::to_string(max_iterations) + " " + step + "s";
   for (int it = 1; it <= max_iterations; ++it) {
+    core::check_interrupt();
     if (const SolveStatus st = sets.solve(active, s, s.message, true);
         st != SolveStatus::kConverged) {
       s.status = st;

@@ -8,6 +8,7 @@
 
 #include "constraints/kkt_solver.hpp"
 #include "constraints/strategy_common.hpp"
+#include "core/interrupt.hpp"
 
 namespace c2d::constraints {
 
@@ -88,6 +89,7 @@ class FrictionalSolve {
     int it = 0;
     for (int k = 0; k < o_->max_iterations; ++k) {
       it = o_->first_iteration + k;
+      core::check_interrupt();
       if (const SolveStatus st = solve(code, s); st != SolveStatus::kConverged) {
         s.status = st;
         s.message = kkt_.report().message;

@@ -6,6 +6,7 @@
 
 #include "core/error_estimator.hpp"
 #include "core/errors.hpp"
+#include "core/interrupt.hpp"
 #include "core/stopwatch.hpp"
 #include "core/stress_recovery.hpp"
 #include "nonlinear/finite_strain_system.hpp"
@@ -52,6 +53,7 @@ class LoadStepper {
 
   /// One attempt; false when the analysis gives up.
   bool step() {
+    core::check_interrupt();
     const Stopwatch step_clock;
     const double target = std::min(1.0, lambda_ + increment_);
     StepRecord rec;

@@ -11,6 +11,8 @@
 #include <cstdlib>
 #include <exception>
 
+#include "core/interrupt.hpp"
+
 namespace c2d::nonlinear {
 
 namespace {
@@ -41,6 +43,7 @@ int residual_callback(N_Vector u, N_Vector f, void* data) {
 
 int jacobian_callback(N_Vector u, N_Vector fu, SUNMatrix, void* data, N_Vector, N_Vector) {
   auto* b = static_cast<Bridge*>(data);
+  if (core::interrupt_requested()) return -1;  // unwound below, after KINSOL has returned
   try {
     b->history->push_back(view(fu).cwiseAbs().maxCoeff());
     return b->system->factorize_jacobian(view(u)) ? 0 : 1;
@@ -139,6 +142,7 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
   SUNMatrix mat = SUNMatNewEmpty(ctx);
   SUNLinearSolver ls = SUNLinSolNewEmpty(ctx);
   int flag = -1;
+  bool interrupted = false;
   if (x && uscale && fscale && kin && mat && ls) {
     mat->ops->getid = matrix_id;
     mat->ops->zero = matrix_zero;
@@ -171,6 +175,7 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
     KINGetNumNonlinSolvIters(kin, &iters);
     realtype step = 0;
     KINGetStepLength(kin, &step);
+    interrupted = core::interrupt_requested();
     report.iterations = static_cast<int>(iters);
     report.last_step = step;
     report.status = map_flag(flag, report.message);
@@ -195,6 +200,7 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
   if (uscale) N_VDestroy(uscale);
   if (fscale) N_VDestroy(fscale);
   SUNContext_Free(&ctx);
+  if (interrupted) throw core::Interrupted();
   return report;
 }
 

@@ -22,6 +22,7 @@
 #include "app/run/run_output.hpp"
 #include "app/run/solve_scene.hpp"
 #include "core/errors.hpp"
+#include "core/interrupt.hpp"
 #include "core/scene.hpp"
 
 namespace py = pybind11;
@@ -29,21 +30,43 @@ using namespace c2d;
 
 namespace {
 
+/// Scenes nest a few levels (a body's shape's refinement list); anything deeper is not a scene
+/// and would only exhaust the stack.
+constexpr int kMaxDepth = 32;
+
 /// A Python value as a TOML node (dicts are tables, lists of dicts arrays of tables).
-toml::table to_table(const py::dict& d, const std::string& path);
+toml::table to_table(const py::dict& d, const std::string& path, int depth);
 
-void append(toml::array& a, const py::handle& v, const std::string& path);
+void append(toml::array& a, const py::handle& v, const std::string& path, int depth);
 
-void insert(toml::table& t, const std::string& key, const py::handle& v, const std::string& path) {
+/// A Python int as TOML's 64-bit integer, refused with its path when it does not fit.
+std::int64_t integer(const py::handle& v, const std::string& path) {
+  int overflow = 0;
+  const long long value = PyLong_AsLongLongAndOverflow(v.ptr(), &overflow);
+  if (overflow != 0 || (value == -1 && PyErr_Occurred())) {
+    PyErr_Clear();
+    throw InputError(path + ": expected an integer within 64 bits, found " +
+                     std::string(py::str(v)).substr(0, 40));
+  }
+  return value;
+}
+
+void insert(toml::table& t, const std::string& key, const py::handle& v, const std::string& path,
+            int depth) {
+  if (depth > kMaxDepth)
+    throw InputError(path + ": expected a scene nested at most " + std::to_string(kMaxDepth) +
+                     " levels deep, found a deeper dict or list");
   if (py::isinstance<py::bool_>(v)) t.insert(key, v.cast<bool>());
-  else if (py::isinstance<py::int_>(v)) t.insert(key, v.cast<std::int64_t>());
+  else if (py::isinstance<py::int_>(v)) t.insert(key, integer(v, path));
   else if (py::isinstance<py::float_>(v)) t.insert(key, v.cast<double>());
   else if (py::isinstance<py::str>(v)) t.insert(key, v.cast<std::string>());
-  else if (py::isinstance<py::dict>(v)) t.insert(key, to_table(v.cast<py::dict>(), path));
+  else if (py::isinstance<py::dict>(v))
+    t.insert(key, to_table(v.cast<py::dict>(), path, depth + 1));
   else if (py::isinstance<py::list>(v) || py::isinstance<py::tuple>(v)) {
     toml::array a;
     int i = 0;
-    for (const py::handle& item : v) append(a, item, path + "[" + std::to_string(i++) + "]");
+    for (const py::handle& item : v)
+      append(a, item, path + "[" + std::to_string(i++) + "]", depth + 1);
     t.insert(key, std::move(a));
   } else {
     throw InputError(path + ": expected a bool, number, string, list or dict, found " +
@@ -51,17 +74,17 @@ void insert(toml::table& t, const std::string& key, const py::handle& v, const s
   }
 }
 
-void append(toml::array& a, const py::handle& v, const std::string& path) {
+void append(toml::array& a, const py::handle& v, const std::string& path, int depth) {
   toml::table holder;
-  insert(holder, "v", v, path);
+  insert(holder, "v", v, path, depth);
   a.push_back(std::move(*holder.get("v")));
 }
 
-toml::table to_table(const py::dict& d, const std::string& path) {
+toml::table to_table(const py::dict& d, const std::string& path, int depth) {
   toml::table t;
   for (const auto& [k, v] : d) {
     const std::string key = py::str(k);
-    insert(t, key, v, path.empty() ? key : path + "." + key);
+    insert(t, key, v, path.empty() ? key : path + "." + key, depth);
   }
   return t;
 }
@@ -70,7 +93,7 @@ toml::table to_table(const py::dict& d, const std::string& path) {
 core::Scene load(const py::object& scene, const std::vector<std::string>& sets) {
   if (py::isinstance<py::dict>(scene)) {
     std::ostringstream text;
-    text << to_table(scene.cast<py::dict>(), "");
+    text << to_table(scene.cast<py::dict>(), "", 0);
     return core::parse_scene(text.str(), "<dict>", sets);
   }
   return core::load_scene(py::str(scene).cast<std::string>(), sets);
@@ -144,37 +167,79 @@ py::dict fields(const app::SceneRun& run) {
   return f;
 }
 
+/// The caller's Ctrl-C while the GIL is released: asks Python's signal handlers (main thread
+/// only) and keeps the exception they raise, to be raised again once the solve has unwound.
+class PythonInterrupt {
+ public:
+  bool poll() {
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() == 0) return false;
+    PyErr_Fetch(&type_, &value_, &trace_);
+    return true;
+  }
+  /// Raises the kept exception (KeyboardInterrupt) in Python.
+  [[noreturn]] void raise() {
+    PyErr_Restore(type_, value_, trace_);
+    type_ = value_ = trace_ = nullptr;
+    throw py::error_already_set();
+  }
+  ~PythonInterrupt() {
+    Py_XDECREF(type_);
+    Py_XDECREF(value_);
+    Py_XDECREF(trace_);
+  }
+
+ private:
+  PyObject *type_ = nullptr, *value_ = nullptr, *trace_ = nullptr;
+};
+
+/// The solve of contact2d.run, GIL released: the summary's text, the run in `solved`.
+std::string solve(const core::Scene& scene, const std::string& method,
+                  const std::optional<std::string>& out, std::unique_ptr<app::SceneRun>& solved) {
+  const auto t0 = app::RunOutput::Clock::now();
+  if (out) {  // the files of `contact2d run --out OUT`, written the same way
+    app::RunOutput output(scene, *out);
+    solved = app::solve_scene(scene, method, {},
+                              [&](const nonlinear::StepRecord& s, const core::Model& m,
+                                  const core::Results& r) { output.write_step(s, m, r); });
+    output.write_results(*solved, t0);
+    std::string text = output.write_summary(*solved, nullptr).dump();
+    core::check_interrupt();  // the last chance: an interrupted run leaves nothing
+    output.commit();
+    return text;
+  }
+  solved = app::solve_scene(scene, method, {});
+  solved->results.time.total =
+      std::chrono::duration<double>(app::RunOutput::Clock::now() - t0).count();
+  const app::SummaryParts parts{scene,
+                                &solved->model,
+                                &solved->results,
+                                app::run_status(solved->results),
+                                solved->contact ? &solved->contact_report : nullptr,
+                                solved->steps.empty() ? nullptr : &solved->steps,
+                                nlohmann::json()};
+  return app::make_summary(parts).dump();
+}
+
 /// contact2d.run: the summary dict, with the fields under "fields".
 py::dict run(const py::object& scene_in, const std::string& method,
              const std::vector<std::string>& sets, const std::optional<std::string>& out) {
+  if (out && out->empty()) throw InputError("out: expected a folder name, found ''");
   const core::Scene scene = load(scene_in, sets);
   std::unique_ptr<app::SceneRun> solved;
   std::string summary_text;
+  PythonInterrupt interrupt;
+  bool interrupted = false;
   {
     py::gil_scoped_release release;
-    const auto t0 = app::RunOutput::Clock::now();
-    if (out) {  // the files of `contact2d run --out OUT`, written the same way
-      app::RunOutput output(scene, *out);
-      solved = app::solve_scene(scene, method, {},
-                                [&](const nonlinear::StepRecord& s, const core::Model& m,
-                                    const core::Results& r) { output.write_step(s, m, r); });
-      output.write_results(*solved, t0);
-      summary_text = output.write_summary(*solved, nullptr).dump();
-      output.commit();
-    } else {
-      solved = app::solve_scene(scene, method, {});
-      solved->results.time.total =
-          std::chrono::duration<double>(app::RunOutput::Clock::now() - t0).count();
-      const app::SummaryParts parts{scene,
-                                    &solved->model,
-                                    &solved->results,
-                                    app::run_status(solved->results),
-                                    solved->contact ? &solved->contact_report : nullptr,
-                                    solved->steps.empty() ? nullptr : &solved->steps,
-                                    nlohmann::json()};
-      summary_text = app::make_summary(parts).dump();
+    const core::InterruptPoll poll([&] { return interrupt.poll(); });
+    try {
+      summary_text = solve(scene, method, out, solved);
+    } catch (const core::Interrupted&) {
+      interrupted = true;
     }
   }
+  if (interrupted) interrupt.raise();
   py::dict summary = py::module_::import("json").attr("loads")(summary_text);
   summary["fields"] = fields(*solved);
   return summary;

@@ -68,6 +68,7 @@ std::string cycle_line(const AdaptCycle& c) {
 }  // namespace
 
 int cmd_run(const Options& o) {
+  install_interrupt_handler();
   const auto t0 = RunOutput::Clock::now();
   Reporter rep(o.quiet);
   rep.phase("reading " + o.scene);

@@ -79,18 +79,30 @@ void RunOutput::remove_stale_work_folders(const std::filesystem::path& folder) {
 
 namespace {
 
-// What the interrupt handler needs, prepared before it is installed: it may only call
+// What the interrupt handler needs, prepared before it is armed: it may only call
 // async-signal-safe functions (open, write, close, rename, _exit).
 char g_work[4096], g_target[4096], g_aside[4096], g_summary[4096];
 // The earlier run's files under its set-aside name, deepest first, each NUL-terminated: the
 // handler unlinks them (and rmdirs the folders) so an interrupted run leaves one folder.
 char g_doomed[1 << 16];
 size_t g_doomed_size = 0;
+// 0: no run folder yet (or the run is complete): the handler just exits; 1: a run's work
+// folder is armed and the handler puts it in place with an "interrupted" summary.
+volatile sig_atomic_t g_armed = 0;
 const char kInterrupted[] =
     "{\n  \"status\": \"interrupted\",\n  \"message\": \"SIGINT or SIGTERM before the run finished; "
     "the files are those written until then\"\n}\n";
 
+void say(const char* text, size_t size) {
+  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, text, size);
+}
+
 extern "C" void on_interrupt(int) {
+  if (!g_armed) {
+    const char note[] = "interrupted: no results written\n";
+    say(note, sizeof note - 1);
+    ::_exit(130);
+  }
   const int fd = ::open(g_summary, O_WRONLY | O_CREAT | O_TRUNC, 0644);
   if (fd >= 0) {
     [[maybe_unused]] const ssize_t n = ::write(fd, kInterrupted, sizeof kInterrupted - 1);
@@ -102,7 +114,7 @@ extern "C" void on_interrupt(int) {
     if (::unlink(g_doomed + at) != 0) ::rmdir(g_doomed + at);
   ::rmdir(g_aside);
   const char note[] = "interrupted: partial results and summary.json in the output folder\n";
-  [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, note, sizeof note - 1);
+  say(note, sizeof note - 1);
   ::_exit(130);
 }
 
@@ -110,10 +122,36 @@ void copy_path(char* to, const std::string& from) {
   std::snprintf(to, 4096, "%s", from.c_str());
 }
 
+/// SIGINT and SIGTERM held back on this thread while the object lives (their dispositions
+/// untouched): commit()'s renames are not cut in half.
+class SignalsHeld {
+ public:
+  SignalsHeld() {
+    sigset_t held;
+    sigemptyset(&held);
+    sigaddset(&held, SIGINT);
+    sigaddset(&held, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &held, &saved_);
+  }
+  ~SignalsHeld() { pthread_sigmask(SIG_SETMASK, &saved_, nullptr); }
+
+ private:
+  sigset_t saved_;
+};
+
 }  // namespace
+
+void install_interrupt_handler() {
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 void RunOutput::end_on_interrupt() {
   namespace fs = std::filesystem;
+  g_armed = 0;
   copy_path(g_work, dir_);
   copy_path(g_target, target_);
   const std::string aside = dir_ + ".interrupted-aside";
@@ -134,14 +172,12 @@ void RunOutput::end_on_interrupt() {
     std::memcpy(g_doomed + g_doomed_size, d.c_str(), d.size() + 1);
     g_doomed_size += d.size() + 1;
   }
-  struct sigaction action {};
-  action.sa_handler = on_interrupt;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
+  g_armed = 1;
+  interrupt_armed_ = true;
 }
 
 RunOutput::~RunOutput() {
+  if (interrupt_armed_) g_armed = 0;
   if (committed_) return;
   namespace fs = std::filesystem;
   std::error_code ec;  // a run that ended in an exception leaves nothing behind
@@ -157,8 +193,7 @@ RunOutput::~RunOutput() {
 
 void RunOutput::commit() {
   namespace fs = std::filesystem;
-  std::signal(SIGINT, SIG_DFL);  // from here on the run is complete
-  std::signal(SIGTERM, SIG_DFL);
+  const SignalsHeld held;  // an interrupt now waits until the folder is in place
   log_.close();
   std::error_code ec;
   const std::string old = dir_ + ".old";
@@ -166,6 +201,7 @@ void RunOutput::commit() {
   fs::rename(dir_, target_);
   fs::remove_all(old, ec);
   committed_ = true;
+  if (interrupt_armed_) g_armed = 0;  // from here on the run is complete
 }
 
 void RunOutput::write_series(Series& files, const std::string& pvd, const char* pattern, int number,

@@ -17,6 +17,11 @@
 
 namespace c2d::app {
 
+/// For programs, never called by the library or the Python module: SIGINT and SIGTERM end the
+/// process with exit 130; while a RunOutput is armed (end_on_interrupt) its files are put in
+/// place first. Install it before any work, so an early interrupt also exits 130.
+void install_interrupt_handler();
+
 class RunOutput {
  public:
   using Clock = std::chrono::steady_clock;
@@ -37,9 +42,10 @@ class RunOutput {
   const std::string& work_dir() const { return dir_; }
   /// Puts the finished run in place of the output folder.
   void commit();
-  /// From now until commit(), SIGINT and SIGTERM end the run with exit 130, leaving the files
-  /// written so far in the output folder with a summary.json whose status is "interrupted"
-  /// (an earlier run's folder is set aside as DIR.part.PID.interrupted-aside).
+  /// From now until commit(), the handler of install_interrupt_handler() (if the program
+  /// installed it) ends the run with exit 130, leaving the files written so far in the output
+  /// folder with a summary.json whose status is "interrupted" (an earlier run's folder is set
+  /// aside as DIR.part.PID.interrupted-aside and removed). Changes no signal disposition.
   void end_on_interrupt();
 
   /// A converged load step: step_NNNN.vtu, and results.pvd rewritten to list it.
@@ -79,6 +85,7 @@ class RunOutput {
   std::string target_, dir_;
   std::string created_parent_;  ///< the topmost folder this run created above its target
   bool committed_ = false;
+  bool interrupt_armed_ = false;
   std::ofstream log_;
   Series step_files_, cycle_files_;
   std::vector<AdaptCycle> cycles_;

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "core/errors.hpp"
+#include "core/interrupt.hpp"
 #include "core/probes.hpp"
 #include "nonlinear/linear_static.hpp"
 
@@ -12,6 +13,7 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
                                       const std::function<void(const std::string&)>& progress,
                                       const StateCallback& on_state) {
   auto say = [&](const std::string& text) {
+    core::check_interrupt();
     if (progress) progress(text);
   };
   auto run = std::make_unique<SceneRun>();

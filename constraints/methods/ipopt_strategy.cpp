@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/interrupt.hpp"
 #include "core/spd_solver.hpp"
 #include "constraints/methods/ipopt_qp.hpp"
 #include "constraints/strategy_common.hpp"
@@ -146,6 +147,11 @@ class ContactQp : public Ipopt::TNLP {
     }
     return true;
   }
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number, Number,
+                             Number, Number, Number, Index, const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities*) override {
+    return !core::interrupt_requested();  // Ipopt stops; the caller unwinds after it returns
+  }
   void finalize_solution(Ipopt::SolverReturn st, Index n, const Number* xp, const Number*,
                          const Number*, Index m, const Number*, const Number* lam, Number,
                          const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
@@ -274,6 +280,7 @@ QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX&
     return out;
   }
   st = app->OptimizeTNLP(Ipopt::SmartPtr<Ipopt::TNLP>(qp));
+  core::check_interrupt();
   out.status = map_status(st, out.message);
   out.iterations = Ipopt::IsValid(app->Statistics()) ? app->Statistics()->IterationCount() : 0;
   out.x = qp->x;

@@ -26,14 +26,25 @@ from ._contact2d import run as _run
 __all__ = ["run", "compare", "sweep", "InputError", "executable"]
 
 
+def _sets(set):
+    """`set` as a list of "key=value" strings: one string is one override, not its letters."""
+    items = [set] if isinstance(set, (str, bytes)) else list(set)
+    for i, s in enumerate(items):
+        if not isinstance(s, str):
+            raise InputError("set[%d]: expected a string key=value, found %s"
+                             % (i, type(s).__name__))
+    return items
+
+
 def run(scene, method="", set=(), out=None):
     """Solves `scene` (a path or a dict) with `method` (default: the scene's) in this process.
 
     Returns the summary as a dict (summary.json's keys) with the fields as NumPy arrays under
     "fields". With `out`, the run's files are written there as `contact2d run --out` writes
-    them. The GIL is released while solving.
+    them. The GIL is released while solving; Ctrl-C (SIGINT) raises KeyboardInterrupt within
+    about a second, leaving no work folder.
     """
-    return _run(scene if isinstance(scene, dict) else os.fspath(scene), method, list(set),
+    return _run(scene if isinstance(scene, dict) else os.fspath(scene), method, _sets(set),
                 None if out is None else os.fspath(out))
 
 
@@ -87,7 +98,7 @@ def compare(scene, methods=None, levels=1, jobs=1, set=(), out=None):
     args = ["--levels", str(levels), "--jobs", str(jobs)]
     if methods:
         args += ["--methods", ",".join(methods)]
-    for s in set:
+    for s in _sets(set):
         args += ["--set", s]
     return _study("compare", scene, args, out, "compare.csv", "compare.md")
 
@@ -101,6 +112,6 @@ def sweep(scene, key, values, method=None, jobs=1, set=(), out=None):
     args = ["--set", key + "=" + spec, "--jobs", str(jobs)]
     if method:
         args += ["--method", method]
-    for s in set:
+    for s in _sets(set):
         args += ["--set", s]
     return _study("sweep", scene, args, out, "sweep.csv", "sweep.md")
