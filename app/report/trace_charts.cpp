@@ -6,13 +6,12 @@
 #include <filesystem>
 #include <iomanip>
 #include <map>
-#include <fstream>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "app/report/csv_table.hpp"
 #include "app/report/gnuplot.hpp"
+#include "app/report/json_file.hpp"
 #include "app/report/pressure_profile.hpp"
 #include "app/report/units.hpp"
 #include "core/errors.hpp"
@@ -24,10 +23,9 @@ namespace {
 
 /// The units of the run in DIR (its summary.json's `units`; none when it has none).
 Units run_units(const std::string& dir) {
-  std::ifstream in(dir + "/summary.json");
-  const nlohmann::json s = nlohmann::json::parse(in, nullptr, false);
-  if (s.is_discarded() || !s.is_object() || !s.contains("units") || !s["units"].is_string())
-    return {};
+  const JsonFileRead read = try_read_json_file(dir + "/summary.json");
+  const nlohmann::json& s = read.value;
+  if (!s.is_object() || !s.contains("units") || !s["units"].is_string()) return {};
   return parse_units(s["units"].get<std::string>());
 }
 

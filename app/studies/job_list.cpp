@@ -1,9 +1,9 @@
 #include "app/studies/job_list.hpp"
 
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
+#include "app/report/json_file.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 
@@ -41,14 +41,6 @@ std::string slurm_script(const std::string& verb, size_t cases) {
      << "export OMP_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-1}\"\n"
      << "sed -n \"${SLURM_ARRAY_TASK_ID}p\" jobs.txt | bash\n";
   return sh.str();
-}
-
-/// A found value for a message: its type and its start.
-std::string shown(const nlohmann::json& j) {
-  if (j.is_null()) return "null";
-  std::string text = j.dump();
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  return std::string(j.type_name()) + " " + text;
 }
 
 }  // namespace
@@ -175,28 +167,24 @@ std::vector<std::string> ManifestNode::texts() const {
 
 void ManifestNode::refuse(const std::string& expected) const {
   throw InputError(file_ + ": " + (path_.empty() ? "the whole file" : path_) + ": expected " +
-                   expected + ", found " + shown(*value_));
+                   expected + ", found " + shown_json(*value_));
 }
 
 StudyManifest read_manifest(const std::string& dir) {
   StudyManifest m;
   m.dir = dir;
   m.file = dir + "/study.json";
-  std::ifstream in(m.file);
-  if (!in || fs::is_directory(m.file))
+  std::error_code ec;
+  const fs::file_type type = fs::status(m.file, ec).type();
+  if (type == fs::file_type::not_found || type == fs::file_type::directory)
     throw InputError(m.file +
                      ": cannot open the study manifest (expected the folder of a compare, sweep "
                      "or bench study, which writes study.json beside jobs.txt)");
-  try {
-    m.root = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(m.file +
-                     ": expected a study manifest (JSON), found a parse error: " + e.what());
-  }
+  m.root = read_json_file(m.file);  // a FIFO, a huge or deeply nested file: refused, named
   const ManifestNode root(m.root, m.file);
   if (root["format"].text() != kManifestFormat)
-    throw InputError(m.file + ": format: expected '" + kManifestFormat + "', found '" +
-                     root["format"].text() + "'");
+    throw InputError(m.file + ": format: expected '" + kManifestFormat + "', found " +
+                     quoted_found(root["format"].text()));
   m.verb = root["verb"].text();
   const ManifestNode cases = root["cases"];
   for (size_t i = 0; i < cases.size(); ++i) {
@@ -204,7 +192,8 @@ StudyManifest read_manifest(const std::string& dir) {
     const fs::path folder(c.folder);
     if (c.folder.empty() || folder.is_absolute() || c.folder.find("..") != std::string::npos)
       throw InputError(m.file + ": cases[" + std::to_string(i) +
-                       "].folder: expected a folder inside the study's, found '" + c.folder + "'");
+                       "].folder: expected a folder inside the study's, found " +
+                       quoted_found(c.folder));
     m.cases.push_back(c);
   }
   return m;

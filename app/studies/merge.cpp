@@ -17,7 +17,8 @@ int run_merge(const std::string& dir, bool quiet) {
                                              : m.verb == "bench" ? merge_bench
                                                                  : nullptr;
   if (!merge)
-    throw InputError(m.file + ": verb: expected compare, sweep or bench, found '" + m.verb + "'");
+    throw InputError(m.file + ": verb: expected compare, sweep or bench, found " +
+                     quoted_found(m.verb));
   if (!quiet)
     std::cout << "merge      " << m.verb << " study of " << m.cases.size() << " cases in " << dir
               << "\n";

@@ -1,12 +1,11 @@
 #include "app/studies/study.hpp"
-#include "app/output_folder.hpp"
 
 #include <algorithm>
-#include <cstdlib>
 #include <atomic>
 #include <chrono>
-#include <exception>
 #include <cmath>
+#include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -15,7 +14,9 @@
 #include <sstream>
 #include <thread>
 
+#include "app/output_folder.hpp"
 #include "app/process.hpp"
+#include "app/report/json_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -46,6 +47,55 @@ std::vector<std::string> case_environment(int jobs) {
   return env;
 }
 
+/// The values of a case's summary.json that the studies read as numbers (or null, which a run
+/// writes for a figure it has not got), by key path, separated by spaces.
+constexpr const char* kSummaryNumbers =
+    "mesh.dofs newton_iterations time_s.mesh time_s.assemble time_s.solve time_s.total "
+    "time_s.recovery time_s.output contact.iterations contact.pivot_ratio contact.penalty_max "
+    "contact.stiffness_max contact.p_max contact.length contact.total_force "
+    "contact.max_penetration contact.detection_seconds contact.friction.stick_length "
+    "contact.friction.tangential_force error.relative_error reference.relative_error.p_max "
+    "reference.relative_error.contact_length reference.relative_error.stick_length "
+    "reference.relative_error.shear_profile_l2 reference.relative_error.pressure_profile_l2 "
+    "reference.relative_error.tip_uy reference.relative_error.a_uy process.wall_s "
+    "process.peak_rss_mb solver.numeric_factorizations solver.symbolic_analyses solver.symbolic_s "
+    "solver.numeric_s solver.triangular_solve_s";
+
+/// Why the value at the dotted `path` of `s` is not a number, null or absent ("" when it is);
+/// a section on the way must be an object (or null).
+std::string number_problem(const nlohmann::json& s, const std::string& path) {
+  const nlohmann::json* node = &s;
+  for (size_t start = 0; start <= path.size();) {
+    const size_t dot = std::min(path.find('.', start), path.size());
+    const std::string key = path.substr(start, dot - start);
+    const auto it = node->find(key);
+    if (it == node->end() || it->is_null()) return "";
+    node = &*it;
+    start = dot + 1;
+    const bool last = dot == path.size();
+    if (!last && !node->is_object())
+      return path.substr(0, dot) + ": expected an object, found " + shown_json(*node);
+    if (last && !node->is_number()) return path + ": expected a number, found " + shown_json(*node);
+  }
+  return "";
+}
+
+/// Why `s` cannot be read as a run's summary ("" when it can): the type of each value read.
+std::string summary_problem(const nlohmann::json& s) {
+  if (!s.is_object()) return "expected an object, found " + shown_json(s);
+  if (s.contains("status") && !s["status"].is_string())
+    return "status: expected a string, found " + shown_json(s["status"]);
+  for (const char* key : {"method", "units"})
+    if (s.contains(key) && !s[key].is_string() && !s[key].is_null())
+      return std::string(key) + ": expected a string or null, found " + shown_json(s[key]);
+  std::istringstream paths(kSummaryNumbers);
+  for (std::string path; paths >> path;) {
+    const std::string problem = number_problem(s, path);
+    if (!problem.empty()) return problem;
+  }
+  return "";
+}
+
 }  // namespace
 
 std::vector<std::string> run_arguments(const StudyCase& c, const std::string& out_dir) {
@@ -59,17 +109,19 @@ std::string this_executable() { return fs::read_symlink("/proc/self/exe").string
 
 CaseOutcome read_case_folder(const std::string& dir) {
   CaseOutcome out;
-  std::ifstream in(dir + "/summary.json");
-  if (!in) return out;
-  try {
-    out.summary = nlohmann::json::parse(in);
-    out.has_summary = true;
-  } catch (const std::exception&) {
+  const std::string path = dir + "/summary.json";
+  std::error_code ec;
+  if (fs::status(path, ec).type() == fs::file_type::not_found) return out;
+  JsonFileRead r = try_read_json_file(path);
+  if (r.ok()) r.error = summary_problem(r.value);
+  if (!r.ok()) {
+    out.malformed = r.error;
+    std::replace(out.malformed.begin(), out.malformed.end(), '|', '/');  // a markdown cell
     return out;
   }
-  const nlohmann::json status =
-      out.summary.is_object() ? out.summary.value("status", nlohmann::json()) : nlohmann::json();
-  out.exit_code = status == "converged" ? 0 : 1;
+  out.summary = std::move(r.value);
+  out.has_summary = true;
+  out.exit_code = out.summary.value("status", std::string()) == "converged" ? 0 : 1;
   return out;
 }
 
@@ -79,7 +131,7 @@ std::vector<size_t> read_finished_cases(
   std::vector<size_t> missing;
   for (size_t i = 0; i < cases.size(); ++i) {
     const CaseOutcome outcome = read_case_folder(study_dir + "/" + cases[i].folder);
-    if (outcome.has_summary)
+    if (outcome.has_summary || !outcome.malformed.empty())
       on_read(i, outcome);
     else
       missing.push_back(i);
@@ -243,13 +295,18 @@ bool RunFigures::read(const CaseOutcome& c) {
     if (!std::isfinite(wall)) wall = json_number(c.summary, {"process", "wall_s"});
     if (!std::isfinite(peak_rss_mb)) peak_rss_mb = json_number(c.summary, {"process", "peak_rss_mb"});
   }
+  if (!c.malformed.empty()) {
+    status = "malformed summary.json: " + c.malformed;
+    return false;
+  }
   if (!c.has_summary) {
     status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
     return false;
   }
   has_summary = true;
   const auto& s = c.summary;
-  status = s.value("status", std::string("unknown"));
+  const auto found = s.find("status");
+  status = found != s.end() && found->is_string() ? found->get<std::string>() : "unknown";
   dofs = json_number(s, {"mesh", "dofs"});
   iterations = json_number(s, {"contact", "iterations"});
   newton = json_number(s, {"newton_iterations"});

@@ -32,17 +32,21 @@ struct CaseOutcome {
   int exit_code = -1;
   bool has_summary = false;
   nlohmann::json summary;  ///< the case's summary.json (null when none was written)
+  std::string malformed;   ///< why its summary.json could not be read ("" when read or absent)
   double wall_seconds = std::nan("");  ///< known only when this program ran the case
   double peak_rss_mb = std::nan("");   ///< the process's peak resident memory (wait4's ru_maxrss)
 };
 
-/// What a case left in its folder: its summary.json, if any (none, or one that does not parse,
-/// is no summary), and the exit code `contact2d run` gives with that summary (0 converged, 1
-/// not; -1 without one). Process figures (wall time, memory) stay NaN.
+/// What a case left in its folder: its summary.json, if any, and the exit code `contact2d run`
+/// gives with that summary (0 converged, 1 not; -1 without one). A summary.json that is there but
+/// cannot be read as one (not a regular file, over 64 MiB, nested deeper than 64 levels, not
+/// JSON, or a value the studies read of the wrong type) is no summary, and `malformed` says why.
+/// Process figures (wall time, memory) stay NaN.
 CaseOutcome read_case_folder(const std::string& dir);
 
 /// Reads the cases of the study in `study_dir` that have finished (their folder holds a
-/// summary.json), calling `on_read` for each in order; returns the indices of the others.
+/// summary.json, readable or malformed), calling `on_read` for each in order; returns the indices
+/// of the others.
 std::vector<size_t> read_finished_cases(
     const std::vector<StudyCase>& cases, const std::string& study_dir,
     const std::function<void(size_t, const CaseOutcome&)>& on_read);
@@ -95,7 +99,8 @@ struct RunFigures {
   /// Ran, but left no summary.json (the process died).
   bool crashed() const { return done && !has_summary; }
 
-  /// Fills the figures from a finished case; false when it left no summary (a crash).
+  /// Fills the figures from a finished case; false when it left no summary (a crash) or a
+  /// malformed one (the status says "malformed summary.json: " and why).
   bool read(const CaseOutcome& c);
   /// The status as one quoted CSV cell (commas, quotes and line breaks replaced).
   std::string csv_status() const;

@@ -1,0 +1,287 @@
+// Issue 32, item 3, end to end through the executable where the finding was a crash or a hang:
+// `contact2d merge DIR` on a study.json or a case's summary.json that is deeply nested, of the
+// wrong types, a FIFO or too large (a bad study.json: one located line, exit 2; a bad case
+// summary.json: that case listed as malformed, the others merged, exit 1). Every run has a time
+// limit, so a hang fails the test instead of stopping the suite. Study folders and case summaries
+// are written here, by hand, into a private temporary folder.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/report/json_file.hpp"
+#include "core/errors.hpp"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Outcome {
+  int code = -1;           ///< exit status, or 128 + the signal that ended the program
+  bool timed_out = false;  ///< still running at the limit (then killed)
+  std::string text;        ///< stdout and stderr
+};
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// Runs the program with ARGS (argv[1..]; no shell) for at most `seconds`, its output into a log.
+Outcome run_c2d(const std::vector<std::string>& args, int seconds = 60) {
+  const fs::path log =
+      fs::temp_directory_path() / ("c2d_merge_vtu_" + std::to_string(::getpid()) + ".log");
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&files, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&files, 1, 2);
+  std::vector<std::string> words{C2D_BINARY};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  Outcome o;
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, C2D_BINARY, &files, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&files);
+  if (spawned != 0) return o;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+  int status = 0;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      o.timed_out = true;
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  o.text = read_text(log);
+  fs::remove(log);
+  return o;
+}
+
+/// Ended on its own with CODE (no crash, no hang), every fragment in its output; for exit 2 the
+/// output is one line starting "error: ".
+void expect_outcome(const Outcome& o, int code, std::initializer_list<std::string> fragments) {
+  ASSERT_FALSE(o.timed_out) << "hung; output: " << o.text;
+  EXPECT_EQ(o.code, code) << o.text;
+  if (code == 2) {
+    EXPECT_EQ(o.text.rfind("error: ", 0), 0u) << o.text;
+    EXPECT_EQ(o.text.find('\n'), o.text.size() - 1) << "not one line: " << o.text;
+  }
+  for (const auto& f : fragments)
+    EXPECT_NE(o.text.find(f), std::string::npos) << "'" << f << "' missing in: " << o.text;
+}
+
+/// A private folder under the test output folder, removed at the end of the test.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& name)
+      : path_(fs::temp_directory_path() /
+              ("c2d_merge_vtu_" + name + "_" + std::to_string(::getpid()))) {
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string str() const { return path_.string(); }
+  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    fs::create_directories((path_ / name).parent_path());
+    std::ofstream(path_ / name, std::ios::binary) << text;
+    return (path_ / name).string();
+  }
+
+ private:
+  fs::path path_;
+};
+
+// ---- merge ---------------------------------------------------------------------------------
+
+/// A converged run's summary.json with the figures a sweep reads (case k of two).
+nlohmann::json converged_summary(int k) {
+  const double f = k + 1.0;
+  return {{"status", "converged"},
+          {"method", "penalty"},
+          {"mesh", {{"dofs", 100 + k}}},
+          {"contact",
+           {{"iterations", 3 + k},
+            {"p_max", f},
+            {"length", 0.5},
+            {"total_force", 1.0},
+            {"max_penetration", 1e-5 * f},
+            {"pivot_ratio", 1e-3 * f},
+            {"penalty_max", 10 * f}}},
+          {"time_s", {{"mesh", 0.1}, {"assemble", 0.1}, {"solve", 0.1 * f}, {"total", 0.3}}},
+          {"reference", {{"relative_error", {{"p_max", 0.01 * f}}}}}};
+}
+
+/// A sweep study as `contact2d sweep --job-list` writes it, with cases c0 and c1, both run.
+void write_sweep_study(const TempDir& dir) {
+  const nlohmann::json manifest = {
+      {"format", "contact2d study 1"},
+      {"verb", "sweep"},
+      {"executable", C2D_BINARY},
+      {"options",
+       {{"scene", "scene.toml"}, {"key", "contact.penalty"}, {"accuracy", 0.05}, {"units", ""}}},
+      {"cases",
+       {{{"value", 1.0}, {"folder", "c0"}, {"args", {"scene.toml"}}},
+        {{"value", 2.0}, {"folder", "c1"}, {"args", {"scene.toml"}}}}}};
+  dir.write("study.json", manifest.dump(2));
+  for (int k = 0; k < 2; ++k)
+    dir.write("c" + std::to_string(k) + "/summary.json", converged_summary(k).dump(2));
+}
+
+/// `merge DIR` with case c1's summary.json replaced: exit 1, its row's status cell
+/// "malformed summary.json: " + REASON, and c0 merged as converged.
+void expect_c1_malformed(const TempDir& dir, const std::string& reason) {
+  expect_outcome(run_c2d({"merge", dir.str(), "--quiet"}), 1, {});
+  const std::string csv = read_text(dir / "sweep.csv");
+  EXPECT_NE(csv.find("\n1,contact.penalty,\"converged\",0,100,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n2,contact.penalty,\"malformed summary.json: " + reason), std::string::npos)
+      << csv;
+  EXPECT_NE(read_text(dir / "sweep.md").find("malformed summary.json: "), std::string::npos);
+}
+
+TEST(MergeHardening, WellFormedStudyMergesWithExitZero) {
+  // The baseline the cases below change one file of: both cases merged, exit 0.
+  const TempDir dir("baseline");
+  write_sweep_study(dir);
+  expect_outcome(run_c2d({"merge", dir.str(), "--quiet"}), 0, {});
+  EXPECT_NE(read_text(dir / "sweep.csv").find("\n2,contact.penalty,\"converged\""),
+            std::string::npos);
+}
+
+TEST(MergeHardening, DeeplyNestedStudyJsonExitsTwo) {
+  // 60,000 levels (120 kB): the manifest's message dumped the value and overflowed the stack.
+  const TempDir dir("deep_study");
+  dir.write("study.json",
+            "{\"format\": " + std::string(60000, '[') + std::string(60000, ']') + "}");
+  expect_outcome(run_c2d({"merge", dir.str()}), 2,
+                 {dir / "study.json",
+                  ": expected at most 64 levels of nested arrays and objects, "
+                  "found more at byte 74"});
+}
+
+TEST(MergeHardening, StudyJsonFifoExitsTwo) {
+  // A FIFO named study.json: opening it waited for a writer for ever.
+  const TempDir dir("fifo_study");
+  ASSERT_EQ(::mkfifo((dir / "study.json").c_str(), 0600), 0);
+  expect_outcome(run_c2d({"merge", dir.str()}, 20), 2,
+                 {dir / "study.json", ": expected a regular file, found a FIFO"});
+}
+
+TEST(MergeHardening, StudyJsonVerbWithALineBreakIsOneLine) {
+  const TempDir dir("verb_study");
+  write_sweep_study(dir);
+  nlohmann::json m = nlohmann::json::parse(read_text(dir / "study.json"));
+  m["verb"] = "sweep\nsecond line";
+  dir.write("study.json", m.dump());
+  expect_outcome(
+      run_c2d({"merge", dir.str()}), 2,
+      {dir / "study.json", ": verb: expected compare, sweep or bench, found 'sweep\\x0a"});
+}
+
+TEST(MergeHardening, StudyJsonOfTheWrongTypeExitsTwo) {
+  const TempDir dir("type_study");
+  write_sweep_study(dir);
+  nlohmann::json m = nlohmann::json::parse(read_text(dir / "study.json"));
+  m["cases"][1]["folder"] = 5;
+  dir.write("study.json", m.dump());
+  expect_outcome(run_c2d({"merge", dir.str()}), 2,
+                 {dir / "study.json", ": cases[1].folder: expected a string, found number 5"});
+}
+
+TEST(MergeHardening, SummaryStatusNumberListsTheCaseAsMalformed) {
+  // "status": 3 stopped the whole merge with [json.exception.type_error.302].
+  const TempDir dir("status_number");
+  write_sweep_study(dir);
+  nlohmann::json s = converged_summary(1);
+  s["status"] = 3;
+  dir.write("c1/summary.json", s.dump());
+  expect_c1_malformed(dir, "status: expected a string; found number 3");  // ',' -> ';' in CSV
+}
+
+TEST(MergeHardening, SummaryMethodNumberListsTheCaseAsMalformed) {
+  const TempDir dir("method_number");
+  write_sweep_study(dir);
+  nlohmann::json s = converged_summary(1);
+  s["method"] = 5;
+  dir.write("c1/summary.json", s.dump());
+  expect_c1_malformed(dir, "method: expected a string or null; found number 5");
+}
+
+TEST(MergeHardening, SummaryNumberOfTheWrongTypeListsTheCaseAsMalformed) {
+  const TempDir dir("dofs_string");
+  write_sweep_study(dir);
+  nlohmann::json s = converged_summary(1);
+  s["mesh"]["dofs"] = "many";
+  dir.write("c1/summary.json", s.dump());
+  expect_c1_malformed(dir, "mesh.dofs: expected a number; found string 'many'");
+}
+
+TEST(MergeHardening, DeeplyNestedSummaryListsTheCaseAsMalformed) {
+  // A million levels (2 MB) as the status: copying the value overflowed the stack.
+  const TempDir dir("deep_summary");
+  write_sweep_study(dir);
+  dir.write("c1/summary.json",
+            "{\"status\": " + std::string(1000000, '[') + std::string(1000000, ']') + "}");
+  expect_c1_malformed(dir, "expected at most 64 levels of nested arrays and objects");
+}
+
+TEST(MergeHardening, SummaryFifoListsTheCaseAsMalformed) {
+  // A FIFO named summary.json: the merge waited for a writer for ever.
+  const TempDir dir("fifo_summary");
+  write_sweep_study(dir);
+  fs::remove(dir / "c1/summary.json");
+  ASSERT_EQ(::mkfifo((dir / "c1/summary.json").c_str(), 0600), 0);
+  expect_c1_malformed(dir, "expected a regular file; found a FIFO");
+}
+
+TEST(MergeHardening, SummaryOver64MiBListsTheCaseAsMalformed) {
+  const TempDir dir("huge_summary");
+  write_sweep_study(dir);
+  fs::resize_file(dir / "c1/summary.json", (std::uintmax_t{64} << 20) + 1);  // sparse
+  expect_c1_malformed(dir, "expected a file of at most 67108864 bytes; found 67108865 bytes");
+}
+
+TEST(JsonFile, NestingIsCountedOutsideStringsUpToTheLimit) {
+  using c2d::app::parse_json_text;
+  const auto nested = [](int levels) {
+    return std::string(levels, '[') + std::string(levels, ']');
+  };
+  EXPECT_TRUE(parse_json_text(nested(64)).ok());
+  EXPECT_EQ(parse_json_text(nested(65)).error,
+            "expected at most 64 levels of nested arrays and objects, found more at byte 64");
+  // Brackets in strings (escaped quotes too) are text, not nesting.
+  const std::string in_string = "[\"\\\"" + std::string(100, '[') + "\"]";
+  EXPECT_TRUE(parse_json_text(in_string).ok()) << parse_json_text(in_string).error;
+  EXPECT_EQ(parse_json_text("{\"a\": }").error.rfind("expected JSON, found a parse error at", 0),
+            0u);
+}
+
+}  // namespace
