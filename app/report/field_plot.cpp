@@ -171,10 +171,15 @@ FieldValues field_values(const VtuData& vtu, const std::string& field) {
   const int comps = vtu.components.at(def->array);
   const int count =
       def->cell ? static_cast<int>(vtu.cells.size()) : static_cast<int>(vtu.points.size());
-  if (static_cast<int>(arr->second.size()) != comps * count)
-    throw InputError(vtu.path + ": array '" + def->array + "' has " +
-                     std::to_string(arr->second.size()) + " values for " + std::to_string(count) +
-                     (def->cell ? " cells" : " points"));
+  if (comps < 1 || arr->second.size() != static_cast<size_t>(comps) * count)
+    throw InputError(vtu.path + ": array '" + def->array + "': expected " +
+                     std::to_string(static_cast<size_t>(std::max(comps, 1)) * count) +
+                     " values for " + std::to_string(count) + (def->cell ? " cells" : " points") +
+                     ", found " + std::to_string(arr->second.size()));
+  if (def->component >= comps)
+    throw InputError(vtu.path + ": array '" + def->array + "': field " + field +
+                     " needs component " + std::to_string(def->component + 1) + ", found " +
+                     std::to_string(comps) + " component(s)");
   return {&*def, &arr->second, comps};
 }
 
@@ -184,17 +189,24 @@ std::vector<Vec2> drawn_positions(const VtuData& vtu, double& scale) {
   std::vector<Vec2> x = vtu.points;
   const auto disp = vtu.point_data.find("displacement");
   if (scale == 0.0 || disp == vtu.point_data.end()) return x;
+  const auto comps = vtu.components.find("displacement");
+  const size_t n = comps == vtu.components.end() ? 0 : static_cast<size_t>(comps->second);
+  if (n < 2 || disp->second.size() != n * x.size())
+    throw InputError(vtu.path + ": array 'displacement': expected 2 or 3 components for each of " +
+                     std::to_string(x.size()) + " points, found " +
+                     std::to_string(disp->second.size()) + " values of " + std::to_string(n) +
+                     " component(s)");
+  const auto u = [&](size_t i, size_t c) { return disp->second[n * i + c]; };
   if (scale < 0) {
     double umax = 0.0, lo_x = 1e300, hi_x = -1e300, lo_y = 1e300, hi_y = -1e300;
     for (size_t i = 0; i < vtu.points.size(); ++i) {
-      umax = std::max({umax, std::abs(disp->second[3 * i]), std::abs(disp->second[3 * i + 1])});
+      umax = std::max({umax, std::abs(u(i, 0)), std::abs(u(i, 1))});
       lo_x = std::min(lo_x, x[i].x()), hi_x = std::max(hi_x, x[i].x());
       lo_y = std::min(lo_y, x[i].y()), hi_y = std::max(hi_y, x[i].y());
     }
     scale = umax > 0 ? 0.08 * std::hypot(hi_x - lo_x, hi_y - lo_y) / umax : 0.0;
   }
-  for (size_t i = 0; i < x.size(); ++i)
-    x[i] += scale * Vec2(disp->second[3 * i], disp->second[3 * i + 1]);
+  for (size_t i = 0; i < x.size(); ++i) x[i] += scale * Vec2(u(i, 0), u(i, 1));
   return x;
 }
 
@@ -354,7 +366,8 @@ std::map<int, std::string> numbered_vtus(const std::string& dir, const std::stri
     const std::string name = e.path().filename().string();
     if (name.rfind(prefix, 0) != 0 || e.path().extension() != ".vtu") continue;
     const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - 4);
-    if (!digits.empty() && std::all_of(digits.begin(), digits.end(), ::isdigit))
+    if (!digits.empty() && digits.size() <= 9 &&  // beyond: no step number of a run (stoi throws)
+        std::all_of(digits.begin(), digits.end(), ::isdigit))
       files[std::stoi(digits)] = e.path().string();
   }
   return files;

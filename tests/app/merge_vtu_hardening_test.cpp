@@ -1,9 +1,10 @@
-// Issue 32, item 3, end to end through the executable where the finding was a crash or a hang:
-// `contact2d merge DIR` on a study.json or a case's summary.json that is deeply nested, of the
-// wrong types, a FIFO or too large (a bad study.json: one located line, exit 2; a bad case
-// summary.json: that case listed as malformed, the others merged, exit 1). Every run has a time
-// limit, so a hang fails the test instead of stopping the suite. Study folders and case summaries
-// are written here, by hand, into a private temporary folder.
+// Issue 32, items 3 and 4, end to end through the executable where the finding was a crash or a
+// hang: `contact2d merge DIR` on a study.json or a case's summary.json that is deeply nested, of
+// the wrong types, a FIFO or too large (a bad study.json: one located line, exit 2; a bad case
+// summary.json: that case listed as malformed, the others merged, exit 1), and `contact2d plot
+// --deformed` on VTU files whose counts and arrays disagree (one located line, exit 2). Every run
+// has a time limit, so a hang fails the test instead of stopping the suite. Study folders, case
+// summaries and VTU files are written here, by hand, into a private temporary folder.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "app/report/json_file.hpp"
+#include "app/report/vtu_reader.hpp"
 #include "core/errors.hpp"
 
 extern char** environ;
@@ -282,6 +284,156 @@ TEST(JsonFile, NestingIsCountedOutsideStringsUpToTheLimit) {
   EXPECT_TRUE(parse_json_text(in_string).ok()) << parse_json_text(in_string).error;
   EXPECT_EQ(parse_json_text("{\"a\": }").error.rfind("expected JSON, found a parse error at", 0),
             0u);
+}
+
+// ---- plot --deformed and the VTU reader --------------------------------------------------------
+
+/// The parts of a hand-made ASCII VTU of a unit square in two T3 cells (what `contact2d run`
+/// writes, in its layout); a test changes one part.
+struct Vtu {
+  std::string points = "4", cells = "2";
+  std::string coordinates = "0 0 0  1 0 0  1 1 0  0 1 0";
+  std::string connectivity = "0 1 2  0 2 3", offsets = "3 6", types = "5 5";
+  std::string displacement_components = "3";
+  std::string displacement = "0 0 0  0.1 0 0  0.1 0.1 0  0 0.1 0";
+  std::string von_mises = "1 2 3 4";
+
+  std::string text() const {
+    const auto array = [](const std::string& attributes, const std::string& values) {
+      return "        <DataArray " + attributes + " format=\"ascii\">\n          " + values +
+             "\n        </DataArray>\n";
+    };
+    return "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
+           "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <UnstructuredGrid>\n"
+           "    <Piece NumberOfPoints=\"" +
+           points + "\" NumberOfCells=\"" + cells + "\">\n" + "      <Points>\n" +
+           array("type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"", coordinates) +
+           "      </Points>\n      <Cells>\n" +
+           array("type=\"Int32\" Name=\"connectivity\"", connectivity) +
+           array("type=\"Int32\" Name=\"offsets\"", offsets) +
+           array("type=\"UInt8\" Name=\"types\"", types) +
+           "      </Cells>\n      <PointData Vectors=\"displacement\">\n" +
+           array("type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"" +
+                     displacement_components + "\"",
+                 displacement) +
+           array("type=\"Float64\" Name=\"von_mises_smoothed\"", von_mises) +
+           "      </PointData>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  }
+};
+
+/// `plot DIR --field vm --deformed 1` on DIR/step_0001.vtu holding `v` (the von Mises field, so
+/// that only the deformed positions read the displacement).
+Outcome plot_deformed(const TempDir& dir, const Vtu& v) {
+  dir.write("step_0001.vtu", v.text());
+  return run_c2d({"plot", dir.str(), "--field", "vm", "--deformed", "1"});
+}
+
+TEST(PlotHardening, WellFormedVtuPlotsDeformed) {
+  const TempDir dir("vtu_baseline");
+  expect_outcome(plot_deformed(dir, Vtu{}), 0, {});
+  EXPECT_TRUE(fs::exists(dir / "plot_vm.png"));
+}
+
+TEST(PlotHardening, DisplacementOfZeroComponentsExitsTwo) {
+  // NumberOfComponents="0" and no values: the deformed positions read an empty array (SIGSEGV).
+  const TempDir dir("vtu_zero_components");
+  Vtu v;
+  v.displacement_components = std::string("0");  // (GCC 12 -Wrestrict false positive on "0")
+  v.displacement.clear();
+  expect_outcome(plot_deformed(dir, v), 2,
+                 {dir / "step_0001.vtu",
+                  ": DataArray 'displacement': NumberOfComponents: "
+                  "expected an integer from 1 to 9, found '0'"});
+}
+
+TEST(PlotHardening, ShortDisplacementExitsTwo) {
+  // Fewer values than NumberOfPoints x 3: the deformed positions read past the array's end.
+  const TempDir dir("vtu_short");
+  Vtu v;
+  v.displacement = "0 0 0";
+  expect_outcome(plot_deformed(dir, v), 2,
+                 {dir / "step_0001.vtu",
+                  ": DataArray 'displacement': expected 12 values (4 "
+                  "points x 3 components), found 3"});
+}
+
+TEST(PlotHardening, PointCountThatIsNotAnIntegerExitsTwo) {
+  // atoi read "4x" as 4 and "1e9" as 1.
+  const TempDir dir("vtu_points");
+  Vtu v;
+  v.points = "4x";
+  expect_outcome(plot_deformed(dir, v), 2,
+                 {dir / "step_0001.vtu",
+                  ": NumberOfPoints: expected an integer from 1 to "
+                  "100000000, found '4x'"});
+}
+
+TEST(PlotHardening, AttributeOf300kCharactersExitsTwo) {
+  // std::regex read the attributes, recursing once per character: SIGSEGV.
+  const TempDir dir("vtu_long_attribute");
+  Vtu v;
+  v.points = std::string(300000, '1');
+  expect_outcome(plot_deformed(dir, v), 2,
+                 {dir / "step_0001.vtu",
+                  ": NumberOfPoints: expected an integer from 1 to "
+                  "100000000, found '111111"});
+}
+
+/// read_vtu on `v`: refused with an InputError holding `fragment`.
+void expect_vtu_refused(const Vtu& v, const std::string& fragment) {
+  const TempDir dir("vtu_read");
+  const std::string path = dir.write("read.vtu", v.text());
+  try {
+    c2d::app::read_vtu(path);
+    ADD_FAILURE() << "accepted; expected: " << fragment;
+  } catch (const c2d::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(path + ": " + fragment), std::string::npos) << e.what();
+  }
+}
+
+TEST(VtuReaderHardening, CountsAndArraysAreCheckedBeforeUse) {
+  Vtu v;
+  v.cells = "99999999999999999999";
+  expect_vtu_refused(v, "NumberOfCells: expected an integer from 1 to 100000000, found '9999");
+  v = Vtu{};
+  v.coordinates = "0 0 0  1 0 0  1 1 0";
+  expect_vtu_refused(v,
+                     "DataArray 'Points': expected 12 values (4 points x 3 components), found 9");
+  v = Vtu{};
+  v.connectivity = "0 1 2  0 2 7";
+  expect_vtu_refused(v,
+                     "DataArray 'connectivity': entry 5: expected an integer from 0 to 3, "
+                     "found 7");
+  v = Vtu{};
+  v.connectivity = "0 1 2  0 2 1e300";
+  expect_vtu_refused(v,
+                     "DataArray 'connectivity': entry 5: expected an integer from 0 to 3, "
+                     "found 1e+300");
+  v = Vtu{};
+  v.offsets = "3 9";  // beyond the 6 node ids of the connectivity
+  expect_vtu_refused(v,
+                     "DataArray 'offsets': entry 1: expected 6 (3 node ids per cell, within "
+                     "the connectivity), found 9");
+  v = Vtu{};
+  v.types = "5 22";
+  expect_vtu_refused(v, "DataArray 'types': entry 1: expected 5 (one cell type), found 22");
+  v = Vtu{};
+  v.displacement_components = "10";
+  expect_vtu_refused(v,
+                     "DataArray 'displacement': NumberOfComponents: expected an integer from "
+                     "1 to 9, found '10'");
+  // The well-formed file reads.
+  const TempDir dir("vtu_good");
+  const c2d::app::VtuData good = c2d::app::read_vtu(dir.write("good.vtu", Vtu{}.text()));
+  EXPECT_EQ(good.cells.size(), 2u);
+  EXPECT_EQ(good.point_data.at("displacement").size(), 12u);
+}
+
+TEST(PlotHardening, VtuFifoExitsTwo) {
+  const TempDir dir("vtu_fifo");
+  ASSERT_EQ(::mkfifo((dir / "step_0001.vtu").c_str(), 0600), 0);
+  expect_outcome(run_c2d({"plot", dir.str(), "--field", "ux"}, 20), 2,
+                 {dir / "step_0001.vtu", ": expected a regular file, found a FIFO"});
 }
 
 }  // namespace
