@@ -1,17 +1,18 @@
 #!/bin/bash
-# Fuzzes the readers with libFuzzer (issue 16): scripts/fuzz.sh SECONDS [scene|msh|dat ...]
+# Fuzzes the readers with libFuzzer (issue 16): scripts/fuzz.sh SECONDS [scene|msh|dat|json|vtu ...]
 # Builds the fuzz targets with clang, AddressSanitizer and UBSan in build-fuzz/ (needs clang,
 # libclang-rt-dev and libomp-dev from Debian), seeds each reader's corpus with the examples'
-# files and runs it for SECONDS. An input that crashes or hangs is written to
+# files and the inputs kept for it, and runs it for SECONDS (json: study.json and summary.json;
+# vtu: the VTU reader of plot). An input that crashes or hangs is written to
 # tests/fuzz/regressions/<reader>/, which the fuzz_regression_tests replay in CTest: fix the
 # reader, keep the input. Prints each reader's executions and coverage.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-seconds=${1:?usage: scripts/fuzz.sh SECONDS [scene|msh|dat ...]}
+seconds=${1:?usage: scripts/fuzz.sh SECONDS [scene|msh|dat|json|vtu ...]}
 shift
 readers=("$@")
-[ ${#readers[@]} -eq 0 ] && readers=(scene msh dat)
-build="$root/build-fuzz"
+[ ${#readers[@]} -eq 0 ] && readers=(scene msh dat json vtu)
+build="${C2D_FUZZ_BUILD:-$root/build-fuzz}"
 if [ ! -f "$build/CMakeCache.txt" ]; then
   CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DC2D_FUZZ=ON -DC2D_SANITIZE=ON > "$build.configure.log" 2>&1 ||
@@ -21,13 +22,13 @@ targets=()
 for r in "${readers[@]}"; do targets+=("fuzz_$r"); done
 cmake --build "$build" -j2 --target "${targets[@]}" > "$build.build.log" 2>&1 ||
   { echo "fuzz: build failed, see $build.build.log" >&2; exit 1; }
-declare -A extension=([scene]=toml [msh]=msh [dat]=dat)
+declare -A extension=([scene]=toml [msh]=msh [dat]=dat [json]=json [vtu]=vtu)
 status=0
 for r in "${readers[@]}"; do
   corpus="$build/corpus/$r"
   kept="$root/tests/fuzz/regressions/$r"
   mkdir -p "$corpus" "$kept"
-  find "$root/examples" -name "*.${extension[$r]}" -exec cp -n {} "$corpus/" \;
+  find "$root/examples" "$kept" -name "*.${extension[$r]}" -exec cp -n {} "$corpus/" \;
   log="$build/fuzz_$r.log"
   # -timeout: an input taking 10 s is a hang; -rss_limit_mb bounds a runaway allocation.
   # detect_leaks=0: gmsh's MSH4 reader leaks on some inputs it rejects (its own code, reported

@@ -47,3 +47,5 @@ void replay(void (*reader)(const uint8_t*, size_t), const std::string& name,
 TEST(FuzzRegressions, SceneReader) { replay(c2d::fuzz::scene, "scene", ".toml"); }
 TEST(FuzzRegressions, MshPreParseAndGmsh) { replay(c2d::fuzz::msh, "msh", ".msh"); }
 TEST(FuzzRegressions, DatReader) { replay(c2d::fuzz::dat, "dat", ".dat"); }
+TEST(FuzzRegressions, StudyAndSummaryJson) { replay(c2d::fuzz::json, "json", ".json"); }
+TEST(FuzzRegressions, VtuReader) { replay(c2d::fuzz::vtu, "vtu", ".vtu"); }
