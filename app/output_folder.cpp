@@ -1,38 +1,90 @@
 #include "app/output_folder.hpp"
 
-#include <array>
+#include <unistd.h>
+
 #include <filesystem>
-#include <string_view>
+#include <fstream>
+#include <set>
+#include <sstream>
 #include <system_error>
 
 #include "core/errors.hpp"
 
 namespace c2d::app {
 
-void refuse_file_as_folder(const std::string& dir) {
-  std::error_code ec;
-  if (std::filesystem::exists(dir, ec) && !std::filesystem::is_directory(dir, ec))
-    throw InputError(dir + ": expected an output folder, found a file");
-}
+namespace fs = std::filesystem;
 
 namespace {
 
-/// What a run or its charts write into a run folder.
-bool run_file(const std::filesystem::directory_entry& e) {
-  static constexpr std::array<std::string_view, 9> kExtensions = {
-      ".json", ".csv", ".vtu", ".pvd", ".png", ".svg", ".log", ".dat", ".gp"};
+constexpr const char* kManifestTitle = "contact2d run folder";
+constexpr const char* kWorkTitle = "contact2d work folder";
+
+/// The file names a manifest lists; false when `dir` has no valid manifest.
+bool read_manifest_names(const fs::path& dir, std::set<std::string>& names) {
   std::error_code ec;
-  if (!e.is_regular_file(ec)) return false;
-  const std::string ext = e.path().extension().string();
-  for (const std::string_view k : kExtensions)
-    if (ext == k) return true;
-  return false;
+  const fs::path file = dir / kRunManifest;
+  if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) > (1u << 24)) return false;
+  std::ifstream in(file);
+  std::string line;
+  if (!std::getline(in, line) || line != kManifestTitle) return false;
+  if (!std::getline(in, line) || line.rfind("run ", 0) != 0) return false;
+  while (std::getline(in, line))
+    if (!line.empty()) names.insert(line);
+  return true;
+}
+
+/// Writes the manifest of `dir` (atomically: a temporary file renamed over it).
+void store_manifest(const std::string& dir, const std::string& run_id,
+                    const std::set<std::string>& names) {
+  std::ostringstream text;
+  text << kManifestTitle << "\nrun " << run_id << "\n";
+  for (const std::string& name : names)
+    if (name.find('\n') == std::string::npos && name.find('/') == std::string::npos)
+      text << name << "\n";
+  const std::string path = dir + "/" + kRunManifest, tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << text.str();
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+}
+
+/// Whether `p` lies inside folder `dir` (both made absolute, lexically).
+bool inside(const fs::path& p, const fs::path& dir) {
+  std::error_code ec;
+  const fs::path a = fs::weakly_canonical(fs::absolute(p, ec), ec);
+  const fs::path rel = a.lexically_relative(fs::weakly_canonical(dir, ec));
+  return !rel.empty() && *rel.begin() != ".." && rel != ".";
+}
+
+/// Throws InputError naming `dir` for the first entry of `folder` its manifest does not list.
+void refuse_unlisted_entries(const std::string& dir, const fs::path& folder) {
+  std::error_code ec;
+  std::set<std::string> listed;
+  const bool manifest = read_manifest_names(folder, listed);
+  for (const auto& e : fs::directory_iterator(folder, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name == kRunManifest && manifest) continue;
+    // A study's worker writes the case's stdout.log before the run starts.
+    const bool ours = e.is_regular_file(ec) && (name == "stdout.log" || listed.count(name));
+    if (ours) continue;
+    throw InputError(dir + ": expected a new or empty output folder or an earlier run's (a run "
+                     "replaces it whole), found a folder holding '" + name + "'" +
+                     (manifest ? ", which the earlier run did not write"
+                               : std::string(" and no ") + kRunManifest + " manifest"));
+  }
 }
 
 }  // namespace
 
-void refuse_foreign_folder(const std::string& dir) {
-  namespace fs = std::filesystem;
+void refuse_file_as_folder(const std::string& dir) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw InputError(dir + ": expected an output folder, found a file");
+}
+
+void refuse_foreign_folder(const std::string& dir, const std::vector<std::string>& inputs) {
   for (size_t i = 0; i < dir.size(); ++i)
     if (static_cast<unsigned char>(dir[i]) < 0x20 || dir[i] == 0x7f)
       throw InputError("--out: expected a folder name without control characters, found "
@@ -46,27 +98,83 @@ void refuse_foreign_folder(const std::string& dir) {
   if (!ec && !rel.empty() && *rel.begin() != "..")
     throw InputError(dir + ": expected an output folder that does not hold the current folder "
                      "(a run replaces its output folder whole), found " + folder.string());
-  if (!fs::is_directory(folder, ec)) return;
-  bool summary = false;
-  std::string foreign;
-  for (const auto& e : fs::directory_iterator(folder, ec)) {
-    const std::string name = e.path().filename().string();
-    // A run's summary or log, or the log a study's worker writes before its run starts.
-    if (name == "summary.json" || name == "run.log" || name == "stdout.log") summary = true;
-    if (!run_file(e) && foreign.empty()) foreign = e.path().filename().string();
-  }
-  const bool empty = fs::is_empty(folder, ec);
-  if (!empty && (!summary || !foreign.empty()))
-    throw InputError(dir + ": expected a new or empty output folder or an earlier run's (a run "
-                     "replaces it whole), found a folder holding " +
-                     (foreign.empty() ? std::string("no summary.json or run.log") : "'" + foreign + "'"));
+  if (!fs::is_directory(folder, ec) || fs::is_empty(folder, ec)) return;
+  refuse_unlisted_entries(dir, folder);
+  for (const std::string& input : inputs)
+    if (!input.empty() && inside(input, folder))
+      throw InputError(dir + ": expected an output folder that does not hold the run's input "
+                       "(a run replaces its output folder whole), found " + input + " inside");
 }
 
 void create_output_folder(const std::string& dir) {
   refuse_file_as_folder(dir);
   std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw InputError(dir + ": expected an output folder that can be created, found: " + ec.message());
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw InputError(dir + ": expected an output folder that can be created, found: " +
+                     ec.message());
+}
+
+void write_run_manifest(const std::string& dir, const std::string& run_id,
+                        const std::vector<std::string>& coming) {
+  std::set<std::string> names(coming.begin(), coming.end());
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name != kRunManifest && name != kWorkMarker && e.is_regular_file(ec) &&
+        name.find('\n') == std::string::npos)
+      names.insert(name);
+  }
+  store_manifest(dir, run_id, names);
+}
+
+void add_to_run_manifest(const std::string& dir, const std::vector<std::string>& names) {
+  std::set<std::string> listed;
+  if (!read_manifest_names(dir, listed)) return;
+  std::ifstream in(fs::path(dir) / kRunManifest);
+  std::string title, run;
+  std::getline(in, title);
+  std::getline(in, run);
+  listed.insert(names.begin(), names.end());
+  store_manifest(dir, run.substr(4), listed);
+}
+
+std::vector<std::string> run_manifest_names(const std::string& dir) {
+  std::set<std::string> listed;
+  read_manifest_names(dir, listed);
+  return {listed.begin(), listed.end()};
+}
+
+bool remove_run_folder(const std::string& dir) {
+  std::set<std::string> listed;
+  std::error_code ec;
+  if (!read_manifest_names(dir, listed)) return false;
+  for (const std::string& name : listed)
+    if (name.find('/') == std::string::npos && name != "." && name != "..")
+      fs::remove(fs::path(dir) / name, ec);
+  fs::remove(fs::path(dir) / "stdout.log", ec);
+  fs::remove(fs::path(dir) / kRunManifest, ec);
+  return fs::remove(dir, ec) && !ec;  // only when empty
+}
+
+bool create_work_folder(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::create_directory(dir, ec) || ec) return false;  // exists already, or cannot be made
+  std::ofstream out(dir + "/" + kWorkMarker);
+  out << kWorkTitle << "\npid " << ::getpid() << "\n";
+  return static_cast<bool>(out);
+}
+
+long work_folder_owner(const std::string& dir) {
+  std::error_code ec;
+  const fs::path file = fs::path(dir) / kWorkMarker;
+  if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) > 256) return -1;
+  std::ifstream in(file);
+  std::string title, word;
+  long pid = -1;
+  if (!std::getline(in, title) || title != kWorkTitle || !(in >> word >> pid) || word != "pid")
+    return -1;
+  return pid > 0 ? pid : -1;
 }
 
 }  // namespace c2d::app

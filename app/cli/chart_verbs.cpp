@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "app/cli/verbs.hpp"
+#include "app/output_folder.hpp"
 #include "app/report/field_plot.hpp"
 #include "app/report/trace_charts.hpp"
 #include "core/errors.hpp"
@@ -17,8 +18,12 @@ namespace {
 int report_charts(const std::string& dir,
                   const std::vector<std::pair<std::string, std::string>>& written,
                   const std::string& error) {
-  for (const auto& [stem, what] : written)
+  std::vector<std::string> files;
+  for (const auto& [stem, what] : written) {
     std::cout << "wrote " << dir << "/" << stem << ".png and .svg: " << what << "\n";
+    files.insert(files.end(), {stem + ".png", stem + ".svg"});
+  }
+  add_to_run_manifest(dir, files);  // a later run into DIR may replace them
   if (!error.empty()) {
     std::cerr << "error: " << error << "\n";
     return kExitSolveFailed;

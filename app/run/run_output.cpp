@@ -36,7 +36,9 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   // The target must be a folder or creatable as one; the run itself goes to a sibling work
   // folder, swapped in by commit(), so the target never mixes two runs.
   refuse_file_as_folder(target_);
-  refuse_foreign_folder(target_);
+  std::vector<std::string> inputs{scene.path};
+  for (const core::BodySpec& b : scene.bodies) inputs.push_back(b.msh_file);
+  refuse_foreign_folder(target_, inputs);
   fs::path folder = fs::absolute(target_).lexically_normal();
   if (!folder.has_filename()) folder = folder.parent_path();  // "out/" names "out"
   // The folders this run creates above its target, removed again if it ends without a result.
@@ -47,33 +49,36 @@ RunOutput::RunOutput(const core::Scene& scene, std::string dir)
   }
   create_output_folder(folder.parent_path().string());
   remove_stale_work_folders(folder);
-  dir_ = folder.string() + ".part." + std::to_string(::getpid());
-  fs::remove_all(dir_, ec);
+  // A fresh work folder of this process's own: never one that exists (a user's folder of that
+  // name, or another thread's run into the same target).
+  run_id_ = std::to_string(::getpid()) + "-" +
+            std::to_string(Clock::now().time_since_epoch().count());
+  const std::string base = folder.string() + ".part." + std::to_string(::getpid());
+  for (int k = 0; k < 1000 && dir_.empty(); ++k) {
+    const std::string candidate = k == 0 ? base : base + "." + std::to_string(k);
+    if (!fs::exists(candidate, ec) && create_work_folder(candidate)) dir_ = candidate;
+  }
   // The work folder is this run's detail: a failure to create it names the target the user gave.
-  fs::create_directories(dir_, ec);
-  if (ec)
-    throw InputError(target_ + ": expected an output folder that can be created, found: " +
-                     ec.message());
+  if (dir_.empty())
+    throw InputError(target_ + ": expected an output folder that can be created, found that "
+                     "the folder beside it that a run writes into first cannot be");
   log_.open(dir_ + "/run.log");
 }
 
 void RunOutput::remove_stale_work_folders(const std::filesystem::path& folder) {
-  // A run killed outright (SIGKILL, a crash) leaves its work folder TARGET.part.PID; one
-  // interrupted leaves nothing, but an older version left TARGET.part.PID.interrupted-aside.
-  // Those of processes no longer alive belong to nobody.
+  // A run killed outright (SIGKILL, a crash) leaves its work folder TARGET.part.PID[.K] with
+  // its marker; one whose process is gone belongs to nobody. Anything else of a similar name
+  // (a user's results.part.99999) is not a work folder and stays.
   namespace fs = std::filesystem;
   const std::string prefix = folder.filename().string() + ".part.";
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(folder.parent_path(), ec)) {
     const std::string name = e.path().filename().string();
-    if (name.rfind(prefix, 0) != 0) continue;
-    const std::string rest = name.substr(prefix.size());
-    size_t digits = 0;
-    while (digits < rest.size() && std::isdigit(static_cast<unsigned char>(rest[digits]))) ++digits;
-    if (digits == 0 || digits > 9) continue;
-    const pid_t pid = static_cast<pid_t>(std::stol(rest.substr(0, digits)));
-    const bool alive = ::kill(pid, 0) == 0 || errno == EPERM;
-    if (!alive || rest.size() > digits) fs::remove_all(e.path(), ec);
+    if (name.rfind(prefix, 0) != 0 || !e.is_directory(ec)) continue;
+    const long pid = work_folder_owner(e.path().string());
+    if (pid <= 0 || pid == ::getpid()) continue;
+    const bool alive = ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+    if (!alive) fs::remove_all(e.path(), ec);
   }
 }
 
@@ -81,7 +86,7 @@ namespace {
 
 // What the interrupt handler needs, prepared before it is armed: it may only call
 // async-signal-safe functions (open, write, close, rename, _exit).
-char g_work[4096], g_target[4096], g_aside[4096], g_summary[4096];
+char g_work[4096], g_target[4096], g_aside[4096], g_summary[4096], g_marker[4096];
 // The earlier run's files under its set-aside name, deepest first, each NUL-terminated: the
 // handler unlinks them (and rmdirs the folders) so an interrupted run leaves one folder.
 char g_doomed[1 << 16];
@@ -108,10 +113,11 @@ extern "C" void on_interrupt(int) {
     [[maybe_unused]] const ssize_t n = ::write(fd, kInterrupted, sizeof kInterrupted - 1);
     ::close(fd);
   }
+  ::unlink(g_marker);            // the folder becomes a run folder (its manifest is written)
   ::rename(g_target, g_aside);  // an earlier run's folder, if any, is set aside
   ::rename(g_work, g_target);
   for (size_t at = 0; at < g_doomed_size; at += std::strlen(g_doomed + at) + 1)
-    if (::unlink(g_doomed + at) != 0) ::rmdir(g_doomed + at);
+    ::unlink(g_doomed + at);
   ::rmdir(g_aside);
   const char note[] = "interrupted: partial results and summary.json in the output folder\n";
   say(note, sizeof note - 1);
@@ -157,21 +163,23 @@ void RunOutput::end_on_interrupt() {
   const std::string aside = dir_ + ".interrupted-aside";
   copy_path(g_aside, aside);
   copy_path(g_summary, dir_ + "/summary.json");
-  // The earlier run's entries as they will be named once set aside, deepest first.
+  copy_path(g_marker, dir_ + "/" + kWorkMarker);
+  // The earlier run's files (those its manifest lists) as they will be named once set aside;
+  // anything else keeps the set-aside folder in place.
   std::vector<std::string> doomed;
   std::error_code ec;
-  if (fs::is_directory(target_, ec))
-    for (const auto& e : fs::recursive_directory_iterator(target_, ec))
-      doomed.push_back(aside + "/" + fs::relative(e.path(), target_, ec).string());
-  std::sort(doomed.begin(), doomed.end(), [](const std::string& a, const std::string& b) {
-    return a.size() > b.size();  // a folder's entries before the folder
-  });
+  if (fs::is_directory(target_, ec)) {
+    for (const std::string& name : run_manifest_names(target_)) doomed.push_back(aside + "/" + name);
+    doomed.push_back(aside + "/stdout.log");
+    doomed.push_back(aside + "/" + kRunManifest);
+  }
   g_doomed_size = 0;
   for (const std::string& d : doomed) {
     if (g_doomed_size + d.size() + 1 > sizeof g_doomed) break;  // the rest stays
     std::memcpy(g_doomed + g_doomed_size, d.c_str(), d.size() + 1);
     g_doomed_size += d.size() + 1;
   }
+  write_run_manifest(dir_, run_id_, {"summary.json"});
   g_armed = 1;
   interrupt_armed_ = true;
 }
@@ -196,10 +204,12 @@ void RunOutput::commit() {
   const SignalsHeld held;  // an interrupt now waits until the folder is in place
   log_.close();
   std::error_code ec;
+  write_run_manifest(dir_, run_id_);
+  fs::remove(dir_ + "/" + kWorkMarker, ec);
   const std::string old = dir_ + ".old";
   if (fs::exists(target_, ec)) fs::rename(target_, old);
   fs::rename(dir_, target_);
-  fs::remove_all(old, ec);
+  remove_run_folder(old);  // only what the earlier run wrote; a folder with more stays
   committed_ = true;
   if (interrupt_armed_) g_armed = 0;  // from here on the run is complete
 }
@@ -212,6 +222,7 @@ void RunOutput::write_series(Series& files, const std::string& pvd, const char* 
   core::write_file_atomic(dir_ + "/" + name, core::vtu_document(model, results, scene_.output_vtu));
   files.emplace_back(time, name);
   core::write_file_atomic(dir_ + "/" + pvd, core::pvd_document(files));
+  if (interrupt_armed_) write_run_manifest(dir_, run_id_, {"summary.json"});
 }
 
 void RunOutput::write_step(const nonlinear::StepRecord& step, const core::Model& model,

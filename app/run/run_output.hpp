@@ -27,9 +27,10 @@ class RunOutput {
   using Clock = std::chrono::steady_clock;
 
   /// Writes into a fresh work folder beside `dir` (DIR.part.PID), which commit() renames to
-  /// `dir`, replacing an earlier run's folder whole: a folder never mixes two runs, and a run
-  /// refused or ended by an exception leaves neither. Throws InputError when `dir` names a file
-  /// or cannot be created. [output] of `scene` decides whether fields and charts are written;
+  /// `dir`, replacing an earlier run's folder whole (the files its manifest lists): a folder
+  /// never mixes two runs, and a run refused or ended by an exception leaves neither. Throws
+  /// InputError when `dir` names a file, cannot be created, holds the scene or its meshes, or
+  /// holds anything an earlier run did not write (refuse_foreign_folder). [output] of `scene` decides whether fields and charts are written;
   /// `scene` must outlive this object.
   RunOutput(const core::Scene& scene, std::string dir);
   ~RunOutput();
@@ -78,11 +79,12 @@ class RunOutput {
   void write_tables(const SceneRun& run);
   std::string write_charts(const SceneRun& run);
 
-  /// Removes the work folders of earlier runs into this target whose process is gone.
+  /// Removes the work folders (marked as such) of earlier runs into this target whose process
+  /// is gone.
   static void remove_stale_work_folders(const std::filesystem::path& folder);
 
   const core::Scene& scene_;
-  std::string target_, dir_;
+  std::string target_, dir_, run_id_;
   std::string created_parent_;  ///< the topmost folder this run created above its target
   bool committed_ = false;
   bool interrupt_armed_ = false;

@@ -542,10 +542,12 @@ TEST(Hardening, F7WorkFoldersOfDeadRunsAreRemovedByTheNextRun) {
   const std::string stale = out + ".part." + std::to_string(child);
   fs::create_directories(stale);
   std::ofstream(stale + "/run.log") << "killed\n";
+  std::ofstream(stale + "/.contact2d-work") << "contact2d work folder\npid " << child << "\n";
+  // Issue 32, finding 6: a folder of that name without the marker is not provably a run's.
   fs::create_directories(stale + ".interrupted-aside");
   ASSERT_EQ(run_c2d({"run", example("hertz_rigid_fast.toml"), "--out", out, "--quiet"}).code, 0);
   EXPECT_FALSE(fs::exists(stale));
-  EXPECT_FALSE(fs::exists(stale + ".interrupted-aside"));
+  EXPECT_TRUE(fs::exists(stale + ".interrupted-aside"));
   EXPECT_TRUE(fs::exists(out + "/summary.json"));
 }
 
@@ -778,4 +780,58 @@ TEST(Hardening, F8BinaryBytesAreEscapedAndTraceOnAFileSaysSo) {
   EXPECT_NE(o.text.find(scene + ": expected the output folder of a run, found a file"),
             std::string::npos)
       << o.text;
+}
+
+// Issue 32, finding 6: a run deletes only what it can prove it wrote. A folder holding an
+// earlier run's files and a user's file (a measured .csv, a .dat model, a .png) is refused, not
+// replaced; the scene inside the output folder is refused; a sibling named like a work folder
+// (results.part.99999, results.part.2abc) that no run marked stays.
+TEST(Hardening, ARunNeverDeletesWhatItDidNotWrite) {
+  const TempDir dir("owned");
+  const std::string scene = dir.write("block.toml", block(""));
+  const std::string out = dir / "out";
+  ASSERT_EQ(run_c2d({"run", scene, "--out", out, "--quiet"}).code, 0);
+  ASSERT_TRUE(fs::exists(dir.path() / "out" / ".contact2d-run"));
+  EXPECT_EQ(run_c2d({"run", scene, "--out", out, "--quiet"}).code, 0);  // its own files: fine
+  for (const char* mine : {"measured.csv", "model.dat", "photo.png", "notes.txt"}) {
+    std::ofstream(dir.path() / "out" / mine) << "the user's";
+    expect_outcome(run_c2d({"run", scene, "--out", out, "--quiet"}), 2,
+                   {out, std::string("'") + mine + "'", "did not write"});
+    EXPECT_EQ(read_text(dir.path() / "out" / mine), "the user's");
+    fs::remove(dir.path() / "out" / mine);
+  }
+  // A folder that was never a run's (no manifest), whatever its files are named.
+  fs::create_directories(dir.path() / "plain");
+  std::ofstream(dir.path() / "plain" / "summary.json") << "{}";
+  std::ofstream(dir.path() / "plain" / "data.csv") << "1,2";
+  expect_outcome(run_c2d({"run", scene, "--out", dir / "plain", "--quiet"}), 2,
+                 {"plain", "manifest"});
+  EXPECT_TRUE(fs::exists(dir.path() / "plain" / "data.csv"));
+  // The scene inside the output folder.
+  const std::string inside = (dir.path() / "out" / "scene.toml").string();
+  fs::copy_file(scene, inside);
+  expect_outcome(run_c2d({"run", inside, "--out", out, "--quiet"}), 2, {"'scene.toml'"});
+  EXPECT_TRUE(fs::exists(inside));
+  fs::remove(inside);
+  // Siblings named like work folders, not marked as one.
+  fs::create_directories(dir.path() / "out.part.99999");
+  std::ofstream(dir.path() / "out.part.99999" / "mine") << "x";
+  std::ofstream(dir.path() / "out.part.2abc") << "x";
+  EXPECT_EQ(run_c2d({"run", scene, "--out", out, "--quiet"}).code, 0);
+  EXPECT_TRUE(fs::exists(dir.path() / "out.part.99999" / "mine"));
+  EXPECT_TRUE(fs::exists(dir.path() / "out.part.2abc"));
+}
+
+// A work folder that a killed run left (its marker names a process that is gone) is removed by
+// the next run into the same target; one whose process lives stays.
+TEST(Hardening, StaleWorkFoldersGoOnlyWithTheirMarkerAndNoLiveOwner) {
+  const TempDir dir("stale");
+  const std::string scene = dir.write("block.toml", block(""));
+  const fs::path dead = dir.path() / "out.part.4194300", live = dir.path() / "out.part.1";
+  for (const fs::path& p : {dead, live}) fs::create_directories(p);
+  std::ofstream(dead / ".contact2d-work") << "contact2d work folder\npid 4194300\n";
+  std::ofstream(live / ".contact2d-work") << "contact2d work folder\npid 1\n";  // init lives
+  EXPECT_EQ(run_c2d({"run", scene, "--out", dir / "out", "--quiet"}).code, 0);
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_TRUE(fs::exists(live));
 }
