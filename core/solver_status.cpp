@@ -12,6 +12,7 @@ const char* to_string(SolveStatus s) {
     case SolveStatus::kIllConditioned: return "ill_conditioned";
     case SolveStatus::kPenetration: return "penetration";
     case SolveStatus::kInvertedElement: return "inverted_element";
+    case SolveStatus::kStalled: return "stalled";
     case SolveStatus::kFailed: return "failed";
   }
   return "failed";

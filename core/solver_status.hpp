@@ -16,6 +16,9 @@ enum class SolveStatus {
   kPenetration,
   /// An element turned inside out (J ≤ 0): a load step too large, or a bad mesh.
   kInvertedElement,
+  /// No progress: Newton could not move (a zero step above the tolerance), or load stepping
+  /// reached its bound on attempts.
+  kStalled,
   kFailed,
 };
 

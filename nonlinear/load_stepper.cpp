@@ -29,7 +29,12 @@ class LoadStepper {
         floor_scale_(residual_floor_scale(model)),
         u_free_(VecX::Zero(model.dofs.num_free())), u_prev_full_(prescribe(0.0)),
         memory_(with_contact_ ? contact->num_slots() : 0, 0),
-        nominal_(1.0 / std::max(1, options.steps)), increment_(nominal_) {
+        nominal_(1.0 / std::max(1, options.steps)),
+        smallest_(nominal_ / std::ldexp(1.0, std::clamp(options.max_cutbacks, 0, 40))),
+        max_attempts_(options.max_attempts > 0
+                          ? options.max_attempts
+                          : static_cast<long>(std::min(2.0 / smallest_ + 100.0, 1e7))),
+        increment_(nominal_) {
     if (with_contact_) strategy_ = constraints::ConstraintStrategy::create(contact->options());
     last_contact_.method = strategy_ ? strategy_->name() : "";
     r_.time.mesh = model.mesh_seconds;
@@ -54,6 +59,12 @@ class LoadStepper {
   /// One attempt; false when the analysis gives up.
   bool step() {
     core::check_interrupt();
+    if (++attempts_ > max_attempts_) {
+      r_.status = SolveStatus::kStalled;
+      r_.message = "load stepping stopped at λ = " + std::to_string(lambda_) + " after " +
+                   std::to_string(max_attempts_) + " attempts (the bound on attempts)";
+      return false;
+    }
     const Stopwatch step_clock;
     const double target = std::min(1.0, lambda_ + increment_);
     StepRecord rec;
@@ -77,8 +88,8 @@ class LoadStepper {
     if (ok) accept(target, trial, cstep, rec);
     else if (rec.newton.status == SolveStatus::kIllConditioned)
       give_up = true;  // a penalty beyond what double precision resolves: no step size cures it
-    else if (cutbacks_ < options_.max_cutbacks) cut_back();
-    else give_up = true;
+    else if (increment_ > smallest_ * (1 + 1e-9)) cut_back();
+    else give_up = true;  // the smallest increment failed
     rec.step = converged_steps_;
     if (with_contact_) record_contact_history(rec);
     if (trace_) trace_->push_back(rec);
@@ -95,7 +106,8 @@ class LoadStepper {
         why = inverted_at_ + "; the smaller steps ended: " + why;
       }
       r_.message = "load step to λ = " + std::to_string(target) + " failed after " +
-                   std::to_string(cutbacks_) + " cutbacks (" + why + ")";
+                   std::to_string(cutbacks_) + " cutbacks, at the smallest increment " +
+                   std::to_string(increment_) + " (" + why + ")";
       return false;
     }
     return true;
@@ -195,7 +207,7 @@ class LoadStepper {
   void cut_back() {
     if (with_contact_) strategy_->step_rejected();
     ++cutbacks_;
-    increment_ *= 0.5;
+    increment_ = std::max(smallest_, 0.5 * increment_);
   }
 
   /// The attempt's outer iterations in the contact report's history.
@@ -321,7 +333,10 @@ class LoadStepper {
   StrategyTotals totals_;            ///< the method's work over every attempt (no history kept)
   double detection_seconds_ = 0.0;   ///< contact search over every attempt
   const double nominal_;
+  const double smallest_;     ///< the smallest increment: nominal / 2^max_cutbacks
+  const long max_attempts_;   ///< attempts before the run ends `stalled`
   double increment_;
+  long attempts_ = 0;
   int converged_steps_ = 0, cutbacks_ = 0;
 };
 

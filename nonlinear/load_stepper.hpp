@@ -30,7 +30,12 @@ struct StepRecord {
 
 struct StepperOptions {
   int steps = 1;             ///< nominal number of equal load increments
-  int max_cutbacks = 8;      ///< halvings of a failed increment before giving up
+  /// Halvings of the nominal increment: the smallest increment is nominal / 2^max_cutbacks,
+  /// and a step that fails at it ends the run (with its Newton status).
+  int max_cutbacks = 8;
+  /// Attempts (converged and cut back) over the whole run before it ends `stalled`; 0: twice
+  /// what the smallest increment needs to reach λ = 1, plus 100.
+  int max_attempts = 0;
   NewtonOptions newton;
   /// Prescribed displacements at load factor λ (full vector; only constrained DOFs are read).
   /// Default: core::prescribed_displacement (λ × the supports' values; rotated supports turn

@@ -110,9 +110,18 @@ SolveStatus map_flag(int flag, std::string& message) {
     case KIN_LINSOLV_NO_RECOVERY:
       message = "the Newton system could not be solved at a freshly factorised Jacobian";
       return SolveStatus::kSingular;
+    case KIN_STEP_LT_STPTOL:
+      message = "Newton could not move (a zero step) with the residual above its tolerance";
+      return SolveStatus::kStalled;
+    case KIN_FIRST_SYSFUNC_ERR:
+    case KIN_REPTD_SYSFUNC_ERR:
+    case KIN_SYSFUNC_FAIL:
+      message = "the residual could not be evaluated";
+      return SolveStatus::kFailed;
+    case KIN_MEM_FAIL: message = "out of memory in the Newton solver"; return SolveStatus::kFailed;
     default: {
       char* name = KINGetReturnFlagName(flag);
-      message = std::string("KINSOL: ") + (name ? name : "error");
+      message = std::string("the Newton solver stopped (KINSOL flag ") + (name ? name : "?") + ")";
       std::free(name);
       return SolveStatus::kFailed;
     }
@@ -184,7 +193,16 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
     name_evaluation_failure(flag, system, report);
     u = view(x);
     VecX r;
-    report.final_residual = system.residual(u, r) ? r.cwiseAbs().maxCoeff() : 0.0;
+    const bool evaluated = system.residual(u, r) && r.allFinite();
+    report.final_residual = evaluated ? r.cwiseAbs().maxCoeff() : 0.0;
+    // KINSOL's exits other than success (a zero step, a failed line search) may leave an
+    // iterate that meets the test: the state, not the flag, decides.
+    const double tolerance = o.residual_tolerance * std::max(o.residual_scale, 1e-300);
+    if (report.status != SolveStatus::kConverged && report.status != SolveStatus::kInvertedElement &&
+        evaluated && report.final_residual <= tolerance) {
+      report.status = SolveStatus::kConverged;
+      report.message.clear();
+    }
   } else {
     report.message = "could not allocate KINSOL objects";
   }
