@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/mesh_budget.hpp"
+#include "core/mesher.hpp"
 
 namespace c2d::core {
 
@@ -186,6 +187,7 @@ ShapeSpec parse_shape(const TomlView& v) {
         v["to_deg"].fail("to_deg in (from_deg, from_deg + 360]");
     }
   }
+  if (const auto defect = shape_defect(s)) v[defect->key].fail_message(defect->message);
   return s;
 }
 
