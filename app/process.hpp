@@ -11,6 +11,7 @@ struct ProcessOutcome {
   bool started = false;    ///< false: the program could not be started (see `error`)
   int exit_code = -1;      ///< the exit status, or 128 + the signal that ended it
   double peak_rss_mb = 0;  ///< the child's peak resident set (MiB)
+  bool timed_out = false;  ///< it outlived its ProcessLimit and was stopped
   std::string error;       ///< why it could not be started or waited for; empty otherwise
 };
 
@@ -20,13 +21,30 @@ struct ProcessPlace {
   std::string work_dir;  ///< empty: this process's working directory
 };
 
+/// How long a child may run. With `seconds` > 0 the child leads a process group of its own;
+/// when it is still running after `seconds`, the group is sent SIGTERM (a `contact2d run`
+/// writes its "interrupted" summary and ends), and `grace_seconds` later, or as soon as the
+/// child has ended, SIGKILL, so that nothing the child started outlives it.
+struct ProcessLimit {
+  double seconds = 0;  ///< 0: no limit (the child stays in this process's group)
+  double grace_seconds = 5;
+};
+
 /// Runs `program` (a path, or a name looked up on PATH) with `args` as argv[1..], stdin from
 /// `place.stdin_path` and stdout and stderr into `log_path`, in `place.work_dir`, and waits for it
 /// (a relative `log_path` or `stdin_path` is taken from this process's folder, a relative
 /// `program` path from `work_dir`). `env`
 /// entries ("NAME=value") are set in the child's environment on top of this process's.
+/// Thread-safe: study workers run one child each.
 ProcessOutcome run_process(const std::string& program, const std::vector<std::string>& args,
                            const std::string& log_path, const std::vector<std::string>& env = {},
-                           const ProcessPlace& place = {});
+                           const ProcessPlace& place = {}, const ProcessLimit& limit = {});
+
+/// A child with a time limit leads its own process group, which a terminal's Ctrl-C (sent to
+/// the terminal's foreground group) no longer reaches. After this call, SIGINT and SIGTERM sent
+/// to this process are passed on to the groups of the children running with a limit, and then
+/// end this process as they would have (default action). It sets this process's signal
+/// dispositions, so programs call it (the CLI's study verbs), never a library.
+void forward_interrupts_to_limited_children();
 
 }  // namespace c2d::app

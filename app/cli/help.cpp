@@ -87,6 +87,7 @@ const char* kTraceHelp =
 const char* kCompareHelp =
     "usage: contact2d compare SCENE [--methods a,b,...] [--levels N] [--jobs J]\n"
     "                        [--set key=value ...] [--out DIR] [--quiet] [--job-list]\n"
+    "                        [--case-timeout S]\n"
     "\nRuns every chosen contact method (default: all six) on the same scene, on N meshes:\n"
     "level 0 is the scene's, each further level halves every mesh size (analysis.mesh_scale).\n"
     "Each run is a `contact2d run` in DIR/levelK/METHOD; J of them at a time (J > 1: then\n"
@@ -103,6 +104,7 @@ const char* kCompareHelp =
 const char* kSweepHelp =
     "usage: contact2d sweep SCENE --set key=a:b:log:n [--method M] [--accuracy 0.01]\n"
     "                      [--jobs J] [--set key=value ...] [--out DIR] [--quiet] [--job-list]\n"
+    "                      [--case-timeout S]\n"
     "\nRuns SCENE once per value of one key (a:b:log:n, a:b:lin:n or v1,v2,...), e.g.\n"
     "  contact2d sweep examples/hertz_rigid.toml --method penalty \\\n"
     "      --set contact.penalty.k=1e3:1e13:log:11\n"
@@ -117,6 +119,7 @@ const char* kSweepHelp =
 
 const char* kBenchHelp =
     "usage: contact2d bench [--quick] [--out DIR] [--examples DIR] [--quiet] [--job-list]\n"
+    "                      [--case-timeout S]\n"
     "\n"
     "Runs a fixed ladder of the bundled scenes, one `contact2d run` process at a time, and\n"
     "reports speed and accuracy. Full ladder (run by hand; about 15 minutes on 2 cores): linear\n"
@@ -135,7 +138,7 @@ const char* kBenchHelp =
     "  accuracy_vs_time   pressure-profile error against time per method (PNG, SVG)\n"
     "  NN_<case>/         each run's own outputs (summary.json, ...)\n"
     "Assembly throughput is measured in process on structured grids. Timings are figures,\n"
-    "not pass/fail: the exit code is 1 only when a run crashed or a chart failed.\n"
+    "not pass/fail: the exit code is 1 only when a run crashed or timed out or a chart failed.\n"
     "@JOBLIST@";
 
 const char* kCalibrateHelp =
@@ -150,7 +153,16 @@ const char* kCalibrateHelp =
     "Writes calibrate.json and calibrate.md: fitted values with standard deviations from the\n"
     "covariance, residuals, and the solver's summary.\n";
 
-// Every study's help ends with this in place of @JOBLIST@.
+// Every study's help ends with this and the job list's paragraph in place of @JOBLIST@.
+const char* kCaseTimeoutHelp =
+    "  --case-timeout S  stop a case still running after S seconds (default 1800; 0: no\n"
+    "              limit): SIGTERM to its processes, SIGKILL 5 s later. Its row says\n"
+    "              `timeout`, the report lists it with the limit, the study goes on with the\n"
+    "              other cases and exits 1. The default is about 90 times the bench's longest\n"
+    "              case (a 1.2M-DOF Hertz run, about 20 s on 2 cores): room for a slower\n"
+    "              machine or a larger scene, and still an end to a case that never ends.\n"
+    "              In slurm.sh it becomes each task's --time; for parallel, add --timeout S.\n";
+
 const char* kJobListHelp =
     "Every study also writes DIR/jobs.txt, DIR/slurm.sh and DIR/study.json (below).\n"
     "  --job-list  write them and stop, instead of running the cases: jobs.txt holds one\n"
@@ -210,7 +222,7 @@ const char* run_help() {
 /// A study verb's text with the job-list paragraph in place of @JOBLIST@.
 std::string with_job_list(const char* text) {
   std::string t = text;
-  t.replace(t.find("@JOBLIST@"), 9, kJobListHelp);
+  t.replace(t.find("@JOBLIST@"), 9, std::string(kCaseTimeoutHelp) + kJobListHelp);
   return t;
 }
 

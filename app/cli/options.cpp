@@ -26,6 +26,20 @@ double parse_accuracy(const std::string& text) {
   return v;
 }
 
+/// --case-timeout: seconds, 0 for no limit; only the verbs that run cases take it.
+double parse_case_timeout(const Options& o, const std::string& text) {
+  if (o.verb != "compare" && o.verb != "sweep" && o.verb != "bench")
+    throw InputError("--case-timeout: unknown option for " + o.verb +
+                     " (compare, sweep and bench take it; see --help)");
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  // A year bounds it: the limit becomes a deadline on a steady clock.
+  if (text.empty() || *end != '\0' || !(v >= 0 && v <= 3.2e7))
+    throw InputError("--case-timeout: expected seconds from 0 (no limit) to 3.2e7, found '" + text +
+                     "'");
+  return v;
+}
+
 void append_list(std::vector<std::string>& to, const std::string& text) {
   for (auto& item : split_list(text)) to.push_back(std::move(item));
 }
@@ -44,7 +58,8 @@ struct ValueOption {
 const ValueOption kValueOptions[] = {
     {"--set", true,
      [](Options& o, const std::string&, const std::string& v) { o.sets.push_back(v); }},
-    {"--out", true, [](Options& o, const std::string&, const std::string& v) {
+    {"--out", true,
+     [](Options& o, const std::string&, const std::string& v) {
        if (v.empty()) throw InputError("--out: expected a folder name, found an empty string");
        o.out = v;
      }},
@@ -63,6 +78,10 @@ const ValueOption kValueOptions[] = {
      [](Options& o, const std::string& f, const std::string& v) { o.levels = parse_count(f, v); }},
     {"--jobs", true,
      [](Options& o, const std::string& f, const std::string& v) { o.jobs = parse_count(f, v); }},
+    {"--case-timeout", true,
+     [](Options& o, const std::string&, const std::string& v) {
+       o.case_timeout = parse_case_timeout(o, v);
+     }},
     {"--accuracy", false,
      [](Options& o, const std::string&, const std::string& v) { o.accuracy = parse_accuracy(v); }},
     {"--field", false,

@@ -29,6 +29,9 @@ struct Options {
   std::vector<std::string> adapt_sets;
   // compare, sweep, bench: write the cases as a job list instead of running them
   bool job_list = false;
+  // compare, sweep, bench: each case's time limit in seconds (0: none; negative: the studies'
+  // default, kDefaultCaseTimeout)
+  double case_timeout = -1;
   // bench
   bool quick = false;
   std::string examples;

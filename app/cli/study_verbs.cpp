@@ -1,6 +1,7 @@
 // The study verbs: compare, sweep, calibrate, bench and merge, each handing its options to
 // studies/.
 #include "app/cli/verbs.hpp"
+#include "app/process.hpp"
 #include "app/studies/bench.hpp"
 #include "app/studies/calibrate.hpp"
 #include "app/studies/compare.hpp"
@@ -23,6 +24,13 @@ void fill_study(const Options& o, StudyOptions& s) {
   s.job_list = o.job_list;
 }
 
+/// For the verbs that run cases: their time limit, and SIGINT and SIGTERM passed on to them (a
+/// case with a time limit leads its own process group, out of reach of the terminal's Ctrl-C).
+void limit_cases(const Options& o, double& case_timeout_s) {
+  if (o.case_timeout >= 0) case_timeout_s = o.case_timeout;
+  forward_interrupts_to_limited_children();
+}
+
 }  // namespace
 
 int cmd_compare(const Options& o) {
@@ -30,6 +38,7 @@ int cmd_compare(const Options& o) {
   fill_study(o, c);
   c.methods = split_list(o.methods);
   c.levels = o.levels;
+  limit_cases(o, c.case_timeout_s);
   return run_compare(c);
 }
 
@@ -37,6 +46,7 @@ int cmd_sweep(const Options& o) {
   SweepOptions w;
   fill_study(o, w);
   w.accuracy = o.accuracy;
+  limit_cases(o, w.case_timeout_s);
   return run_sweep(w);
 }
 
@@ -56,6 +66,7 @@ int cmd_bench(const Options& o) {
   b.examples = o.examples.empty() ? C2D_EXAMPLES_DIR : o.examples;
   b.quiet = o.quiet;
   b.job_list = o.job_list;
+  limit_cases(o, b.case_timeout_s);
   return run_bench(b);
 }
 

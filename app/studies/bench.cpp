@@ -283,6 +283,7 @@ void print_row(size_t finished, const std::vector<BenchRow>& rows, const BenchRo
 /// taken (and, merged, where), the cases and their rows (same order).
 struct BenchStudy {
   bool quick = false;
+  double case_timeout_s = 0;      ///< per run; 0: none
   std::string out, timing, runs;  ///< runs: "44 runs in 660 s" or what a merge knows
   std::vector<StudyCase> cases;
   std::vector<BenchRow> rows;
@@ -306,7 +307,7 @@ void repeat_short_contact_rungs(BenchStudy& s, bool quiet) {
   }
   if (!quiet && !again.empty())
     std::printf("bench: %zu short contact runs again, the fastest kept\n", again.size());
-  run_cases(again, s.out, 1, [&](size_t j, const CaseOutcome& outcome) {
+  run_cases(again, s.out, 1, s.case_timeout_s, [&](size_t j, const CaseOutcome& outcome) {
     BenchRow r;
     r.c = s.rows[row_of[j]].c;
     read_row(r, outcome);
@@ -343,7 +344,8 @@ std::string bench_md(const BenchStudy& s, const std::vector<size_t>& missing, co
                      const std::vector<ReportChart>& charts) {
   std::ostringstream md;
   md << "# " << bench_title(s) << "\n\n"
-     << bench_intro_md(s, b.date) << missing_cases_md(s.cases, missing) << "## Targets\n\n"
+     << bench_intro_md(s, b.date) << missing_cases_md(s.cases, missing)
+     << timed_out_cases_md(s.cases, figures_of(s.rows)) << "## Targets\n\n"
      << b.targets << "\n"
      << "## Ladder\n\n"
      << ladder_md(s.rows) << "\n"
@@ -368,8 +370,9 @@ HtmlReport bench_html(const BenchStudy& s, const std::vector<size_t>& missing, c
           b.date,
           bench_intro_md(s, b.date),
           b.targets,
-          missing_cases_md(s.cases, missing) + "## Study times against --jobs\n\n" + b.jobs +
-              "\n## Cost against size\n\n" + b.slopes,
+          missing_cases_md(s.cases, missing) + timed_out_cases_md(s.cases, figures_of(s.rows)) +
+              "## Study times against --jobs\n\n" + b.jobs + "\n## Cost against size\n\n" +
+              b.slopes,
           "bench.csv",
           csv,
           charts};
@@ -386,7 +389,7 @@ void write_bench_files(const BenchStudy& s) {
                     {"mesh_scale", r.c.mesh_scale},
                     {"nominal", r.c.nominal},
                     {"sets", r.c.sets}});
-  write_study_files(s.out, "bench", {{"quick", s.quick}}, s.cases, keys);
+  write_study_files(s.out, "bench", {{"quick", s.quick}}, s.cases, keys, s.case_timeout_s);
 }
 
 BenchStudy bench_from_manifest(const StudyManifest& m) {
@@ -407,8 +410,9 @@ BenchStudy bench_from_manifest(const StudyManifest& m) {
 }
 
 /// The assembly throughput (measured here, now), bench.md and the charts from the finished
-/// rows, listing the `missing` cases; the targets on the terminal unless quiet. Returns 1 when a
-/// case crashed or is missing or a chart failed, else 0.
+/// rows, listing the `missing` cases and those that timed out; the targets on the terminal
+/// unless quiet. Returns 1 when a case crashed, timed out or is missing or a chart failed,
+/// else 0.
 int report_bench(BenchStudy& s, const std::vector<size_t>& missing, const JobsComparison& jobs,
                  bool quiet) {
   fill_overheads(s.rows);
@@ -428,16 +432,16 @@ int report_bench(BenchStudy& s, const std::vector<size_t>& missing, const JobsCo
                       "not drawn after the failure of an earlier chart"});
   core::write_file_atomic(s.out + "/bench.md", bench_md(s, missing, text, charts));
   write_html_report(s.out, "bench.html", bench_html(s, missing, text, csv, charts));
-  bool crashed = false;
-  for (const auto& r : s.rows) crashed = crashed || r.crashed();
   if (!quiet) {
     std::cout << "\n"
-              << missing_cases_text(s.cases, missing) << text.targets << "\nwrote " << s.out
+              << missing_cases_text(s.cases, missing)
+              << timed_out_cases_text(s.cases, figures_of(s.rows)) << text.targets << "\nwrote "
+              << s.out
               << "/bench.csv, bench.md, bench.html, time_vs_dofs and accuracy_vs_time "
                  "(.png/.svg)\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }
-  return crashed || !missing.empty() || !chart_error.empty() ? 1 : 0;
+  return any_case_failed(figures_of(s.rows)) || !missing.empty() || !chart_error.empty() ? 1 : 0;
 }
 
 }  // namespace
@@ -445,6 +449,7 @@ int report_bench(BenchStudy& s, const std::vector<size_t>& missing, const JobsCo
 int run_bench(const BenchOptions& o) {
   BenchStudy s;
   s.quick = o.quick;
+  s.case_timeout_s = o.case_timeout_s;
   s.out = o.out.empty() ? "out/bench" : o.out;
   s.timing = "The Hertz rungs below 1M DOFs ran three times, each row the fastest (least solve "
              "time). " + timing_note(1);
@@ -461,13 +466,13 @@ int run_bench(const BenchOptions& o) {
   if (o.job_list) refuse_existing_cases(s.out, s.cases);
   write_bench_files(s);
   if (o.job_list) {
-    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size());
+    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size(), o.case_timeout_s);
     return 0;
   }
   const core::Stopwatch clock;
   // One case at a time: timings of concurrent runs would measure each other.
   size_t finished = 0;
-  run_cases(s.cases, s.out, 1, [&](size_t i, const CaseOutcome& outcome) {
+  run_cases(s.cases, s.out, 1, s.case_timeout_s, [&](size_t i, const CaseOutcome& outcome) {
     read_row(s.rows[i], outcome);
     ++finished;
     if (!o.quiet) print_row(finished, s.rows, s.rows[i]);
@@ -478,7 +483,7 @@ int run_bench(const BenchOptions& o) {
   s.runs = std::to_string(s.rows.size()) + " runs in " + rounded(clock.elapsed()) + " s";
   if (!o.quiet) std::printf("bench: compare with --jobs 1 and --jobs 2\n");
   const JobsComparison jobs = compare_jobs(fs::absolute(o.examples).lexically_normal().string(),
-                                           s.out, o.quick);
+                                           s.out, o.quick, s.case_timeout_s);
   return report_bench(s, {}, jobs, o.quiet);
 }
 

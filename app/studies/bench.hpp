@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "app/studies/study.hpp"
+
 namespace c2d::app {
 
 struct BenchOptions {
@@ -17,6 +19,7 @@ struct BenchOptions {
   std::string examples;  ///< folder of the bundled scenes (default: the source tree's)
   bool quiet = false;
   bool job_list = false;  ///< write the ladder as a job list (job_list.hpp) instead of running it
+  double case_timeout_s = kDefaultCaseTimeout;  ///< per run; 0: none
 };
 
 /// One `contact2d run` of the ladder.
@@ -39,7 +42,8 @@ extern const char* const kBenchCsvHeader;
 
 /// Writes the ladder's job list and manifest (job_list.hpp), then, unless o.job_list, runs it;
 /// returns 0 when every case ran and the files were written (a case that did not converge is a
-/// row with its status, not a failure of the benchmark), 1 otherwise.
+/// row with its status, not a failure of the benchmark), 1 otherwise (a case crashed or was
+/// stopped at o.case_timeout_s, or a chart failed).
 int run_bench(const BenchOptions& o);
 
 struct StudyManifest;

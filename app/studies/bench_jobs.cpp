@@ -43,7 +43,8 @@ std::vector<double> solve_times(const std::string& csv_path, std::vector<std::st
 
 }  // namespace
 
-JobsComparison compare_jobs(const std::string& examples, const std::string& out, bool quick) {
+JobsComparison compare_jobs(const std::string& examples, const std::string& out, bool quick,
+                            double case_timeout_s) {
   JobsComparison c;
   if (quick) {
     c.error = "not run by --quick (on its scenes a solve lasts milliseconds, below the noise)";
@@ -56,9 +57,19 @@ JobsComparison compare_jobs(const std::string& examples, const std::string& out,
     for (int jobs : {1, 2}) {
       const std::string dir = out + "/jobs_" + std::to_string(jobs) + "_" + std::to_string(rep);
       fs::remove_all(dir);
-      const std::vector<std::string> args{"compare", examples + "/" + c.scene, "--methods",
-                                          c.methods, "--levels", "1", "--jobs",
-                                          std::to_string(jobs), "--quiet", "--out", dir};
+      const std::vector<std::string> args{"compare",
+                                          examples + "/" + c.scene,
+                                          "--methods",
+                                          c.methods,
+                                          "--levels",
+                                          "1",
+                                          "--jobs",
+                                          std::to_string(jobs),
+                                          "--quiet",
+                                          "--out",
+                                          dir,
+                                          "--case-timeout",
+                                          csv_number(case_timeout_s)};
       const ProcessOutcome p = run_process(exe, args, out + "/jobs_compare.log");
       if (!p.started || p.exit_code != 0) {
         c.error = "compare --jobs " + std::to_string(jobs) + " ended with " +

@@ -23,8 +23,10 @@ struct JobsComparison {
 };
 
 /// Runs `contact2d compare hertz_rigid.toml --methods ... --levels 1 --jobs J` for J = 1, 2
-/// into out/jobs_J_R (R = repeat), each as its own process; not for `quick`.
-JobsComparison compare_jobs(const std::string& examples, const std::string& out, bool quick);
+/// into out/jobs_J_R (R = repeat), each as its own process whose cases have the bench's
+/// per-case limit `case_timeout_s` (0: none); not for `quick`.
+JobsComparison compare_jobs(const std::string& examples, const std::string& out, bool quick,
+                            double case_timeout_s);
 
 /// The table: method, fastest solve with --jobs 1 and --jobs 2, their difference, the spread.
 std::string jobs_md(const JobsComparison& c);

@@ -51,6 +51,7 @@ CompareStudy plan_compare(const CompareOptions& o) {
     throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
   s.out = study_out(o, "compare");
   s.timing = timing_note(o.jobs);
+  s.case_timeout_s = o.case_timeout_s;
   s.hertz = hertz_reference(scene);
   s.units = scene.units;
   // A frictional Hertz case (Cattaneo–Mindlin) is judged on its shear profile, which depends
@@ -91,7 +92,7 @@ void write_compare_files(const CompareStudy& s) {
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows)
     keys.push_back({{"level", r.level}, {"method", r.method}, {"mesh_scale", r.mesh_scale}});
-  write_study_files(s.out, "compare", options, s.cases, keys);
+  write_study_files(s.out, "compare", options, s.cases, keys, s.case_timeout_s);
 }
 
 CompareStudy compare_from_manifest(const StudyManifest& m) {
@@ -128,7 +129,7 @@ int run_compare(const CompareOptions& o) {
   if (o.job_list) refuse_existing_cases(s.out, s.cases);
   write_compare_files(s);
   if (o.job_list) {
-    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size());
+    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size(), o.case_timeout_s);
     return 0;
   }
   if (!o.quiet)
@@ -136,20 +137,21 @@ int run_compare(const CompareOptions& o) {
               << " levels = " << s.cases.size() << " runs, " << o.jobs << " at a time -> " << s.out
               << "\n";
   size_t finished = 0;
-  run_cases(s.cases, s.out, o.jobs, [&](size_t i, const CaseOutcome& c) {
+  run_cases(s.cases, s.out, o.jobs, o.case_timeout_s, [&](size_t i, const CaseOutcome& c) {
     CompareRow& r = s.rows[i];
     read_row(r, c, s.out + "/" + s.cases[i].folder, s.hertz);
     ++finished;
     core::write_file_atomic(s.out + "/compare.csv", compare_csv(s.rows));
     if (!o.quiet)
       std::cout << "[" << finished << "/" << s.cases.size() << "] level " << r.level << " "
-                << std::left << std::setw(17) << r.method << std::right << r.status << ", "
-                << cell(r.dofs) << " DOFs, solve " << seconds_text(r.t_solve)
+                << std::left << std::setw(17) << r.method << std::right << r.status
+                << (r.timed_out() ? " after " + seconds_text(r.wall)
+                                  : ", " + cell(r.dofs) + " DOFs, solve " + seconds_text(r.t_solve))
                 << (std::isfinite(r.err_profile) ? ", profile error " + percent_text(r.err_profile)
                                                  : std::string())
                 << std::endl;
   });
-  retime_cases(s.cases, s.out, o.jobs, o.quiet,
+  retime_cases(s.cases, s.out, o.jobs, o.case_timeout_s, timed_out_rows(s.rows), o.quiet,
                [&](size_t i, const RunFigures& f) { take_times(s.rows[i], f); });
   return report_compare(s, {}, o.quiet);
 }

@@ -19,8 +19,8 @@ struct CompareOptions : StudyOptions {
 /// `contact2d compare`: writes the study's job list and manifest (job_list.hpp), then, unless
 /// o.job_list, runs the cases and writes compare.csv, compare.md (verdict first), orders.csv and
 /// the accuracy_time, pressure_profiles and penetration charts. Returns the exit code (0 when
-/// every case ran, converged or not, or the job list was written; 1 when a case crashed or a
-/// chart failed).
+/// every case ran, converged or not, or the job list was written; 1 when a case crashed, timed
+/// out (o.case_timeout_s) or a chart failed).
 int run_compare(const CompareOptions& o);
 
 /// `contact2d merge` of a compare study: the same report from the case folders that have

@@ -203,8 +203,8 @@ std::string compare_md(const CompareStudy& s, const std::vector<size_t>& missing
   std::ostringstream os;
   os << "# " << compare_title(s) << "\n\n"
      << verdict(rows, s.methods, s.metric) << "\n\n"
-     << missing_cases_md(s.cases, missing) << orders_md(rows, s.methods, s.metric) << times_note(s)
-     << kFitNote;
+     << missing_cases_md(s.cases, missing) << timed_out_cases_md(s.cases, figures_of(rows))
+     << orders_md(rows, s.methods, s.metric) << times_note(s) << kFitNote;
   os << "| level | method | DOFs | status | iterations | solve | total | p_max | contact length | "
         "total force | max penetration | p_max error | length error | profile L2 error | "
         "fitted p0 | fitted b | fitted b error |\n"
@@ -230,8 +230,9 @@ HtmlReport compare_html(const CompareStudy& s, const std::vector<size_t>& missin
   h.title = compare_title(s);
   h.intro_md = times_note(s);
   h.verdict_md = verdict(s.rows, s.methods, s.metric);
-  h.notes_md = missing_cases_md(s.cases, missing) + orders_md(s.rows, s.methods, s.metric) +
-               (s.hertz ? kFitNote : "");
+  h.notes_md = missing_cases_md(s.cases, missing) +
+               timed_out_cases_md(s.cases, figures_of(s.rows)) +
+               orders_md(s.rows, s.methods, s.metric) + (s.hertz ? kFitNote : "");
   h.csv_name = "compare.csv";
   h.csv = compare_csv(s.rows);
   h.charts = charts;
@@ -415,15 +416,15 @@ int report_compare(const CompareStudy& s, const std::vector<size_t>& missing, bo
       if (c.written()) drawn += ", " + c.stem;
     std::cout << "\n"
               << verdict(s.rows, s.methods, s.metric) << "\n\n"
-              << missing_cases_text(s.cases, missing) << orders_md(s.rows, s.methods, s.metric)
-              << "wrote " << s.out << "/compare.csv, compare.md, compare.html"
+              << missing_cases_text(s.cases, missing)
+              << timed_out_cases_text(s.cases, figures_of(s.rows))
+              << orders_md(s.rows, s.methods, s.metric) << "wrote " << s.out
+              << "/compare.csv, compare.md, compare.html"
               << (s.metric.empty() ? "" : ", orders.csv")
               << (drawn.empty() ? "" : drawn + " (.png/.svg)") << "\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }
-  bool crashed = false;
-  for (const auto& r : s.rows) crashed = crashed || r.crashed();
-  return crashed || !missing.empty() || !chart_error.empty() ? 1 : 0;
+  return any_case_failed(figures_of(s.rows)) || !missing.empty() || !chart_error.empty() ? 1 : 0;
 }
 
 }  // namespace c2d::app

@@ -37,6 +37,7 @@ struct CompareStudy {
   std::string units;   ///< the scene's `units` (axis labels)
   std::string out;
   std::string timing;  ///< timing_note() or merged_timing_note()
+  double case_timeout_s = 0;  ///< the per-case limit (for the job list; 0: none)
   std::vector<StudyCase> cases;
   std::vector<CompareRow> rows;
 };
@@ -50,8 +51,8 @@ bool read_row(CompareRow& r, const CaseOutcome& c, const std::string& dir,
               const std::optional<HertzReference>& hertz);
 
 /// Writes compare.csv, compare.md, orders.csv and the charts from the finished rows, listing
-/// the `missing` cases; prints the verdict unless quiet. Returns the exit code: 1 when a case
-/// crashed or is missing or a chart failed, else 0.
+/// the `missing` and the timed-out cases; prints the verdict unless quiet. Returns the exit
+/// code: 1 when a case crashed, timed out or is missing or a chart failed, else 0.
 int report_compare(const CompareStudy& s, const std::vector<size_t>& missing, bool quiet);
 
 }  // namespace c2d::app

@@ -1,5 +1,7 @@
 #include "app/studies/job_list.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -15,8 +17,20 @@ namespace {
 
 constexpr const char* kManifestFormat = "contact2d study 1";
 
+/// Slurm's --time for a task that runs one case within `seconds`: whole minutes (Slurm's unit),
+/// one more for the start-up; "" for no limit.
+std::string slurm_time(double seconds) {
+  if (!(seconds > 0)) return "";
+  const long minutes = static_cast<long>(std::ceil(seconds / 60.0)) + 1;
+  char text[32];
+  std::snprintf(text, sizeof text, "%ld-%02ld:%02ld:00", minutes / 1440, minutes / 60 % 24,
+                minutes % 60);
+  return text;
+}
+
 /// slurm.sh: an array job whose task K runs line K of jobs.txt from the study folder.
-std::string slurm_script(const std::string& verb, size_t cases) {
+std::string slurm_script(const std::string& verb, size_t cases, double case_timeout_s) {
+  const std::string time = slurm_time(case_timeout_s);
   std::ostringstream sh;
   sh << "#!/bin/bash\n"
      << "# Slurm array job of a contact2d " << verb << " study: task K runs line K of jobs.txt\n"
@@ -24,13 +38,20 @@ std::string slurm_script(const std::string& verb, size_t cases) {
      << "# Submit from this folder (jobs.txt and the case folders are relative to it):\n"
      << "#   cd STUDY_FOLDER && sbatch slurm.sh\n"
      << "# Adapt to your cluster by adding lines such as\n"
-     << "#   #SBATCH --partition=NAME   #SBATCH --time=01:00:00   #SBATCH --mem=4G\n"
+     << "#   #SBATCH --partition=NAME   #SBATCH --mem=4G\n"
      << "# and, for K threads per case (BLAS, OpenMP), #SBATCH --cpus-per-task=K.\n"
+     << (time.empty() ? "# The study set no per-case time limit (--case-timeout 0).\n"
+                      : "# --time: the study's per-case limit (--case-timeout " +
+                            csv_number(case_timeout_s) +
+                            " s) and a minute to start;\n"
+                            "# Slurm ends a task over it with SIGTERM, then SIGKILL (its\n"
+                            "# summary.json then says \"interrupted\").\n")
      << "# Rerun chosen cases with sbatch --array=2,5 slurm.sh (the jobs.txt lines that\n"
      << "# `contact2d merge` lists as missing). When the tasks have finished:\n"
      << "#   contact2d merge STUDY_FOLDER\n"
      << "#SBATCH --job-name=c2d-" << verb << "\n"
      << "#SBATCH --array=1-" << cases << "\n"
+     << (time.empty() ? "" : "#SBATCH --time=" + time + "\n")
      << "#SBATCH --output=slurm-%A_%a.out\n"
      << "set -euo pipefail\n"
      << "if [ ! -f jobs.txt ]; then\n"
@@ -74,7 +95,7 @@ std::string job_line(const std::string& exe, const StudyCase& c) {
 
 void write_study_files(const std::string& dir, const std::string& verb,
                        const nlohmann::json& options, const std::vector<StudyCase>& cases,
-                       const std::vector<nlohmann::json>& case_keys) {
+                       const std::vector<nlohmann::json>& case_keys, double case_timeout_s) {
   const std::string exe = this_executable();
   std::string jobs;
   nlohmann::json entries = nlohmann::json::array();
@@ -89,9 +110,10 @@ void write_study_files(const std::string& dir, const std::string& verb,
                                    {"verb", verb},
                                    {"executable", exe},
                                    {"options", options},
+                                   {"case_timeout_s", case_timeout_s},
                                    {"cases", entries}};
   core::write_file_atomic(dir + "/jobs.txt", jobs);
-  core::write_file_atomic(dir + "/slurm.sh", slurm_script(verb, cases.size()));
+  core::write_file_atomic(dir + "/slurm.sh", slurm_script(verb, cases.size(), case_timeout_s));
   fs::permissions(dir + "/slurm.sh", fs::perms::owner_exec | fs::perms::group_exec,
                   fs::perm_options::add);
   core::write_file_atomic(dir + "/study.json", manifest.dump(2) + "\n");
@@ -106,12 +128,14 @@ void refuse_existing_cases(const std::string& dir, const std::vector<StudyCase>&
                        "--out, or remove it)");
 }
 
-std::string job_list_note(const std::string& dir, size_t cases) {
+std::string job_list_note(const std::string& dir, size_t cases, double case_timeout_s) {
   const std::string d = shell_quote(dir);
   std::ostringstream os;
   os << "job list   " << cases << " cases, one `contact2d run` per line of " << dir
      << "/jobs.txt (run from that folder); also slurm.sh and study.json\n"
-     << "run them   cd " << d << " && parallel -j 2 < jobs.txt    (or: sbatch slurm.sh)\n"
+     << "run them   cd " << d << " && parallel -j 2"
+     << (case_timeout_s > 0 ? " --timeout " + csv_number(case_timeout_s) : std::string())
+     << " < jobs.txt    (or: sbatch slurm.sh)\n"
      << "then       contact2d merge " << d << "\n";
   return os.str();
 }

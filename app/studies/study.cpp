@@ -17,6 +17,7 @@
 #include "app/output_folder.hpp"
 #include "app/process.hpp"
 #include "app/report/json_file.hpp"
+#include "core/writers.hpp"
 
 namespace fs = std::filesystem;
 
@@ -24,15 +25,41 @@ namespace c2d::app {
 
 namespace {
 
+/// The summary.json a case stopped at the time limit left in `dir` (a `contact2d run` ended by
+/// SIGTERM writes status "interrupted") says "timeout" and the limit instead, so that a merge
+/// of the study reports what the study did. A summary older than the case (an earlier run's,
+/// when SIGKILL left the folder as it was) or of another status is left alone.
+void mark_timed_out(const std::string& dir, double limit_s, fs::file_time_type started) {
+  const std::string path = dir + "/summary.json";
+  std::error_code ec;
+  const fs::file_time_type written = fs::last_write_time(path, ec);
+  // File times come from a coarser clock than now(): a second's margin.
+  if (ec || written < started - std::chrono::seconds(1)) return;
+  JsonFileRead r = try_read_json_file(path);
+  if (!r.ok() || !r.value.is_object() || r.value.value("status", nlohmann::json()) != "interrupted")
+    return;
+  r.value["status"] = "timeout";
+  r.value["message"] = "stopped by the study after " + csv_number(limit_s) +
+                       " s, its per-case time limit (--case-timeout); the files are those "
+                       "written until then";
+  r.value["time_limit_s"] = limit_s;
+  core::write_file_atomic(path, r.value.dump(2) + "\n");
+}
+
 CaseOutcome run_one(const std::string& exe, const StudyCase& c, const std::string& study_dir,
-                    const std::vector<std::string>& env) {
+                    const std::vector<std::string>& env, double limit_s) {
   const std::string dir = study_dir + "/" + c.folder;
   fs::create_directories(dir);
+  const fs::file_time_type started = fs::file_time_type::clock::now();
   const auto t0 = std::chrono::steady_clock::now();
-  const ProcessOutcome run = run_process(exe, run_arguments(c, dir), dir + "/stdout.log", env);
+  const ProcessOutcome run = run_process(exe, run_arguments(c, dir), dir + "/stdout.log", env, {},
+                                         {limit_s, kCaseKillGrace});
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (run.timed_out) mark_timed_out(dir, limit_s, started);
   CaseOutcome out = read_case_folder(dir);
   out.exit_code = run.started ? run.exit_code : -1;
+  out.timed_out = run.timed_out;
+  if (run.timed_out) out.time_limit_s = limit_s;
   out.wall_seconds = wall;
   if (run.started) out.peak_rss_mb = run.peak_rss_mb;
   return out;
@@ -47,6 +74,11 @@ std::vector<std::string> case_environment(int jobs) {
   return env;
 }
 
+/// A time limit for the reports: "1800 s", or "unknown" (a merged case without one).
+std::string limit_text(double seconds) {
+  return std::isfinite(seconds) ? csv_number(seconds) + " s" : "unknown";
+}
+
 /// The values of a case's summary.json that the studies read as numbers (or null, which a run
 /// writes for a figure it has not got), by key path, separated by spaces.
 constexpr const char* kSummaryNumbers =
@@ -59,7 +91,7 @@ constexpr const char* kSummaryNumbers =
     "reference.relative_error.shear_profile_l2 reference.relative_error.pressure_profile_l2 "
     "reference.relative_error.tip_uy reference.relative_error.a_uy process.wall_s "
     "process.peak_rss_mb solver.numeric_factorizations solver.symbolic_analyses solver.symbolic_s "
-    "solver.numeric_s solver.triangular_solve_s";
+    "solver.numeric_s solver.triangular_solve_s time_limit_s";
 
 /// Why the value at the dotted `path` of `s` is not a number, null or absent ("" when it is);
 /// a section on the way must be an object (or null).
@@ -170,6 +202,42 @@ std::string missing_cases_text(const std::vector<StudyCase>& cases,
   return os.str();
 }
 
+std::string timed_out_cases_md(const std::vector<StudyCase>& cases,
+                               const std::vector<const RunFigures*>& rows) {
+  std::ostringstream table;
+  size_t n = 0;
+  for (size_t i = 0; i < cases.size() && i < rows.size(); ++i)
+    if (rows[i]->timed_out())
+      ++n, table << "| " << cases[i].folder << " | " << limit_text(rows[i]->time_limit_s) << " | "
+                 << i + 1 << " |\n";
+  if (n == 0) return "";
+  return "## Timed out\n\n" + std::to_string(n) + " of " + std::to_string(cases.size()) +
+         " cases did not finish within the per-case time limit (--case-timeout) and were "
+         "stopped: SIGTERM to the case's processes, SIGKILL " +
+         seconds_text(kCaseKillGrace) +
+         " later if any were left. Their rows say `timeout`; the study went on with the "
+         "others. A case folder holds what its run wrote until then.\n\n"
+         "| case folder | limit | jobs.txt line |\n|---|---|---|\n" +
+         table.str() + "\n";
+}
+
+std::string timed_out_cases_text(const std::vector<StudyCase>& cases,
+                                 const std::vector<const RunFigures*>& rows) {
+  std::ostringstream os;
+  for (size_t i = 0; i < cases.size() && i < rows.size(); ++i)
+    if (rows[i]->timed_out())
+      os << "timeout    " << cases[i].folder << " stopped at the per-case limit of "
+         << limit_text(rows[i]->time_limit_s) << " (--case-timeout; jobs.txt line " << i + 1
+         << ")\n";
+  return os.str().empty() ? "" : os.str() + "\n";
+}
+
+bool any_case_failed(const std::vector<const RunFigures*>& rows) {
+  for (const RunFigures* r : rows)
+    if (r->crashed() || r->timed_out()) return true;
+  return false;
+}
+
 int threads_per_case(int jobs) {
   const int cores = std::max(1u, std::thread::hardware_concurrency());
   return std::max(1, cores / std::max(1, jobs));
@@ -201,6 +269,7 @@ std::string merged_timing_note() {
 }
 
 void run_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
+               double case_timeout_s,
                const std::function<void(size_t, const CaseOutcome&)>& on_done) {
   const std::string exe = this_executable();
   const std::vector<std::string> env = case_environment(
@@ -211,7 +280,7 @@ void run_cases(const std::vector<StudyCase>& cases, const std::string& study_dir
   auto worker = [&] {
     try {
       for (size_t i = next++; i < cases.size(); i = next++) {
-        const CaseOutcome outcome = run_one(exe, cases[i], study_dir, env);
+        const CaseOutcome outcome = run_one(exe, cases[i], study_dir, env, case_timeout_s);
         std::lock_guard<std::mutex> lock(done_mutex);
         if (first_error) return;
         on_done(i, outcome);
@@ -231,23 +300,33 @@ void run_cases(const std::vector<StudyCase>& cases, const std::string& study_dir
 }
 
 void retime_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
-                  bool quiet, const std::function<void(size_t, const RunFigures&)>& take) {
+                  double case_timeout_s, const std::vector<size_t>& skip, bool quiet,
+                  const std::function<void(size_t, const RunFigures&)>& take) {
   if (jobs <= 1 || cases.empty()) return;
-  std::vector<StudyCase> timing = cases;
-  for (auto& c : timing) {
+  std::vector<StudyCase> timing;
+  std::vector<size_t> case_of;  // timing[k] times cases[case_of[k]]
+  for (size_t i = 0; i < cases.size(); ++i) {
+    if (std::find(skip.begin(), skip.end(), i) != skip.end()) continue;
+    StudyCase c = cases[i];
     c.folder = "timing/" + c.folder;
     c.args.insert(c.args.end(),
                   {"--set", "output.charts=false", "--set", "output.fields=false"});
+    timing.push_back(c);
+    case_of.push_back(i);
   }
+  if (timing.empty()) return;
   if (!quiet) std::cout << "timing     each case again, alone (times independent of --jobs)\n";
   size_t done = 0;
-  run_cases(timing, study_dir, 1, [&](size_t i, const CaseOutcome& c) {
+  run_cases(timing, study_dir, 1, case_timeout_s, [&](size_t k, const CaseOutcome& c) {
     RunFigures f;
     f.read(c);
-    take(i, f);
+    take(case_of[k], f);
     if (!quiet)
-      std::cout << "[" << ++done << "/" << timing.size() << "] timed " << cases[i].folder
-                << ", solve " << csv_number(f.t_solve, 3) << " s" << std::endl;
+      std::cout << "[" << ++done << "/" << timing.size() << "] timed " << cases[case_of[k]].folder
+                << (f.timed_out() ? ": timed out at " + limit_text(case_timeout_s) +
+                                        "; the first run's times are kept"
+                                  : ", solve " + csv_number(f.t_solve, 3) + " s")
+                << std::endl;
   });
   fs::remove_all(study_dir + "/timing");
 }
@@ -295,6 +374,11 @@ bool RunFigures::read(const CaseOutcome& c) {
     if (!std::isfinite(wall)) wall = json_number(c.summary, {"process", "wall_s"});
     if (!std::isfinite(peak_rss_mb)) peak_rss_mb = json_number(c.summary, {"process", "peak_rss_mb"});
   }
+  if (c.timed_out) {  // whatever the stopped run left (an "interrupted" summary or nothing)
+    status = "timeout";
+    time_limit_s = c.time_limit_s;
+    return false;
+  }
   if (!c.malformed.empty()) {
     status = "malformed summary.json: " + c.malformed;
     return false;
@@ -307,6 +391,7 @@ bool RunFigures::read(const CaseOutcome& c) {
   const auto& s = c.summary;
   const auto found = s.find("status");
   status = found != s.end() && found->is_string() ? found->get<std::string>() : "unknown";
+  time_limit_s = json_number(s, {"time_limit_s"});  // a case the study stopped (mark_timed_out)
   dofs = json_number(s, {"mesh", "dofs"});
   iterations = json_number(s, {"contact", "iterations"});
   newton = json_number(s, {"newton_iterations"});

@@ -6,6 +6,8 @@
 // A study is three steps that every path shares: plan the cases (and write them as a job list,
 // job_list.hpp), run them (here, or with --job-list by any scheduler), and report from the
 // case folders that hold a summary.json (at the end of a run, or by `contact2d merge`).
+// A case runs for at most --case-timeout seconds: one that never ends is stopped with its row
+// `timeout`, and the study goes on with the others.
 #pragma once
 
 #include <cmath>
@@ -28,8 +30,18 @@ std::vector<std::string> run_arguments(const StudyCase& c, const std::string& ou
 /// This program's absolute path (what the cases run).
 std::string this_executable();
 
+/// The default per-case time limit (--case-timeout), in seconds: 30 minutes, 90 times the
+/// bench's longest case (a 1.2M-DOF Hertz run, 17 to 20 s scene to summary on 2 cores), so that
+/// a slow machine or a larger scene is not cut short, and a case that never ends still ends.
+constexpr double kDefaultCaseTimeout = 1800;
+/// After SIGTERM, how long a case's process group has before SIGKILL (a `contact2d run` needs
+/// milliseconds to write its "interrupted" summary and end).
+constexpr double kCaseKillGrace = 5;
+
 struct CaseOutcome {
   int exit_code = -1;
+  bool timed_out = false;              ///< stopped at the study's time limit (this program ran it)
+  double time_limit_s = std::nan("");  ///< that limit
   bool has_summary = false;
   nlohmann::json summary;  ///< the case's summary.json (null when none was written)
   std::string malformed;   ///< why its summary.json could not be read ("" when read or absent)
@@ -72,8 +84,13 @@ std::string merged_timing_note();
 
 /// Runs the cases into their folders under `study_dir` with at most `jobs` concurrent processes
 /// of this executable (each with threads_per_case(jobs) threads unless the environment sets
-/// them); `on_done` is called once per case as it finishes, never concurrently.
+/// them); `on_done` is called once per case as it finishes, never concurrently. A case still
+/// running after `case_timeout_s` seconds (0: no limit) is stopped (ProcessLimit: SIGTERM to
+/// its process group, SIGKILL kCaseKillGrace later) and its outcome says timed_out; the
+/// "interrupted" summary.json such a run leaves gets status "timeout" and the limit
+/// (time_limit_s), so that a later merge reports it as the study did.
 void run_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
+               double case_timeout_s,
                const std::function<void(size_t, const CaseOutcome&)>& on_done);
 
 /// What every study reads from a case's summary.json.
@@ -95,9 +112,12 @@ struct RunFigures {
 
   double peak_rss_mb = std::nan("");
   bool has_summary = false;
+  double time_limit_s = std::nan("");  ///< the limit a timed-out case was stopped at
   bool converged() const { return status == "converged"; }
-  /// Ran, but left no summary.json (the process died).
-  bool crashed() const { return done && !has_summary; }
+  /// Stopped at the study's per-case time limit.
+  bool timed_out() const { return done && status == "timeout"; }
+  /// Ran, but left no summary.json (the process died, not at the time limit).
+  bool crashed() const { return done && !has_summary && !timed_out(); }
 
   /// Fills the figures from a finished case; false when it left no summary (a crash) or a
   /// malformed one (the status says "malformed summary.json: " and why).
@@ -111,11 +131,43 @@ struct RunFigures {
 /// study_dir/timing/ (removed after), and `take(i, figures)` receives that run's figures. Cases
 /// side by side measure each other (on 2 cores compare's solve times differed by up to 29 %
 /// between --jobs 1 and 2); alone, every case is timed as --jobs 1 times it. No-op for jobs 1.
+/// Each timing run has the same limit, `case_timeout_s`; the cases in `skip` (those that timed
+/// out the first time, which would only take the limit again) are not run.
 void retime_cases(const std::vector<StudyCase>& cases, const std::string& study_dir, int jobs,
-                  bool quiet, const std::function<void(size_t, const RunFigures&)>& take);
+                  double case_timeout_s, const std::vector<size_t>& skip, bool quiet,
+                  const std::function<void(size_t, const RunFigures&)>& take);
 /// Replaces the times of `row` (mesh, assemble, solve, total, process wall) by those of a timing
 /// run, when that run left a summary.
 void take_times(RunFigures& row, const RunFigures& timed);
+
+/// The indices of the rows that timed out.
+template <class Row>
+std::vector<size_t> timed_out_rows(const std::vector<Row>& rows) {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < rows.size(); ++i)
+    if (rows[i].timed_out()) out.push_back(i);
+  return out;
+}
+
+/// The rows of a study as their figures, in the order of its cases.
+template <class Row>
+std::vector<const RunFigures*> figures_of(const std::vector<Row>& rows) {
+  std::vector<const RunFigures*> out;
+  for (const auto& r : rows) out.push_back(&r);
+  return out;
+}
+
+/// The cases stopped at the per-case time limit, for a study's markdown report ("" when none):
+/// a section saying what happened to them, with each case's folder, its limit and its line in
+/// jobs.txt. `rows[i]` is the row of `cases[i]`.
+std::string timed_out_cases_md(const std::vector<StudyCase>& cases,
+                               const std::vector<const RunFigures*>& rows);
+/// The same for the terminal ("" when none): a line per case.
+std::string timed_out_cases_text(const std::vector<StudyCase>& cases,
+                                 const std::vector<const RunFigures*>& rows);
+/// Whether a case crashed or timed out: what makes a study's exit code 1 (a case that ran and
+/// did not converge is a row with its status, not a failure of the study).
+bool any_case_failed(const std::vector<const RunFigures*>& rows);
 
 /// A number as a CSV cell with `digits` significant digits; empty when not finite.
 std::string csv_number(double v, int digits = 8);
@@ -132,6 +184,7 @@ struct StudyOptions {
   std::string out;
   bool quiet = false;
   bool job_list = false;  ///< write the cases as a job list (job_list.hpp) instead of running them
+  double case_timeout_s = kDefaultCaseTimeout;  ///< per case; 0: none
 };
 
 /// The study's output folder, created: --out, else out/<verb>_<scene file stem>.

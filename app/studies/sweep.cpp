@@ -139,6 +139,7 @@ struct SweepStudy {
   std::string scene, key, out, timing;
   std::string units;  ///< the scene's `units` (the penetration panel's label)
   double accuracy = 0.01;
+  double case_timeout_s = 0;  ///< the per-case limit (for the job list; 0: none)
   std::vector<StudyCase> cases;
   std::vector<SweepRow> rows;
 };
@@ -236,9 +237,11 @@ std::string chart_sweep(const std::string& out, const std::string& key, const st
                         const std::vector<SweepRow>& rows, const SeedRule& seed, bool& drawn) {
   std::ostringstream data;
   data << std::setprecision(12);
-  bool has_error = false, log_x = true;
+  bool has_error = false, has_pivot = false, log_x = true;
   for (const auto& r : rows) {
     has_error = has_error || std::isfinite(r.err_p0);
+    // gnuplot refuses a panel without a point (a nonlinear run reports no pivot ratio).
+    has_pivot = has_pivot || (r.converged() && std::isfinite(r.pivot));
     log_x = log_x && r.value > 0;
     if (r.converged())
       data << r.value << ' ' << std::max(std::abs(r.err_p0), 1e-12) << ' '
@@ -270,7 +273,7 @@ std::string chart_sweep(const std::string& out, const std::string& key, const st
   panel(3, axis_label("max penetration", parse_units(units).length), true);
   panel(4, "iterations", false);
   panel(5, "solve time (s)", false);
-  panel(6, "pivot ratio (conditioning)", true);
+  if (has_pivot) panel(6, "pivot ratio (conditioning)", true);
   plot << "unset multiplot\n";
   drawn = !data.str().empty();
   return drawn ? plot_with_data(out, "sweep", plot.str(), {{data_path, data.str()}}) : "";
@@ -293,6 +296,7 @@ SweepStudy plan_sweep(const SweepOptions& o) {
   s.units = units;
   s.out = study_out(o, "sweep");
   s.timing = timing_note(o.jobs);
+  s.case_timeout_s = o.case_timeout_s;
   s.cases = sweep_cases(o, k, values);
   s.rows.resize(values.size());
   for (size_t i = 0; i < values.size(); ++i) s.rows[i].value = values[i];
@@ -305,7 +309,7 @@ void write_sweep_files(const SweepStudy& s) {
       {"scene", s.scene}, {"key", s.key}, {"accuracy", s.accuracy}, {"units", s.units}};
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows) keys.push_back({{"value", r.value}});
-  write_study_files(s.out, "sweep", options, s.cases, keys);
+  write_study_files(s.out, "sweep", options, s.cases, keys, s.case_timeout_s);
 }
 
 SweepStudy sweep_from_manifest(const StudyManifest& m) {
@@ -324,8 +328,8 @@ SweepStudy sweep_from_manifest(const StudyManifest& m) {
 }
 
 /// sweep.csv, sweep.md, sweep.html and the chart from the finished rows, listing the `missing`
-/// cases; the verdict on the terminal unless quiet. Returns 1 when a case crashed or is missing
-/// or the chart failed, else 0.
+/// cases and those that timed out; the verdict on the terminal unless quiet. Returns 1 when a
+/// case crashed, timed out or is missing or the chart failed, else 0.
 int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool quiet) {
   const std::string csv = sweep_csv(s.key, s.rows);
   core::write_file_atomic(s.out + "/sweep.csv", csv);
@@ -340,24 +344,24 @@ int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool q
     chart.not_written = "no swept value converged, so there is nothing to draw";
   const std::string title = "contact2d sweep: " + s.key + " on " + s.scene;
   const std::string timing = s.timing + "\n\n";
-  core::write_file_atomic(
-      s.out + "/sweep.md",
-      "# " + title + "\n\n" + verdict + "\n\n" + missing_cases_md(s.cases, missing) + timing +
-          sweep_table(s.key, s.rows) + (chart.written() ? "\n" + markdown_images({chart}) : ""));
-  write_html_report(
-      s.out, "sweep.html",
-      {title, "", timing, verdict, missing_cases_md(s.cases, missing), "sweep.csv", csv, {chart}});
+  const std::string unfinished =
+      missing_cases_md(s.cases, missing) + timed_out_cases_md(s.cases, figures_of(s.rows));
+  core::write_file_atomic(s.out + "/sweep.md",
+                          "# " + title + "\n\n" + verdict + "\n\n" + unfinished + timing +
+                              sweep_table(s.key, s.rows) +
+                              (chart.written() ? "\n" + markdown_images({chart}) : ""));
+  write_html_report(s.out, "sweep.html",
+                    {title, "", timing, verdict, unfinished, "sweep.csv", csv, {chart}});
   if (!quiet) {
     std::cout << "\n"
               << verdict << "\n\n"
-              << missing_cases_text(s.cases, missing) << "wrote " << s.out
+              << missing_cases_text(s.cases, missing)
+              << timed_out_cases_text(s.cases, figures_of(s.rows)) << "wrote " << s.out
               << "/sweep.csv, sweep.md, sweep.html" << (chart.written() ? ", sweep.png/svg" : "")
               << "\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }
-  bool crashed = false;
-  for (const auto& r : s.rows) crashed = crashed || r.crashed();
-  return crashed || !missing.empty() || !chart_error.empty() ? 1 : 0;
+  return any_case_failed(figures_of(s.rows)) || !missing.empty() || !chart_error.empty() ? 1 : 0;
 }
 
 }  // namespace
@@ -367,7 +371,7 @@ int run_sweep(const SweepOptions& o) {
   if (o.job_list) refuse_existing_cases(s.out, s.cases);
   write_sweep_files(s);
   if (o.job_list) {
-    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size());
+    if (!o.quiet) std::cout << job_list_note(s.out, s.cases.size(), o.case_timeout_s);
     return 0;
   }
   if (!o.quiet)
@@ -375,7 +379,7 @@ int run_sweep(const SweepOptions& o) {
               << cell(s.rows.front().value) << " .. " << cell(s.rows.back().value) << "), "
               << o.jobs << " at a time -> " << s.out << "\n";
   size_t finished = 0;
-  run_cases(s.cases, s.out, o.jobs, [&](size_t i, const CaseOutcome& c) {
+  run_cases(s.cases, s.out, o.jobs, o.case_timeout_s, [&](size_t i, const CaseOutcome& c) {
     SweepRow& r = s.rows[i];
     r.read(c);
     ++finished;
@@ -383,13 +387,14 @@ int run_sweep(const SweepOptions& o) {
     if (!o.quiet)
       std::cout << "[" << finished << "/" << s.cases.size() << "] " << s.key << " = " << std::left
                 << std::setw(12) << cell(r.value) << std::right << r.status
+                << (r.timed_out() ? " after " + seconds_text(r.wall) : std::string())
                 << (std::isfinite(r.err_p0) ? ", p_max error " + percent_text(r.err_p0)
                                             : std::string())
                 << (std::isfinite(r.penetration) ? ", penetration " + cell(r.penetration)
                                                  : std::string())
                 << std::endl;
   });
-  retime_cases(s.cases, s.out, o.jobs, o.quiet,
+  retime_cases(s.cases, s.out, o.jobs, o.case_timeout_s, timed_out_rows(s.rows), o.quiet,
                [&](size_t i, const RunFigures& f) { take_times(s.rows[i], f); });
   return report_sweep(s, {}, o.quiet);
 }
