@@ -15,8 +15,9 @@ std::string StrategyOptions::validate() const {
   if (!(penalty_factor > 0)) return "penalty.factor: expected a factor > 0";
   if (tolerance < 0) return "tolerance: expected a length >= 0";
   if (!(relative_tolerance > 0)) return "relative_tolerance: expected a value > 0";
-  if (!(penalty_growth > 1)) return "adaptive.growth: expected a factor > 1";
-  if (!(max_penalty_factor >= 1)) return "adaptive.max_factor: expected a factor >= 1";
+  if (!(penalty_growth > 1)) return "penalty.growth: expected a factor > 1";
+  if (!(max_penalty_factor >= 1)) return "penalty.max_factor: expected a factor >= 1";
+  if (!(penetration_limit > 0)) return "penetration_limit: expected a fraction > 0";
   if (!(augmentation_factor > 0)) return "auglag.factor: expected a factor > 0";
   if (!(ipopt_tolerance > 0)) return "ipopt.tol: expected a tolerance > 0";
   if (max_iterations < 1) return "max_iterations: expected an integer >= 1";

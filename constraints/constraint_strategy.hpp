@@ -22,6 +22,11 @@ struct StrategyOptions {
   /// Penetration tolerance: absolute when > 0, else relative × the smallest contact edge.
   double tolerance = 0.0;
   double relative_tolerance = 1.0e-6;
+  /// The physical limit a final state's measured penetration is held against, × the shortest
+  /// contact edge: a regularised method converges to its own penetration, which may be no
+  /// answer to the contact problem (k = 10 let a block sink 91 % into its support); beyond the
+  /// limit the run keeps its status and says so in summary.json's warnings and on the terminal.
+  double penetration_limit = 0.02;
   /// adaptive_penalty: factor applied to a row's k while it penetrates too much, and the cap
   /// on k relative to the local stiffness.
   double penalty_growth = 10.0;

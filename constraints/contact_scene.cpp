@@ -63,6 +63,7 @@ void parse_options(const TomlView& v, StrategyOptions& o) {
   }
   if (v.has("tolerance")) o.tolerance = v["tolerance"].positive();
   if (v.has("relative_tolerance")) o.relative_tolerance = v["relative_tolerance"].positive();
+  if (v.has("penetration_limit")) o.penetration_limit = v["penetration_limit"].positive();
   if (v.has("max_iterations")) {
     o.max_iterations = v["max_iterations"].integer();
     if (o.max_iterations < 1) v["max_iterations"].fail("an integer >= 1");
@@ -77,7 +78,8 @@ EqualitySpec parse_equality(const TomlView& v, int index) {
   const EqualityInfo* info = find_equality(e.type);
   std::vector<std::string> keys = {"name",      "type",      "method",
                                    "penalty",   "auglag",    "ipopt",
-                                   "tolerance", "relative_tolerance", "max_iterations"};
+                                   "tolerance", "relative_tolerance", "max_iterations",
+                                   "penetration_limit"};
   keys.insert(keys.end(), info->key_names.begin(), info->key_names.end());
   v.check_keys(keys);
   e.constraint = info->parse(v);

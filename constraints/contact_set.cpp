@@ -325,6 +325,7 @@ VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>&
 void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolution& s,
                         ContactReport& r) const {
   const core::Mesh& mesh = model_.mesh;
+  r.penetration_limit = spec_.options.penetration_limit * length_scale_;
   std::map<int, int> slot;
   r.nodes.clear();
   for (int n : slave_nodes_) {

@@ -68,6 +68,8 @@ struct ContactReport {
   /// it under (the method's own penetration + 1e-9 × model size); NaN when not measured.
   double measured_penetration = std::numeric_limits<double>::quiet_NaN();
   double penetration_tolerance = std::numeric_limits<double>::quiet_NaN();
+  /// The physical limit: penetration_limit × the shortest contact edge (StrategyOptions).
+  double penetration_limit = std::numeric_limits<double>::quiet_NaN();
   double total_force = 0.0;     ///< Σ normal forces
   double seconds = 0.0;         ///< time in the backend
   double detection_seconds = 0.0; ///< time in contact search (every detection pass)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -23,6 +24,22 @@ namespace {
 // JSON has no NaN/inf: a non-finite number becomes null rather than an invalid file.
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
+/// What a run that ended with its status should still be told: a final state that penetrates
+/// beyond the physical limit (a regularised method's converged answer to a soft problem).
+nlohmann::json contact_warnings(const constraints::ContactReport& contact) {
+  nlohmann::json w = nlohmann::json::array();
+  if (contact.measured_penetration > contact.penetration_limit) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "contact: the final state penetrates by %.4g, beyond the physical limit %.4g "
+                  "(penetration_limit x the shortest contact edge); a regularised method's "
+                  "answer: raise penalty.k or use an exact method",
+                  contact.measured_penetration, contact.penetration_limit);
+    w.push_back(text);
+  }
+  return w;
+}
+
 nlohmann::json contact_section(const constraints::ContactReport& contact) {
   // Without slave edges (node-to-node gaps) there is no pressure field, only forces.
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -32,6 +49,7 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
                       {"max_penetration", number(contact.max_penetration)},
                       {"measured_penetration", number(contact.measured_penetration)},
                       {"penetration_tolerance", number(contact.penetration_tolerance)},
+                      {"penetration_limit", number(contact.penetration_limit)},
                       {"total_force", number(contact.total_force)},
                       {"status", to_string(contact.status)},
                       {"message", contact.message},
@@ -248,6 +266,7 @@ nlohmann::json make_summary(const SummaryParts& p) {
   j["steps"] = 1;
   j["newton_iterations"] = 0;
   j["contact"] = p.contact ? contact_section(*p.contact) : nlohmann::json();
+  j["warnings"] = p.contact ? contact_warnings(*p.contact) : nlohmann::json::array();
   if (p.contact && !p.contact->equality_names.empty())
     j["constraints"] = constraints_section(*p.contact);
   if (p.contact && !p.contact->plates.empty()) j["plates"] = plates_section(*p.contact);
@@ -332,6 +351,9 @@ std::string terminal_summary(const nlohmann::json& s, const std::string& out_dir
     contact_lines(s, u, os);
   for (const auto& [name, value] : s["probes"].items())
     os << "probe      " << name << " = " << sig(value, 6) << '\n';
+  if (s.contains("warnings") && s["warnings"].is_array())
+    for (const auto& w : s["warnings"])
+      if (w.is_string()) os << "warning    " << w.get<std::string>() << '\n';
   std::string files;  // what this run wrote ([output] may leave fields or charts out)
   for (const char* f : {"summary.json", "results.pvd", "nodes.csv", "contact.csv", "deformed.png"})
     if (std::filesystem::exists((files_dir.empty() ? out_dir : files_dir) + "/" + f))

@@ -835,3 +835,35 @@ TEST(Hardening, StaleWorkFoldersGoOnlyWithTheirMarkerAndNoLiveOwner) {
   EXPECT_FALSE(fs::exists(dead));
   EXPECT_TRUE(fs::exists(live));
 }
+
+// Issue 32, finding 7: a regularised method's converged state that penetrates beyond the
+// physical limit (penetration_limit × the shortest contact edge) says so. A 10 × 10 block
+// (E = 1000) pressed by 100 MPa on a rigid floor with penalty k = 10 sinks 16.8 (the solved
+// penalty state, measured independently); the limit is 0.02 × 2 = 0.04. Lagrange: no warning.
+TEST(Hardening, PenetrationBeyondThePhysicalLimitIsAWarning) {
+  const TempDir dir("soft_penalty");
+  const std::string scene = dir.write(
+      "soft.toml",
+      std::string(kMaterial) +
+          "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+          "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [10.0, 10.0] }\n"
+          "mesh = { size = 2.0 }\n"
+          "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
+          "[[support]]\non = { body = \"b\", nearest = [0.0, 10.0] }\nfix = [\"ux\"]\n"
+          "[[load]]\non = { body = \"b\", edge = \"top\" }\ntraction = [0.0, -100.0]\n"
+          "[[contact]]\nslave = { body = \"b\", edge = \"bottom\" }\n"
+          "master = { obstacle = \"floor\" }\npenalty = { k = 10.0 }\n");
+  const Outcome soft = run_c2d({"run", scene, "--method", "penalty", "--out", dir / "p"});
+  EXPECT_EQ(soft.code, 0) << soft.text;
+  EXPECT_NE(soft.text.find("warning    contact: the final state penetrates by"), std::string::npos)
+      << soft.text;
+  const nlohmann::json s = summary(dir.path() / "p");
+  EXPECT_EQ(s["status"], "converged");
+  EXPECT_NEAR(s["contact"]["penetration_limit"].get<double>(), 0.04, 1e-9);
+  EXPECT_GT(s["contact"]["measured_penetration"].get<double>(), 1.0);
+  ASSERT_EQ(s["warnings"].size(), 1u);
+  EXPECT_NE(s["warnings"][0].get<std::string>().find("beyond the physical limit 0.04"),
+            std::string::npos);
+  ASSERT_EQ(run_c2d({"run", scene, "--method", "lagrange", "--out", dir / "l", "--quiet"}).code, 0);
+  EXPECT_TRUE(summary(dir.path() / "l")["warnings"].empty());
+}
