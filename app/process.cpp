@@ -101,13 +101,15 @@ bool ended_within(pid_t pid, double seconds) {
 
 }  // namespace
 
-void forward_interrupts_to_limited_children() {
+void handle_interrupts(void (*handler)(int)) {
   struct sigaction action {};
-  action.sa_handler = forward_interrupt;
+  action.sa_handler = handler;
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
 }
+
+void forward_interrupts_to_limited_children() { handle_interrupts(forward_interrupt); }
 
 ProcessOutcome run_process(const std::string& program, const std::vector<std::string>& args,
                            const std::string& log_path, const std::vector<std::string>& env,

@@ -47,4 +47,7 @@ ProcessOutcome run_process(const std::string& program, const std::vector<std::st
 /// dispositions, so programs call it (the CLI's study verbs), never a library.
 void forward_interrupts_to_limited_children();
 
+/// Installs `handler` for SIGINT and SIGTERM (for programs only, as above).
+void handle_interrupts(void (*handler)(int));
+
 }  // namespace c2d::app

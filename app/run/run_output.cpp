@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "app/output_folder.hpp"
+#include "app/process.hpp"
 #include "app/report/charts.hpp"
 #include "app/report/run_tables.hpp"
 #include "app/report/summary.hpp"
@@ -147,13 +148,7 @@ class SignalsHeld {
 
 }  // namespace
 
-void install_interrupt_handler() {
-  struct sigaction action {};
-  action.sa_handler = on_interrupt;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
+void install_interrupt_handler() { handle_interrupts(on_interrupt); }
 
 void RunOutput::end_on_interrupt() {
   namespace fs = std::filesystem;

@@ -15,50 +15,10 @@ using namespace c2d;
 
 namespace {
 
-/// A 1 × 0.5 slider pressed 0.01 into a 6 × 1 base and dragged 3 to the right by its top edge:
-/// it leaves the base's free end (x = 6) at λ = 0.5 and moves on, free, to x = 7.5.
+/// The slider starts at x = 4.5: it leaves the base's free end (x = 6) at λ = 0.5 and moves
+/// on, free, to x = 7.5.
 std::string drag_off_scene(const std::string& friction) {
-  return R"(
-[analysis]
-kind = "plane_strain"
-element = "T3"
-geometric_nonlinearity = true
-steps = 30
-[[material]]
-name = "m"
-E = 1000.0
-nu = 0.3
-[[body]]
-name = "base"
-material = "m"
-shape = { type = "rectangle", min = [0.0, 0.0], max = [6.0, 1.0] }
-mesh = { size = 0.23 }
-[[body]]
-name = "slider"
-material = "m"
-shape = { type = "rectangle", min = [4.5, 1.0], max = [5.5, 1.5] }
-mesh = { size = 0.17 }
-[[support]]
-on = { body = "base", edge = "bottom" }
-fix = ["ux", "uy"]
-[[support]]
-on = { body = "slider", edge = "top" }
-ux = 3.0
-uy = -0.01
-[[contact]]
-slave = { body = "slider", edge = "bottom" }
-master = { body = "base", edge = "top" }
-detection = "node_to_segment"
-)" + friction + R"(
-[[probe]]
-name = "fx"
-on = { body = "slider", edge = "top" }
-quantity = "reaction_x"
-[[probe]]
-name = "fy"
-on = { body = "slider", edge = "top" }
-quantity = "reaction_y"
-)";
+  return test::block_drag_scene("T3", "node_to_segment", 4.5, friction);
 }
 
 class Robustness : public ::testing::TestWithParam<std::string> {};

@@ -16,6 +16,7 @@
 #include "core/probes.hpp"
 #include "core/scene.hpp"
 #include "nonlinear/load_stepper.hpp"
+#include "scene_run.hpp"
 
 using namespace c2d;
 using namespace c2d::nonlinear;
@@ -23,46 +24,7 @@ using namespace c2d::nonlinear;
 namespace {
 
 std::string sliding_scene(const std::string& element, const std::string& detection) {
-  return R"(
-[analysis]
-kind = "plane_strain"
-element = ")" + element + R"("
-geometric_nonlinearity = true
-steps = 30
-[[material]]
-name = "m"
-E = 1000.0
-nu = 0.3
-[[body]]
-name = "base"
-material = "m"
-shape = { type = "rectangle", min = [0.0, 0.0], max = [6.0, 1.0] }
-mesh = { size = 0.23 }
-[[body]]
-name = "slider"
-material = "m"
-shape = { type = "rectangle", min = [0.5, 1.0], max = [1.5, 1.5] }
-mesh = { size = 0.17 }
-[[support]]
-on = { body = "base", edge = "bottom" }
-fix = ["ux", "uy"]
-[[support]]
-on = { body = "slider", edge = "top" }
-ux = 3.0
-uy = -0.01
-[[contact]]
-slave = { body = "slider", edge = "bottom" }
-master = { body = "base", edge = "top" }
-detection = ")" + detection + R"("
-[[probe]]
-name = "fx"
-on = { body = "slider", edge = "top" }
-quantity = "reaction_x"
-[[probe]]
-name = "fy"
-on = { body = "slider", edge = "top" }
-quantity = "reaction_y"
-)";
+  return test::block_drag_scene(element, detection, 0.5, "");
 }
 
 struct Sliding {
