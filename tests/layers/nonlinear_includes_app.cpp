@@ -1,4 +1,4 @@
 // Forbidden: a library includes app. Must fail to compile (tests/CMakeLists.txt).
-#include "app/charts.hpp"
+#include "app/report/charts.hpp"
 
 int c2d_layer_probe() { return 0; }
