@@ -1,5 +1,7 @@
 #include "core/factor_blocks.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -106,5 +108,11 @@ cholmod_dense dense_view(const Eigen::MatrixXd& m) {
   d.dtype = CHOLMOD_DOUBLE;
   return d;
 }
+
+ActiveLevelCap::ActiveLevelCap(int levels) : saved_(omp_get_max_active_levels()) {
+  omp_set_max_active_levels(std::min(saved_, omp_get_active_level() + std::max(levels, 0)));
+}
+
+ActiveLevelCap::~ActiveLevelCap() { omp_set_max_active_levels(saved_); }
 
 }  // namespace c2d::core

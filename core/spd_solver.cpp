@@ -1,11 +1,13 @@
 #include "core/spd_solver.hpp"
 
+#include <omp.h>
+
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
-#include <omp.h>
 
+#include "core/factor_blocks.hpp"
 #include "core/split_cholesky.hpp"
 #include "core/stopwatch.hpp"
 
@@ -94,7 +96,11 @@ struct SpdSolver::Impl {
       r.separator = split.separator_size();
       return st == SolveStatus::kConverged;
     }
-    cholmod.factorize(k);
+    {
+      // CHOLMOD's own four-thread regions stay within a one-thread budget (ActiveLevelCap).
+      const ActiveLevelCap cap(threads > 1 ? 1 : 0);
+      cholmod.factorize(k);
+    }
     r.numeric_seconds += clock.lap();
     const cholmod_common& c = cholmod.cholmod();
     static const char* const kOrderings[] = {"natural", "given", "amd", "metis", "nesdis", "colamd", "postordered"};

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <new>
@@ -61,24 +62,31 @@ class SerialBlas {
   void (*set_)(int) = nullptr;
 };
 
-/// Runs body(h) for the halves h = 0, 1, side by side on two threads when `threads` > 1;
-/// false if a body returned false or threw (no exception leaves an OpenMP region).
-template <class Body>
-bool for_both_halves(int threads, Body body) {
+}  // namespace
+
+bool run_halves(int threads, const std::function<bool(int)>& body) {
   std::array<bool, 2> ok{false, false};
-  const SerialBlas serial;
-#pragma omp parallel for num_threads(threads > 1 ? 2 : 1) schedule(static, 1)
-  for (int h = 0; h < 2; ++h) {
+  auto run = [&](int h) {
     try {
       ok[h] = body(h);
-    } catch (const std::bad_alloc&) {
+    } catch (const std::bad_alloc&) {  // (no exception may leave an OpenMP region)
       ok[h] = false;
     }
+  };
+  const SerialBlas serial;
+  if (threads > 1) {
+    // The halves' team is the last active level: CHOLMOD's regions inside it run serially.
+    const ActiveLevelCap cap(1);
+#pragma omp parallel for num_threads(2) schedule(static, 1)
+    for (int h = 0; h < 2; ++h) run(h);
+  } else {
+    // No region at all: a one-thread region is not an active level, so CHOLMOD's four-thread
+    // regions inside it were active and nested, and got new threads for every supernode.
+    const ActiveLevelCap cap(0);
+    for (int h = 0; h < 2; ++h) run(h);
   }
   return ok[0] && ok[1];
 }
-
-}  // namespace
 
 /// One half with the separator: M_h's lower triangle in its own numbering (the half's unknowns
 /// in order, then the separator's), where each entry comes from in K, and its factor.
@@ -243,7 +251,7 @@ bool SplitCholesky::analyse(const SpMat& k, const std::vector<int>& order,
     half.unknowns = members[h];
     half.unknowns.insert(half.unknowns.end(), m.separator.begin(), m.separator.end());
   }
-  m.analysed = for_both_halves(threads, [&](int h) {
+  m.analysed = run_halves(threads, [&](int h) {
     Half& half = m.halves[h];
     std::vector<int> row(m.n, -1);
     for (int r = 0; r < half.size(); ++r) row[half.unknowns[r]] = r;
@@ -255,7 +263,7 @@ bool SplitCholesky::analyse(const SpMat& k, const std::vector<int>& order,
 SolveStatus SplitCholesky::factorize(const SpMat& k, int threads) {
   Impl& m = *impl_;
   if (!m.analysed) return SolveStatus::kFailed;
-  if (!for_both_halves(threads, [&](int h) { return m.halves[h].factorize(k); }))
+  if (!run_halves(threads, [&](int h) { return m.halves[h].factorize(k); }))
     return SolveStatus::kSingular;
   // S = L_SSᴬ L_SSᴬᵀ + L_SSᴮ L_SSᴮᵀ − K_SS (lower triangles).
   const int s = m.s();
@@ -302,7 +310,7 @@ SolveStatus SplitCholesky::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, i
   const Eigen::Index cols = b.cols();
   std::array<Eigen::MatrixXd, 2> w;
   // Forward: L_h wʰ = [b_h; 0].
-  const bool forward = for_both_halves(threads, [&](int h) {
+  const bool forward = run_halves(threads, [&](int h) {
     Half& half = m.halves[h];
     w[h] = Eigen::MatrixXd::Zero(half.size(), cols);
     for (int r = 0; r < half.own; ++r) w[h].row(r) = b.row(half.unknowns[r]);
@@ -319,7 +327,7 @@ SolveStatus SplitCholesky::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x, i
   }
   // Backward: L_hᵀ y = [w_hʰ; L_SSʰᵀ x_S], y_h = x_h.
   x.resize(b.rows(), cols);
-  const bool backward = for_both_halves(threads, [&](int h) {
+  const bool backward = run_halves(threads, [&](int h) {
     Half& half = m.halves[h];
     if (s > 0)
       w[h].bottomRows(s).noalias() = half.l_ss.triangularView<Eigen::Lower>().transpose() * x_s;

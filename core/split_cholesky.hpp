@@ -21,6 +21,7 @@
 // numeric 5.0 s whole, 3.0 s split (two halves of 491k unknowns, separator 1,400).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -28,6 +29,13 @@
 #include "core/types.hpp"
 
 namespace c2d::core {
+
+/// Runs body(h) for the halves h = 0, 1: side by side on two threads when `threads` > 1, else one
+/// after the other on the calling thread, with OpenBLAS on one thread. Either way the OpenMP
+/// regions a body opens (CHOLMOD's) run on the body's thread alone (ActiveLevelCap): the halves
+/// are the parallelism, and one thread means one. False if a body returned false or ran out of
+/// memory.
+bool run_halves(int threads, const std::function<bool(int)>& body);
 
 class SplitCholesky {
  public:

@@ -1,6 +1,7 @@
 #include "core/tail_cholesky.hpp"
 
 #include <cholmod.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -135,7 +136,12 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
     }
   }
   cholmod_sparse a = view_lower(*kk);
-  const int ok = cholmod_factorize(&a, m.factor, &m.c);
+  int ok = 0;
+  {
+    // CHOLMOD's own four-thread regions stay within a one-thread budget (ActiveLevelCap).
+    const ActiveLevelCap cap(omp_get_max_threads() > 1 ? 1 : 0);
+    ok = cholmod_factorize(&a, m.factor, &m.c);
+  }
   report_.numeric_factorizations++;
   report_.supernodal = m.factor->is_super;
   report_.factor_nonzeros = m.c.lnz;
