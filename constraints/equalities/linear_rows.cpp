@@ -15,11 +15,14 @@ std::unique_ptr<EqualityConstraint> LinearRows::parse(const core::TomlView& v) {
     term.on = core::parse_selection(t["on"]);
     term.dof = t["dof"].choice({"ux", "uy"}) == "ux" ? 0 : 1;
     term.coefficient = t["coefficient"].number();
-    if (term.coefficient == 0.0) t["coefficient"].fail("a finite non-zero coefficient");
+    // As loads: beyond 1e30 (or below 1e-30) a row's products overflow or vanish in K.
+    if (!(std::abs(term.coefficient) >= 1e-30 && std::abs(term.coefficient) <= 1e30))
+      t["coefficient"].fail("a non-zero coefficient between 1e-30 and 1e30 in magnitude");
     out->terms_.push_back(term);
   }
   if (out->terms_.empty()) v["terms"].fail("at least one term { on, dof, coefficient }");
   out->value_ = v["value"].number_or(0.0);
+  if (!(std::abs(out->value_) <= 1e30)) v["value"].fail("a value of at most 1e30 in magnitude");
   return out;
 }
 

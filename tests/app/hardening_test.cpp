@@ -867,3 +867,20 @@ TEST(Hardening, PenetrationBeyondThePhysicalLimitIsAWarning) {
   ASSERT_EQ(run_c2d({"run", scene, "--method", "lagrange", "--out", dir / "l", "--quiet"}).code, 0);
   EXPECT_TRUE(summary(dir.path() / "l")["warnings"].empty());
 }
+
+// Issue 32, finding 8: a linear constraint's value or coefficient that can only overflow (or
+// vanish) is refused at its key, as loads above 1e30 are (value = 1e300 ended the solve with
+// "Schur-complement solve produced non-finite values").
+TEST(Hardening, LinearConstraintValuesBeyondRangeAreRefusedAtTheirKey) {
+  const TempDir dir("constraint_range");
+  const std::string terms =
+      "terms = [ { on = { nearest = [1.0, 1.0] }, dof = \"ux\", coefficient = ";
+  expect_refused(dir,
+                 dir.write("v.toml", block("[[constraint]]\ntype = \"linear\"\n" + terms +
+                                           "1.0 } ]\nvalue = 1e300\n")),
+                 {"v.toml:16:9", "constraint[0].value", "at most 1e30"});
+  expect_refused(dir,
+                 dir.write("c.toml", block("[[constraint]]\ntype = \"linear\"\n" + terms +
+                                           "1e-300 } ]\n")),
+                 {"c.toml:15", "coefficient", "between 1e-30 and 1e30"});
+}
