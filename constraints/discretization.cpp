@@ -45,4 +45,15 @@ std::string discretization_table_markdown() {
   return out;
 }
 
+std::vector<int> on_boundary(const core::Mesh& mesh, const std::vector<int>& nodes) {
+  std::vector<char> boundary(mesh.nodes.size(), 0);
+  for (const core::BoundaryEdge& e : mesh.boundary_edges)
+    for (int n : e.nodes)
+      if (n >= 0) boundary[n] = 1;
+  std::vector<int> out;
+  for (int n : nodes)
+    if (boundary[n]) out.push_back(n);
+  return out;
+}
+
 }  // namespace c2d::constraints

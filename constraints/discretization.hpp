@@ -61,6 +61,11 @@ struct DiscretizationInfo {
   std::unique_ptr<ContactDiscretization> (*create)(const DiscretizationInput&) = nullptr;
 };
 
+/// The nodes of `nodes` on the mesh's boundary, in their order: a contact's slave nodes, whatever
+/// the selection (a box or a near_line also holds interior nodes, which no contact reaches; a
+/// box slave once took 1,196 nodes where ~150 were on the surface, p_max +16 %).
+std::vector<int> on_boundary(const core::Mesh& mesh, const std::vector<int>& nodes);
+
 /// Every registered discretization, in the order the docs list them.
 const std::vector<DiscretizationInfo>& discretization_registry();
 /// The registered discretization of that name, or nullptr.

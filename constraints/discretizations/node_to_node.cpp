@@ -55,7 +55,7 @@ std::vector<std::pair<int, double>> nearest_nodes(const std::vector<Vec2>& nodes
 NodeToNode::NodeToNode(const DiscretizationInput& in) : index_(in.index) {
   const ContactPairSpec& cs = in.pair;
   const std::vector<Vec2>& nodes = in.model.mesh.nodes;
-  slaves_ = core::select_nodes(in.model, cs.slave);
+  slaves_ = on_boundary(in.model.mesh, core::select_nodes(in.model, cs.slave));
   const auto nearest = nearest_nodes(nodes, core::select_nodes(in.model, *cs.master), slaves_);
   for (size_t k = 0; k < slaves_.size(); ++k) {
     const int s = slaves_[k];

@@ -8,7 +8,8 @@
 namespace c2d::constraints {
 
 NodeToSegment::NodeToSegment(const DiscretizationInput& in)
-    : slaves_(core::select_nodes(in.model, in.pair.slave)), index_(in.index) {
+    : slaves_(on_boundary(in.model.mesh, core::select_nodes(in.model, in.pair.slave))),
+      index_(in.index) {
   const core::Mesh& mesh = in.model.mesh;
   if (in.pair.obstacle >= 0) {
     obstacle_ = &in.obstacles[in.pair.obstacle];
