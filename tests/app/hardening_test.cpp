@@ -836,6 +836,23 @@ TEST(Hardening, StaleWorkFoldersGoOnlyWithTheirMarkerAndNoLiveOwner) {
   EXPECT_TRUE(fs::exists(live));
 }
 
+namespace {
+
+/// A 10 × 10 block (E = 1000, mesh size 2) pressed by 100 MPa onto a rigid floor, its contact's
+/// slave selection `slave` and further keys `extra`.
+std::string floor_block(const std::string& slave, const std::string& extra) {
+  return std::string(kMaterial) +
+         "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+         "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [10.0, 10.0] }\n"
+         "mesh = { size = 2.0 }\n"
+         "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
+         "[[support]]\non = { body = \"b\", nearest = [0.0, 10.0] }\nfix = [\"ux\"]\n"
+         "[[load]]\non = { body = \"b\", edge = \"top\" }\ntraction = [0.0, -100.0]\n"
+         "[[contact]]\nslave = " + slave + "\nmaster = { obstacle = \"floor\" }\n" + extra;
+}
+
+}  // namespace
+
 // Issue 32, finding 7: a regularised method's converged state that penetrates beyond the
 // physical limit (penetration_limit × the shortest contact edge) says so. A 10 × 10 block
 // (E = 1000) pressed by 100 MPa on a rigid floor with penalty k = 10 sinks 16.8 (the solved
@@ -844,15 +861,7 @@ TEST(Hardening, PenetrationBeyondThePhysicalLimitIsAWarning) {
   const TempDir dir("soft_penalty");
   const std::string scene = dir.write(
       "soft.toml",
-      std::string(kMaterial) +
-          "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
-          "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [10.0, 10.0] }\n"
-          "mesh = { size = 2.0 }\n"
-          "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
-          "[[support]]\non = { body = \"b\", nearest = [0.0, 10.0] }\nfix = [\"ux\"]\n"
-          "[[load]]\non = { body = \"b\", edge = \"top\" }\ntraction = [0.0, -100.0]\n"
-          "[[contact]]\nslave = { body = \"b\", edge = \"bottom\" }\n"
-          "master = { obstacle = \"floor\" }\npenalty = { k = 10.0 }\n");
+      floor_block("{ body = \"b\", edge = \"bottom\" }", "penalty = { k = 10.0 }\n"));
   const Outcome soft = run_c2d({"run", scene, "--method", "penalty", "--out", dir / "p"});
   EXPECT_EQ(soft.code, 0) << soft.text;
   EXPECT_NE(soft.text.find("warning    contact: the final state penetrates by"), std::string::npos)
@@ -895,15 +904,8 @@ TEST(Hardening, BoxSlaveSelectionTakesBoundaryNodesOnly) {
   const TempDir dir("box_slave");
   const std::string scene = dir.write(
       "box.toml",
-      std::string(kMaterial) +
-          "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
-          "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [10.0, 10.0] }\n"
-          "mesh = { size = 2.0 }\n"
-          "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
-          "[[support]]\non = { body = \"b\", nearest = [0.0, 10.0] }\nfix = [\"ux\"]\n"
-          "[[load]]\non = { body = \"b\", edge = \"top\" }\ntraction = [0.0, -100.0]\n"
-          "[[contact]]\nslave = { body = \"b\", box = [[-1.0, -1.0], [11.0, 4.0]] }\n"
-          "master = { obstacle = \"floor\" }\nmethod = \"lagrange\"\n");
+      floor_block("{ body = \"b\", box = [[-1.0, -1.0], [11.0, 4.0]] }",
+                  "method = \"lagrange\"\n"));
   ASSERT_EQ(run_c2d({"run", scene, "--out", dir / "o", "--quiet"}).code, 0);
   const nlohmann::json s = summary(dir.path() / "o");
   EXPECT_EQ(s["contact"]["slave_nodes"], 10);
