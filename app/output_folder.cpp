@@ -19,8 +19,9 @@ namespace {
 constexpr const char* kManifestTitle = "contact2d run folder";
 constexpr const char* kWorkTitle = "contact2d work folder";
 
-/// The file names a manifest lists; false when `dir` has no valid manifest.
-bool read_manifest_names(const fs::path& dir, std::set<std::string>& names) {
+/// The file names a manifest lists (and its run id); false when `dir` has no valid manifest.
+bool read_manifest_names(const fs::path& dir, std::set<std::string>& names,
+                         std::string* run_id = nullptr) {
   std::error_code ec;
   const fs::path file = dir / kRunManifest;
   if (!fs::is_regular_file(file, ec) || fs::file_size(file, ec) > (1u << 24)) return false;
@@ -28,6 +29,7 @@ bool read_manifest_names(const fs::path& dir, std::set<std::string>& names) {
   std::string line;
   if (!std::getline(in, line) || line != kManifestTitle) return false;
   if (!std::getline(in, line) || line.rfind("run ", 0) != 0) return false;
+  if (run_id) *run_id = line.substr(4);
   while (std::getline(in, line))
     if (!line.empty()) names.insert(line);
   return true;
@@ -130,13 +132,10 @@ void write_run_manifest(const std::string& dir, const std::string& run_id,
 
 void add_to_run_manifest(const std::string& dir, const std::vector<std::string>& names) {
   std::set<std::string> listed;
-  if (!read_manifest_names(dir, listed)) return;
-  std::ifstream in(fs::path(dir) / kRunManifest);
-  std::string title, run;
-  std::getline(in, title);
-  std::getline(in, run);
+  std::string run_id;
+  if (!read_manifest_names(dir, listed, &run_id)) return;
   listed.insert(names.begin(), names.end());
-  store_manifest(dir, run.substr(4), listed);
+  store_manifest(dir, run_id, listed);
 }
 
 std::vector<std::string> run_manifest_names(const std::string& dir) {

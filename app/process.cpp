@@ -50,25 +50,6 @@ extern "C" void forward_interrupt(int sig) {
   ::raise(sig);
 }
 
-/// SIGINT and SIGTERM held back on this thread while the object lives, so that a child is in
-/// the table of groups before an interrupt can look for it.
-class InterruptsHeld {
- public:
-  InterruptsHeld() {
-    sigset_t held;
-    sigemptyset(&held);
-    sigaddset(&held, SIGINT);
-    sigaddset(&held, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &held, &saved_);
-  }
-  ~InterruptsHeld() { pthread_sigmask(SIG_SETMASK, &saved_, nullptr); }
-  InterruptsHeld(const InterruptsHeld&) = delete;
-  InterruptsHeld& operator=(const InterruptsHeld&) = delete;
-  const sigset_t& saved() const { return saved_; }
-
- private:
-  sigset_t saved_;
-};
 
 /// Waits until the child `pid` has ended or `seconds` have passed, leaving it unreaped (a
 /// zombie keeps its process group's id from being reused); true when it ended. Sleeps in poll

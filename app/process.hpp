@@ -1,6 +1,9 @@
 // Child processes without a shell: an argument vector, never a command line built from data.
 #pragma once
 
+#include <pthread.h>
+
+#include <csignal>
 #include <string>
 #include <vector>
 
@@ -36,6 +39,27 @@ struct ProcessLimit {
 /// `program` path from `work_dir`). `env`
 /// entries ("NAME=value") are set in the child's environment on top of this process's.
 /// Thread-safe: study workers run one child each.
+/// SIGINT and SIGTERM held back on this thread while the object lives (their dispositions
+/// untouched; a signal that comes meanwhile is delivered at the end): a child is in the table
+/// of groups before an interrupt can look for it, a run folder's renames are not cut in half.
+class InterruptsHeld {
+ public:
+  InterruptsHeld() {
+    sigset_t held;
+    sigemptyset(&held);
+    sigaddset(&held, SIGINT);
+    sigaddset(&held, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &held, &saved_);
+  }
+  ~InterruptsHeld() { pthread_sigmask(SIG_SETMASK, &saved_, nullptr); }
+  InterruptsHeld(const InterruptsHeld&) = delete;
+  InterruptsHeld& operator=(const InterruptsHeld&) = delete;
+  const sigset_t& saved() const { return saved_; }
+
+ private:
+  sigset_t saved_;
+};
+
 ProcessOutcome run_process(const std::string& program, const std::vector<std::string>& args,
                            const std::string& log_path, const std::vector<std::string>& env = {},
                            const ProcessPlace& place = {}, const ProcessLimit& limit = {});

@@ -129,22 +129,6 @@ void copy_path(char* to, const std::string& from) {
   std::snprintf(to, 4096, "%s", from.c_str());
 }
 
-/// SIGINT and SIGTERM held back on this thread while the object lives (their dispositions
-/// untouched): commit()'s renames are not cut in half.
-class SignalsHeld {
- public:
-  SignalsHeld() {
-    sigset_t held;
-    sigemptyset(&held);
-    sigaddset(&held, SIGINT);
-    sigaddset(&held, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &held, &saved_);
-  }
-  ~SignalsHeld() { pthread_sigmask(SIG_SETMASK, &saved_, nullptr); }
-
- private:
-  sigset_t saved_;
-};
 
 }  // namespace
 
@@ -196,7 +180,7 @@ RunOutput::~RunOutput() {
 
 void RunOutput::commit() {
   namespace fs = std::filesystem;
-  const SignalsHeld held;  // an interrupt now waits until the folder is in place
+  const InterruptsHeld held;  // an interrupt now waits until the folder is in place
   log_.close();
   std::error_code ec;
   write_run_manifest(dir_, run_id_);
