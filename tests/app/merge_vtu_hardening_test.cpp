@@ -5,29 +5,23 @@
 // --deformed` on VTU files whose counts and arrays disagree (one located line, exit 2). Every run
 // has a time limit, so a hang fails the test instead of stopping the suite. Study folders, case
 // summaries and VTU files are written here, by hand, into a private temporary folder.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <signal.h>
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "app/process.hpp"
 #include "app/report/json_file.hpp"
 #include "app/report/vtu_reader.hpp"
 #include "core/errors.hpp"
 
-extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -50,33 +44,14 @@ std::string read_text(const fs::path& p) {
 Outcome run_c2d(const std::vector<std::string>& args, int seconds = 60) {
   const fs::path log =
       fs::temp_directory_path() / ("c2d_merge_vtu_" + std::to_string(::getpid()) + ".log");
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&files, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&files, 1, 2);
-  std::vector<std::string> words{C2D_BINARY};
-  words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
+  c2d::app::ProcessLimit limit;
+  limit.seconds = seconds;  // a hang is stopped (SIGTERM, then SIGKILL) and reported as such
+  limit.grace_seconds = 1;
+  const c2d::app::ProcessOutcome p =
+      c2d::app::run_process(C2D_BINARY, args, log.string(), {}, {}, limit);
   Outcome o;
-  pid_t pid = 0;
-  const int spawned = posix_spawn(&pid, C2D_BINARY, &files, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&files);
-  if (spawned != 0) return o;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-  int status = 0;
-  while (::waitpid(pid, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      o.timed_out = true;
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
-      break;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  o.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  o.code = p.started ? p.exit_code : -1;
+  o.timed_out = p.timed_out;
   o.text = read_text(log);
   fs::remove(log);
   return o;
