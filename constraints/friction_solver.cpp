@@ -8,6 +8,7 @@
 
 #include "constraints/kkt_solver.hpp"
 #include "constraints/strategy_common.hpp"
+#include "constraints/surface_condensation.hpp"
 #include "core/interrupt.hpp"
 
 namespace c2d::constraints {
@@ -78,6 +79,8 @@ class FrictionalSolve {
     penalised_ = o_->rule == Rule::kPenalised;
     rule_ = o_->rule;
     const KktSolveReport before = kkt_.report();
+    const core::SpdSolveReport surface_before = surface_report();
+    const double dense_before = surface_ ? surface_->dense_seconds() : 0.0;
     const std::vector<char> cold = cold_start();
     std::vector<char> code = warm_start(cold);
     bool warm = code != cold;
@@ -133,14 +136,22 @@ class FrictionalSolve {
       }
       code = next;
     }
+    if (solved && surface_last_) complete_displacement(s);
     // Summed: a method may call repeatedly (stiffness raises, multiplier updates).
     const KktSolveReport& r = kkt_.report();
-    s.factorizations += r.numeric_factorizations - before.numeric_factorizations;
-    s.symbolic_analyses += r.symbolic_analyses - before.symbolic_analyses;
-    s.symbolic_seconds += r.symbolic_seconds - before.symbolic_seconds;
-    s.numeric_seconds += r.numeric_seconds - before.numeric_seconds;
-    s.solve_seconds += r.solve_seconds - before.solve_seconds;
-    s.pivot_ratio = r.rcond;
+    const core::SpdSolveReport c = surface_report();
+    s.factorizations += r.numeric_factorizations - before.numeric_factorizations +
+                        c.numeric_factorizations - surface_before.numeric_factorizations;
+    s.symbolic_analyses += r.symbolic_analyses - before.symbolic_analyses + c.symbolic_analyses -
+                           surface_before.symbolic_analyses;
+    s.symbolic_seconds += r.symbolic_seconds - before.symbolic_seconds + c.symbolic_seconds -
+                          surface_before.symbolic_seconds;
+    s.numeric_seconds += r.numeric_seconds - before.numeric_seconds + c.numeric_seconds -
+                         surface_before.numeric_seconds;
+    s.solve_seconds += r.solve_seconds - before.solve_seconds + c.solve_seconds -
+                       surface_before.solve_seconds +
+                       (surface_ ? surface_->dense_seconds() - dense_before : 0.0);
+    s.pivot_ratio = surface_last_ ? surface_rcond_ : r.rcond;
     finish(code, solved, s);
   }
 
@@ -205,8 +216,20 @@ class FrictionalSolve {
   bool tresca(int i) const { return binds_open_[i] != 0; }
   double compliance(const VecX& k, int i) const { return penalised_ ? 1.0 / k[i] : 0.0; }
 
-  /// Assembles and solves the system of the sets `code` into s.u, λ, λ_t, μ.
+  /// Solves the system of the sets `code` into s.u, λ, λ_t, μ: condensed onto the rows when
+  /// K (regularised) factorises, else (or when the rows' dense block is singular) by LU of the
+  /// whole saddle point. On the condensed path s.u holds the tail's values only (all the rules
+  /// read) until complete_displacement().
   SolveStatus solve(const std::vector<char>& code, ConstraintSolution& out) {
+    if (surface_ready() && solve_condensed(code, out) == SolveStatus::kConverged) {
+      surface_last_ = true;
+      return SolveStatus::kConverged;
+    }
+    surface_last_ = false;
+    return solve_lu(code, out);
+  }
+
+  SolveStatus solve_lu(const std::vector<char>& code, ConstraintSolution& out) {
     const int size = n_ + me_ + 2 * m_;
     const double s = s_;
     std::vector<Triplet> t;
@@ -278,6 +301,82 @@ class FrictionalSolve {
     out.contact_force = s * x.segment(n_ + me_, m_);
     out.tangent_force = s * x.segment(n_ + me_ + m_, m_);
     return st;
+  }
+
+  core::SpdSolveReport surface_report() const {
+    return surface_ ? surface_->report() : core::SpdSolveReport{};
+  }
+
+  /// The condensation of K onto every row (equality, normal, tangential: row r = j, me + i,
+  /// me + m + i), factorised on first use with R = the equality rows and the eight normal rows
+  /// nearest to closing with their tangential rows, or every row when those leave a rigid mode.
+  bool surface_ready() {
+    if (surface_tried_) return surface_ != nullptr;
+    surface_tried_ = true;
+    std::vector<Triplet> t;
+    auto put = [&](int r, const std::vector<std::pair<int, double>>& coef) {
+      for (const auto& [j, a] : coef) t.emplace_back(j, r, a);
+    };
+    for (int j = 0; j < me_; ++j) put(j, eq_rows_[j]);
+    for (int i = 0; i < m_; ++i) put(me_ + i, gap_rows_[i]), put(me_ + m_ + i, slip_rows_[i]);
+    SpMat ct(n_, me_ + 2 * m_);
+    ct.setFromTriplets(t.begin(), t.end());
+    auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), p_.ordering);
+    if (!surface->fits()) return false;
+    std::vector<int> order(m_);
+    for (int i = 0; i < m_; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return p_.gap0[a] < p_.gap0[b]; });
+    for (const int nearest : {8, m_}) {
+      std::vector<int> reg;
+      for (int j = 0; j < me_; ++j) reg.push_back(j);
+      for (int k = 0; k < std::min(nearest, m_); ++k)
+        reg.push_back(me_ + order[k]), reg.push_back(me_ + m_ + order[k]);
+      if (surface->factorize(p_.stiffness, reg)) {
+        surface_ = std::move(surface);
+        return true;
+      }
+      if (nearest >= m_) break;
+    }
+    return false;
+  }
+
+  /// The sets' system on the rows, in forces w = s z: a held row's saddle-point equation
+  /// −s c·u − s² cmp z = rhs is c·u + cmp w = −rhs/s; a slipping row's force follows its normal
+  /// row's, w_t = σ(offset + slope w_n); a free row's is zero.
+  SolveStatus solve_condensed(const std::vector<char>& code, ConstraintSolution& out) {
+    SurfaceCondensation::RowStates st;
+    for (int j = 0; j < me_; ++j) {
+      const double c = compliance(o_->k_eq, j);
+      st.hold(j, c, p_.eq_rhs[j] + (penalised_ ? c * o_->mu_hat[j] : 0.0));
+    }
+    for (int i = 0; i < m_; ++i) {
+      if (code[i]) {
+        const double c = compliance(o_->k_gap, i);
+        st.hold(me_ + i, c, -p_.gap0[i] + (penalised_ ? c * o_->lambda_hat[i] : 0.0));
+      }
+      const char ts = code[m_ + i];
+      if (ts == kStick && (penalised_ || !slip_rows_[i].empty())) {
+        const double c = compliance(o_->k_tangent, i);
+        st.hold(me_ + m_ + i, c, p_.slip0[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
+      } else if (ts == kSlipPlus || ts == kSlipMinus) {
+        const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
+        const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
+        st.follow(me_ + m_ + i, code[i] ? me_ + i : -1, sigma * b.offset, sigma * b.slope);
+      }
+    }
+    VecX w;
+    const SolveStatus status = surface_->solve(p_.load, st, w, out.u, surface_rcond_);
+    if (status != SolveStatus::kConverged) return status;
+    out.eq_multiplier = w.head(me_);
+    out.contact_force = w.segment(me_, m_);
+    out.tangent_force = w.segment(me_ + m_, m_);
+    return status;
+  }
+
+  /// The whole u of the last condensed solve (the rules needed its tail only).
+  void complete_displacement(ConstraintSolution& s) {
+    VecX u;
+    if (surface_->complete(u) == SolveStatus::kConverged) s.u = u;
   }
 
   static bool code_on(const std::vector<char>& code, int i) { return code[i] != 0; }
@@ -417,6 +516,10 @@ class FrictionalSolve {
   bool factored_ = false;                 ///< kkt_ holds the factor of factored_code_'s system
   std::vector<char> factored_code_;
   std::array<VecX, 3> factored_k_;        ///< and of these stiffnesses (penalised rows)
+  std::unique_ptr<SurfaceCondensation> surface_;  ///< the condensed path (null: LU only)
+  bool surface_tried_ = false;
+  bool surface_last_ = false;             ///< the last solve took the condensed path
+  double surface_rcond_ = 1.0;            ///< its dense block's condition estimate
 };
 
 FrictionalSolver::FrictionalSolver(const ConstrainedProblem& p)

@@ -1,6 +1,7 @@
 #include "constraints/methods/adaptive_penalty_strategy.hpp"
 
 #include <cmath>
+#include <memory>
 
 #include "constraints/methods/penalty_strategy.hpp"
 #include "constraints/strategy_common.hpp"
@@ -17,6 +18,10 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
   std::vector<char> active = initially_closed(p);
   PenalizedSolver solver(p);
+  // With friction, one solver over the raises: its condensed K stays, a raise changes the
+  // surface block only.
+  std::unique_ptr<FrictionalSolver> frictional;
+  if (p.has_friction()) frictional = std::make_unique<FrictionalSolver>(p);
   s.status = SolveStatus::kMaxIterations;
   s.message = "penetration above tolerance after " + std::to_string(options_.max_iterations) +
               " stiffness raises";
@@ -27,7 +32,7 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
       FrictionalOptions o = penalised_friction(p, k_gap, zero_gap, k_eq, zero_eq);
       o.max_iterations = options_.max_iterations;
       o.first_iteration = first;
-      solve_frictional(p, o, s);
+      frictional->solve(o, s);
       outcome.status = s.status;
       outcome.message = s.message;
     } else {

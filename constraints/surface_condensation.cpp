@@ -1,0 +1,246 @@
+#include "constraints/surface_condensation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/stopwatch.hpp"
+
+namespace c2d::constraints {
+
+namespace {
+/// Below this pivot ratio K_ρ is taken as singular: S would be meaningless (as the
+/// saddle-point solver's).
+constexpr double kMinPivotRatio = 1e-11;
+}  // namespace
+
+SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering)
+    : ct_(std::move(ct)), slot_(ct_.cols(), -1) {
+  ct_.makeCompressed();
+  std::vector<char> touched(ct_.rows(), 0);
+  for (int c = 0; c < ct_.outerSize(); ++c)
+    for (SpMat::InnerIterator it(ct_, c); it; ++it) touched[it.row()] = 1;
+  for (int d = 0; d < ct_.rows(); ++d)
+    if (touched[d]) tail_dofs_.push_back(d);
+  if (ordering) tail_.set_ordering(std::move(ordering));
+}
+
+SurfaceCondensation::~SurfaceCondensation() = default;
+
+bool SurfaceCondensation::fits() const {
+  const int kt = static_cast<int>(tail_dofs_.size());
+  return kt > 0 && kt <= kMaxTail && kt < ct_.rows() && ct_.cols() <= kMaxRows;
+}
+
+bool SurfaceCondensation::factorize(const SpMat& k, const std::vector<int>& regularise) {
+  factored_ = false;
+  known_.clear();
+  std::fill(slot_.begin(), slot_.end(), -1);
+  v_.resize(0, 0);
+  s_.resize(0, 0);
+  cached_f_.resize(0);
+  if (!fits()) {
+    message_ = "the rows touch too many unknowns for a dense surface block";
+    return false;
+  }
+  const int n = static_cast<int>(ct_.rows());
+  const VecX diag = k.diagonal();
+  rho_ = VecX::Zero(ct_.cols());
+  std::vector<Triplet> t;
+  for (int q : regularise) {
+    double a2 = 0.0, ak = 0.0;
+    for (SpMat::InnerIterator it(ct_, q); it; ++it) {
+      a2 += it.value() * it.value();
+      ak += it.value() * it.value() * diag[it.row()];
+    }
+    if (!(a2 > 0) || !(ak > 0)) continue;
+    rho_[q] = ak / (a2 * a2);
+    const double sq = std::sqrt(rho_[q]);
+    for (SpMat::InnerIterator it(ct_, q); it; ++it) t.emplace_back(q, it.row(), sq * it.value());
+  }
+  SpMat scaled(ct_.cols(), n);
+  scaled.setFromTriplets(t.begin(), t.end());
+  k_rho_ = k + SpMat(scaled.transpose() * scaled);
+  if (tail_.factorize(k_rho_, tail_dofs_) != SolveStatus::kConverged ||
+      !(tail_.report().pivot_ratio > kMinPivotRatio)) {
+    message_ = tail_.report().message.empty() ? "K_ρ is singular to working precision"
+                                              : tail_.report().message;
+    return false;
+  }
+  message_.clear();
+  factored_ = true;
+  return true;
+}
+
+void SurfaceCondensation::prepare(const std::vector<int>& rows) {
+  std::vector<int> fresh;
+  for (int r : rows)
+    if (slot_[r] < 0) {
+      slot_[r] = static_cast<int>(known_.size() + fresh.size());
+      fresh.push_back(r);
+    }
+  if (fresh.empty()) return;
+  const core::Stopwatch clock;
+  const int kt = tail_.tail_size(), old = static_cast<int>(known_.size());
+  const int nf = static_cast<int>(fresh.size()), all = old + nf;
+  const auto& pos = tail_.tail_position();
+  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(kt, nf);
+  for (int c = 0; c < nf; ++c)
+    for (SpMat::InnerIterator it(ct_, fresh[c]); it; ++it) block(pos[it.row()], c) = it.value();
+  tail_.tail_factor().triangularView<Eigen::Lower>().solveInPlace(block);
+  v_.conservativeResize(kt, all);
+  v_.rightCols(nf) = block;
+  known_.insert(known_.end(), fresh.begin(), fresh.end());
+  // S's new columns against every known row (D₂⁻¹ folded into the new block), mirrored.
+  const Eigen::MatrixXd scaled = tail_.tail_pivots().cwiseInverse().asDiagonal() * block;
+  const Eigen::MatrixXd cols = v_.transpose() * scaled;  // all × nf
+  s_.conservativeResize(all, all);
+  s_.rightCols(nf) = cols;
+  s_.bottomLeftCorner(nf, old) = cols.topRows(old).transpose();
+  dense_seconds_ += clock.elapsed();
+}
+
+Eigen::MatrixXd SurfaceCondensation::schur(const std::vector<int>& rows,
+                                           const std::vector<int>& cols) {
+  std::vector<int> both = rows;
+  both.insert(both.end(), cols.begin(), cols.end());
+  prepare(both);
+  Eigen::MatrixXd out(rows.size(), cols.size());
+  for (size_t c = 0; c < cols.size(); ++c)
+    for (size_t r = 0; r < rows.size(); ++r) out(r, c) = s_(slot_[rows[r]], slot_[cols[c]]);
+  return out;
+}
+
+SolveStatus SurfaceCondensation::forward(const VecX& f) {
+  if (f.size() == cached_f_.size() && f == cached_f_) return SolveStatus::kConverged;
+  cached_f_.resize(0);
+  const SolveStatus st = tail_.forward(f, forward_);
+  if (st != SolveStatus::kConverged) {
+    message_ = tail_.report().message;
+    return st;
+  }
+  cached_f_ = f;
+  return st;
+}
+
+SolveStatus SurfaceCondensation::rest_values(const VecX& f, const std::vector<int>& rows,
+                                             VecX& y0) {
+  if (!factored_) return SolveStatus::kFailed;
+  if (const SolveStatus st = forward(f); st != SolveStatus::kConverged) return st;
+  prepare(rows);
+  const int kt = tail_.tail_size();
+  y0.resize(static_cast<int>(rows.size()));
+  for (size_t r = 0; r < rows.size(); ++r)
+    y0[static_cast<int>(r)] = v_.col(slot_[rows[r]]).dot(forward_.tail(kt));
+  return SolveStatus::kConverged;
+}
+
+SolveStatus SurfaceCondensation::displacement(const VecX& f, const std::vector<int>& cols,
+                                              const VecX& w, VecX& u, bool tail_only) {
+  if (!factored_) return SolveStatus::kFailed;
+  if (const SolveStatus st = forward(f); st != SolveStatus::kConverged) return st;
+  prepare(cols);
+  const core::Stopwatch clock;
+  const int kt = tail_.tail_size();
+  VecX pushed = VecX::Zero(kt);
+  for (size_t c = 0; c < cols.size(); ++c) pushed += w[static_cast<int>(c)] * v_.col(slot_[cols[c]]);
+  VecX forward = forward_;
+  forward.tail(kt) += pushed.cwiseQuotient(tail_.tail_pivots());
+  if (tail_only) {
+    const VecX ut =
+        tail_.tail_factor().triangularView<Eigen::Lower>().transpose().solve(forward.tail(kt));
+    u = VecX::Zero(ct_.rows());
+    for (int d : tail_dofs_) u[d] = ut[tail_.tail_position()[d]];
+    dense_seconds_ += clock.elapsed();
+    return u.allFinite() ? SolveStatus::kConverged : SolveStatus::kFailed;
+  }
+  dense_seconds_ += clock.elapsed();
+  const SolveStatus st = tail_.backward(forward, u);
+  if (st != SolveStatus::kConverged) message_ = tail_.report().message;
+  return st;
+}
+
+SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, VecX& force,
+                                        VecX& u, double& rcond) {
+  if (!factored_) return SolveStatus::kFailed;
+  const int rows = static_cast<int>(ct_.cols());
+  std::vector<int> reg;
+  for (int r = 0; r < rows; ++r)
+    if (rho_[r] > 0) reg.push_back(r);
+  const int nh = static_cast<int>(states.held.size()), nr = static_cast<int>(reg.size());
+  // W over the columns J (rows that may carry a force, ζ folded into its row's column):
+  // W_J = B X + W0 with X = [w_H; ζ].
+  std::vector<int> cols, col_of(rows, -1), x_of(rows, -1);
+  auto col = [&](int r) {
+    if (col_of[r] < 0) col_of[r] = static_cast<int>(cols.size()), cols.push_back(r);
+    return col_of[r];
+  };
+  struct Entry {
+    int col, x;
+    double v;
+  };
+  std::vector<Entry> b_map;
+  for (int h = 0; h < nh; ++h) b_map.push_back({col(states.held[h]), h, 1.0}), x_of[states.held[h]] = h;
+  for (int q = 0; q < nr; ++q) b_map.push_back({col(reg[q]), nh + q, 1.0});
+  std::vector<std::pair<int, double>> w0;
+  for (size_t k = 0; k < states.following.size(); ++k) {
+    const int c = col(states.following[k]), lead = states.leader[k];
+    w0.emplace_back(c, states.offset[k]);
+    if (lead >= 0 && x_of[lead] >= 0 && states.factor[k] != 0.0)
+      b_map.push_back({c, x_of[lead], states.factor[k]});
+  }
+  // The equations: held row r, (S W)_r + compliance_r w_r = target_r − y0_r; regularising row
+  // q, (S W)_q − ζ_q/ρ_q = −y0_q (y0 = C K_ρ⁻¹ f).
+  std::vector<int> eqs = states.held;
+  eqs.insert(eqs.end(), reg.begin(), reg.end());
+  const Eigen::MatrixXd s_ej = schur(eqs, cols);
+  VecX y0;
+  if (const SolveStatus st = rest_values(f, eqs, y0); st != SolveStatus::kConverged) return st;
+  const core::Stopwatch clock;
+  const int nx = nh + nr;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(nx, nx);
+  for (const Entry& e : b_map) a.col(e.x) += e.v * s_ej.col(e.col);
+  VecX b = -y0;
+  for (int h = 0; h < nh; ++h) a(h, h) += states.compliance[h], b[h] += states.target[h];
+  for (int q = 0; q < nr; ++q) a(nh + q, nh + q) -= 1.0 / rho_[reg[q]];
+  for (const auto& [c, v] : w0) b -= v * s_ej.col(c);
+  VecX x = VecX::Zero(nx);
+  rcond = 1.0;
+  if (nx > 0) {
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+    const VecX d = lu.matrixLU().diagonal().cwiseAbs();
+    const double dmax = d.maxCoeff();
+    rcond = dmax > 0 && d.allFinite() ? std::min(lu.rcond(), d.minCoeff() / dmax) : 0.0;
+    if (!(rcond > 1e-13)) {
+      dense_seconds_ += clock.elapsed();
+      message_ = "the rows' condensed block is singular: linearly dependent rows or an "
+                 "unsupported body";
+      return SolveStatus::kSingular;
+    }
+    x = lu.solve(b);
+    const double bn = b.norm();
+    if (!x.allFinite() || (a * x - b).norm() > 1e-8 * (bn > 0 ? bn : 1.0)) {
+      dense_seconds_ += clock.elapsed();
+      message_ = "the rows' condensed block solves to no precision";
+      return SolveStatus::kIllConditioned;
+    }
+  }
+  last_w_ = VecX::Zero(static_cast<int>(cols.size()));
+  for (const Entry& e : b_map) last_w_[e.col] += e.v * x[e.x];
+  for (const auto& [c, v] : w0) last_w_[c] += v;
+  last_cols_ = cols;
+  force = VecX::Zero(rows);
+  for (int h = 0; h < nh; ++h) force[states.held[h]] = x[h];
+  for (size_t k = 0; k < states.following.size(); ++k) {
+    const int lead = states.leader[k];
+    force[states.following[k]] =
+        states.offset[k] + (lead >= 0 && x_of[lead] >= 0 ? states.factor[k] * x[x_of[lead]] : 0.0);
+  }
+  dense_seconds_ += clock.elapsed();
+  return displacement(f, last_cols_, last_w_, u, true);
+}
+
+SolveStatus SurfaceCondensation::complete(VecX& u) {
+  return displacement(cached_f_, last_cols_, last_w_, u, false);
+}
+
+}  // namespace c2d::constraints
