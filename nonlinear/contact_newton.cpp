@@ -20,6 +20,11 @@ namespace {
 
 double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0; }
 
+/// A strategy step is kept as the next iterate when it divides the residual by ten at least
+/// (Newton's quadratic rate near a solution); a slower one is finished by Newton with the set
+/// held, whose rows follow the iterate (a node sliding onto the next master edge).
+constexpr double kStepDecrease = 0.1;
+
 }  // namespace
 
 namespace {
@@ -96,7 +101,7 @@ class ConstrainedStep {
       out_.status = SolveStatus::kConverged;
       return true;
     }
-    ConstrainedProblem qp = contact_.problem(system_.matrix(), load, rows_, u_full,
+    ConstrainedProblem qp = contact_.problem(tangent(outer, u_full), load, rows_, u_full,
                                              system_.is_linear(), &in_.u_prev_full);
     VecX c(qp.num_gaps() + qp.num_equalities());  // g(u_f) = c + G u_f, then A u_f − b
     c << qp.gap0, -qp.eq_rhs;
@@ -134,6 +139,7 @@ class ConstrainedStep {
     // 2. The strategy on the linearised problem.
     const ConstraintSolution s = strategy_.solve(qp);
     out_.strategy.add(s);
+    it.factorizations = s.factorizations;
     const ContactMemory next = record_strategy(qp, s, it);
     if (s.status != SolveStatus::kConverged) {
       keep_partial(c, qp, s);
@@ -151,6 +157,24 @@ class ConstrainedStep {
     if (!hold_set(qp, c, s, same_set, it)) return false;
     previous_ = next;
     return true;
+  }
+
+  /// The stiffness the strategy linearises with: K_T, and from the second outer iteration on
+  /// the rows' curvature under the state's forces (the contact's and the plates' geometric
+  /// stiffness, as Newton's Jacobian has it), so that the strategy's step is a Newton step.
+  SpMat tangent(int outer, const VecX& u_full) const {
+    SpMat k = system_.matrix();
+    if (outer == 1 || system_.is_linear()) return k;
+    VecX f(static_cast<int>(rows_.size()));
+    for (size_t i = 0; i < rows_.size(); ++i)
+      f[static_cast<int>(i)] = std::max(0.0, force_by_slot_[rows_[i].slot]);
+    k += contact_.geometric_stiffness(rows_, f);
+    if (contact_.has_nonlinear_equalities() && state_.eq_multiplier.size() > 0) {
+      const std::vector<EqualityRow> eq = contact_.equality_rows_at(u_full, false);
+      if (static_cast<int>(eq.size()) == state_.eq_multiplier.size())
+        k += contact_.equality_geometric_stiffness(eq, state_.eq_multiplier);
+    }
+    return k;
   }
 
   /// The out-of-balance force and tangent at u_full (outer iterations after the first).
@@ -295,22 +319,48 @@ class ConstrainedStep {
                                       system_.reaction_scale(x.head(u_.size())), in_.floor_scale,
                                       step_scale_});
     step_scale_ = newton.residual_scale;
-    if (satisfied(sys, x, newton, it)) {
-      if (same_set) out_.status = SolveStatus::kConverged;
+    // The step: the strategy's solve of the problem linearised at u is a Newton step with the
+    // sets updated. The step ends where the method kept its set at u and the state already
+    // satisfies the equations with that set held, or its step reached such a state. A step
+    // that does not halve the residual is finished by Newton with the set held (KINSOL, line
+    // search), the globalisation.
+    double norm = 0.0;
+    if (same_set && satisfied(sys, x, newton, it, norm)) {
+      out_.status = SolveStatus::kConverged;
+    } else if (system_.is_linear()) {
+      // Small strain: the strategy's solution solves the rows it was given, linear about the
+      // detection state; Newton only where the state does not satisfy them (the next outer
+      // iteration detects again and confirms).
+      if (!satisfied(sys, x, newton, it, norm) && !newton_with_set_held(sys, x, newton, it))
+        return false;
     } else {
-      it.newton = solve_newton_with_fallback(sys, x, newton);
-      out_.newton.iterations += it.newton.iterations;
-      out_.newton.residual_norms.insert(out_.newton.residual_norms.end(),
-                                        it.newton.residual_norms.begin(),
-                                        it.newton.residual_norms.end());
-      out_.newton.final_residual = it.newton.final_residual;
-      out_.newton.last_step = it.newton.last_step;
-      if (it.newton.status != SolveStatus::kConverged) {
-        out_.iterations.push_back(it);
-        fail(it.newton.status, where_ + "Newton with the active set fixed: " + it.newton.message);
+      if (same_set) {
+        VecX force(m + me);
+        force << s.contact_force, s.eq_multiplier;
+        x = sys.pack(VecX(u_ + s.u), force);
+      } else if (!std::isfinite(last_norm_)) {
+        // The first iterate of the step: its residual before the step is the reference.
+        VecX r;
+        if (sys.residual(sys.pack(u_, start_force), r)) last_norm_ = inf_norm(r);
+      }
+      // Finite strain: the held rows are detected again at x, so a state that satisfies them
+      // with the set the method kept at u is converged.
+      const bool reached = satisfied(sys, x, newton, it, norm);
+      if (reached && same_set) out_.status = SolveStatus::kConverged;
+      if (reached || (std::isfinite(norm) && norm <= kStepDecrease * last_norm_)) {
+        it.newton.status = SolveStatus::kConverged;
+        it.newton.iterations = 1;
+        it.newton.final_residual = norm;
+        it.newton.residual_norms = {norm};
+        it.newton.last_step = inf_norm(s.u);
+        out_.newton.iterations += 1;
+        out_.newton.residual_norms.push_back(norm);
+        out_.newton.final_residual = norm;
+      } else if (!newton_with_set_held(sys, x, newton, it)) {
         return false;
       }
     }
+    last_norm_ = it.newton.final_residual;
     u_ = x.head(u_.size());
     keep_state(sys, x, s0, it, friction ? friction->stick : std::vector<int>());
     out_.iterations.push_back(it);
@@ -322,17 +372,35 @@ class ConstrainedStep {
   /// with penalties 1e3 times the element stiffness that floor can exceed the tolerance, so it
   /// bounds the test from below.
   bool satisfied(ActiveSetSystem& sys, const VecX& x, const NewtonOptions& newton,
-                 ContactIteration& it) const {
+                 ContactIteration& it, double& norm) const {
     VecX r;
     const double floor =
         16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale_ * sys.row_stiffness();
-    if (!sys.residual(x, r) ||
-        inf_norm(r) > std::max(newton.residual_tolerance * newton.residual_scale, floor))
+    norm = sys.residual(x, r) ? inf_norm(r) : std::numeric_limits<double>::infinity();
+    if (!(norm <= std::max(newton.residual_tolerance * newton.residual_scale, floor)))
       return false;
     it.newton.status = SolveStatus::kConverged;
     it.newton.final_residual = inf_norm(r);
     it.newton.residual_norms = {it.newton.final_residual};
     return true;
+  }
+
+  /// KINSOL with the set held from x; false when it failed (out_ says why).
+  bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& newton,
+                            ContactIteration& it) {
+    it.newton = solve_newton_with_fallback(sys, x, newton);
+    out_.newton.iterations += it.newton.iterations;
+    out_.newton.factorizations += it.newton.factorizations;
+    it.factorizations += it.newton.factorizations;
+    out_.newton.residual_norms.insert(out_.newton.residual_norms.end(),
+                                      it.newton.residual_norms.begin(),
+                                      it.newton.residual_norms.end());
+    out_.newton.final_residual = it.newton.final_residual;
+    out_.newton.last_step = it.newton.last_step;
+    if (it.newton.status == SolveStatus::kConverged) return true;
+    out_.iterations.push_back(it);
+    fail(it.newton.status, where_ + "Newton with the active set fixed: " + it.newton.message);
+    return false;
   }
 
   /// The held state: `stick` lists the sticking rows held after the equality rows.
@@ -404,6 +472,8 @@ class ConstrainedStep {
   std::vector<double> force_since_;  ///< and the friction force it held there
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
+  /// The residual at the last state kept (∞ before the first): a step must halve it.
+  double last_norm_ = std::numeric_limits<double>::infinity();
   double coordinate_scale_ = 0.0;      ///< the lengths a gap is computed from, for round-off
   std::vector<GapRow> rows_, state_rows_;
   ConstraintSolution state_;

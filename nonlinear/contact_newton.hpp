@@ -1,19 +1,22 @@
 // Contact inside a load step of the geometric-nonlinear analysis.
 //
-// Each load step runs outer iterations. An outer iteration
-//   1. detects the contact rows at the current configuration and linearises the problem there
-//      (K_T, the out-of-balance force, the gap rows): the SQP subproblem;
-//   2. hands it to the scene's ConstraintStrategy, which returns a step, an active set, forces
-//      and (penalty-type methods) stiffnesses;
-//   3. holds that active set fixed and solves the nonlinear equations with KINSOL, starting from
-//      the strategy's step: penalty-type methods add the forces λ̂ − k g(u) of the active rows
-//      (CHOLMOD), exact methods add the multipliers of the active rows as unknowns (UMFPACK on
-//      the saddle-point system, symbolic analysis kept through the solve).
-// The step has converged when the strategy, consulted at the new state, keeps the active set
-// and asks for no further step. The active set never changes inside a KINSOL solve, so KINSOL's
-// line search sees a smooth residual (the NaN trap of changing the set inside the line search
-// cannot arise). `ipopt` is coupled the same way: Ipopt solves each outer iterate's QP, which
-// fixes the active set; the equality-constrained Newton solve with multipliers finishes it.
+// A load step is a Newton iteration over the method's sets. Each iterate ("outer iteration")
+//   1. detects the contact rows at the current configuration and linearises the problem there:
+//      K_T (with the contact's and the plates' geometric stiffness under the state's forces from
+//      the second iterate on), the out-of-balance force, the gap and tangential rows;
+//   2. hands it to the scene's ConstraintStrategy, which updates its active (and stick/slip)
+//      sets on that problem and returns the step, forces and (penalty-type methods)
+//      stiffnesses: friction on the condensed surface, one factorisation of K per iterate;
+//   3. keeps the step when the residual at u + Δu, with the set held and the rows re-detected
+//      there, is a tenth or less of the last one (a Newton step); else finishes the iterate with
+//      KINSOL with the set held (the globalisation: penalty-type methods add the forces
+//      λ̂ − k g(u) of the active rows, exact methods the multipliers of the active rows as
+//      unknowns). The active set never changes inside a KINSOL solve, so its line search sees a
+//      smooth residual.
+// The step has converged when the strategy kept its set and the state, or the state its step
+// reached, satisfies the equations with that set held. A small-strain system takes the
+// strategy's solution as it is (its rows are linear about the detection state) and confirms it
+// by detecting again. `ipopt` is coupled the same way: Ipopt solves each iterate's QP.
 #pragma once
 
 #include <limits>
@@ -38,6 +41,7 @@ struct ContactIteration {
   int stick = 0, slip = 0;      ///< friction: active rows sticking and slipping
   double penalty = 0.0;         ///< largest penalty stiffness in use (0: none)
   NewtonReport newton;          ///< KINSOL with the set fixed (no iterations: the step confirmed)
+  int factorizations = 0;       ///< linear systems factorised: the strategy's and Newton's
   double max_penetration = 0.0; ///< after the KINSOL solve
   double max_force = 0.0;       ///< largest row force after the KINSOL solve
   double max_pressure = 0.0;    ///< largest recovered pressure then (0 without a slave surface)

@@ -52,7 +52,7 @@ void solve_with_contact_step(const constraints::ContactSet& contact, const Model
   r.solver.backend = report.method;
   r.solver.status = step.status;
   r.solver.message = step.message;
-  r.solver.numeric_factorizations = step.strategy.factorizations;
+  r.solver.numeric_factorizations = step.strategy.factorizations + step.newton.factorizations;
   r.solver.symbolic_seconds = step.strategy.symbolic_seconds;
   r.solver.symbolic_analyses = step.strategy.symbolic_analyses;
   r.solver.numeric_seconds = step.strategy.numeric_seconds;

@@ -132,17 +132,20 @@ class LoadStepper {
       rec.newton.status = cstep.status;
       rec.newton.message = cstep.message;
       rec.contact = cstep.iterations;
+      rec.factorizations = cstep.strategy.factorizations + cstep.newton.factorizations;
       return cstep.u_free;
     }
     // Linear predictor from the last converged state: K_T Δu_f = λ f − f_int − K_fc Δu_c.
     VecX guess = u_free_, rhs, step;
-    if (system_.step_predictor(u_prev_full_, rhs) && system_.factorize_jacobian_assembled() &&
-        system_.solve(rhs, step) && step.allFinite())
-      guess = u_free_ + step;
+    if (system_.step_predictor(u_prev_full_, rhs) && system_.factorize_jacobian_assembled()) {
+      rec.factorizations = 1;
+      if (system_.solve(rhs, step) && step.allFinite()) guess = u_free_ + step;
+    }
     NewtonOptions newton = options_.newton;
     newton.residual_scale = std::max({load_scale, system_.reaction_scale(guess), floor_scale_});
     VecX trial = guess;
     rec.newton = solve_newton_with_fallback(system_, trial, newton);
+    rec.factorizations += rec.newton.factorizations;
     return trial;
   }
 
@@ -150,7 +153,7 @@ class LoadStepper {
   void add_totals(const ContactStepResult& cstep) {
     const StrategyTotals& t = cstep.strategy;
     totals_.iterations += t.iterations;
-    totals_.factorizations += t.factorizations;
+    totals_.factorizations += t.factorizations + cstep.newton.factorizations;
     totals_.symbolic_analyses += t.symbolic_analyses;
     totals_.seconds += t.seconds;
     totals_.symbolic_seconds += t.symbolic_seconds;

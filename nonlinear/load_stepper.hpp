@@ -21,6 +21,9 @@ struct StepRecord {
   double load_factor = 0.0;  ///< the target λ of the attempt
   int attempt = 0;           ///< 0 first try, k after k cutbacks
   NewtonReport newton;       ///< every KINSOL iteration of the attempt
+  /// Linear systems factorised in the attempt: the predictor's and Newton's Jacobians, with
+  /// contact the method's solves too.
+  int factorizations = 0;
   double seconds = 0.0;
   /// With contact: the outer (active-set) iterations of the attempt and, when it converged,
   /// the contact state per slave node (gap, force, pressure, active).

@@ -20,6 +20,7 @@ namespace {
 struct Bridge {
   NewtonSystem* system = nullptr;
   std::vector<double>* history = nullptr;
+  int factorizations = 0;  ///< successful factorize_jacobian calls
   std::string error;  ///< KINSOL's last error message
 };
 
@@ -46,7 +47,9 @@ int jacobian_callback(N_Vector u, N_Vector fu, SUNMatrix, void* data, N_Vector, 
   if (core::interrupt_requested()) return -1;  // unwound below, after KINSOL has returned
   try {
     b->history->push_back(view(fu).cwiseAbs().maxCoeff());
-    return b->system->factorize_jacobian(view(u)) ? 0 : 1;
+    if (!b->system->factorize_jacobian(view(u))) return 1;
+    ++b->factorizations;
+    return 0;
   } catch (const std::exception& e) {
     b->error = e.what();
     return -1;
@@ -186,6 +189,7 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
     KINGetStepLength(kin, &step);
     interrupted = core::interrupt_requested();
     report.iterations = static_cast<int>(iters);
+    report.factorizations = bridge.factorizations;
     report.last_step = step;
     report.status = map_flag(flag, report.message);
     if (!bridge.error.empty() && report.status != SolveStatus::kConverged)
@@ -231,6 +235,7 @@ NewtonReport solve_newton_with_fallback(NewtonSystem& system, VecX& u, const New
   u = guess;
   NewtonReport searched = solve_newton(system, u, o);
   searched.iterations += report.iterations;
+  searched.factorizations += report.factorizations;
   searched.residual_norms.insert(searched.residual_norms.begin(), report.residual_norms.begin(),
                                  report.residual_norms.end());
   return searched;

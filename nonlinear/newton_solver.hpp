@@ -38,6 +38,7 @@ struct NewtonReport {
   SolveStatus status = SolveStatus::kFailed;
   std::string message;
   int iterations = 0;
+  int factorizations = 0;              ///< Jacobians factorised (one per Newton iteration)
   std::vector<double> residual_norms;  ///< ‖R‖_∞ at each Jacobian evaluation, then the final one
   double final_residual = 0.0;         ///< ‖R‖_∞ at the returned u
   double last_step = 0.0;              ///< scaled length of the last Newton step

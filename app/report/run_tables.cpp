@@ -11,7 +11,7 @@ namespace {
 // trace.csv columns (DESIGN §4), shared by the contact and the Newton traces.
 constexpr const char* kTraceHeader =
     "step,load_factor,attempt,outer,iteration,residual,increment_norm,active,entering,leaving,"
-    "max_penetration,max_pressure,penalty,status,stick,slip\n";
+    "max_penetration,max_pressure,penalty,status,stick,slip,factorizations\n";
 
 constexpr const char* kContactStepsHeader = "step,load_factor,node,x,y,gap,force,pressure,active";
 /// Friction columns (frictional scenes only): the tangential force on the slave along t (the
@@ -51,7 +51,9 @@ void write_newton_rows(std::ostream& os, const nonlinear::StepRecord& s) {
     os << s.step << ',' << s.load_factor << ',' << s.attempt << ",1," << k << ',' << norms[k]
        << ',';
     if (last) os << s.newton.last_step;
-    os << ",0,0,0,0,0,0," << (last ? to_string(s.newton.status) : "iterating") << ",0,0\n";
+    os << ",0,0,0,0,0,0," << (last ? to_string(s.newton.status) : "iterating") << ",0,0,";
+    if (last) os << s.factorizations;
+    os << '\n';
   }
 }
 
@@ -77,7 +79,9 @@ void write_contact_rows(std::ostream& os, const nonlinear::StepRecord& s) {
       os << ',' << it.penalty << ','
          << (!last ? "iterating"
                    : to_string(o + 1 == s.contact.size() ? s.newton.status : it.newton.status))
-         << ',' << it.stick << ',' << it.slip << '\n';
+         << ',' << it.stick << ',' << it.slip << ',';
+      if (last) os << it.factorizations;
+      os << '\n';
     }
     base += it.newton.iterations;
   }
@@ -119,7 +123,7 @@ std::string trace_csv(const constraints::ContactReport& c) {
        << ',' << h.leaving << ',' << h.max_penetration << ',';
     if (last) os << c.p_max;
     os << ',' << h.penalty << ',' << (last ? to_string(c.status) : "iterating") << ',' << h.stick
-       << ',' << h.slip << '\n';
+       << ',' << h.slip << ",\n";
   }
   return os.str();
 }

@@ -279,10 +279,14 @@ nlohmann::json make_summary(const SummaryParts& p) {
     j["probes"] = nlohmann::json::object();
   if (!p.scene.reference_kind.empty()) j["reference"] = reference_section(p);
   if (p.steps && p.results) {
-    int newton = 0;
-    for (const auto& s : *p.steps) newton += s.newton.iterations;
-    j["steps"] = static_cast<int>(global(*p.results, "steps"));
+    int newton = 0, factorizations = 0;
+    for (const auto& s : *p.steps) newton += s.newton.iterations, factorizations += s.factorizations;
+    const int steps = static_cast<int>(global(*p.results, "steps"));
+    j["steps"] = steps;
     j["newton_iterations"] = newton;
+    // Every attempt's work (cut back ones too) over the converged steps.
+    j["per_step"] = {{"newton_iterations", steps > 0 ? double(newton) / steps : 0.0},
+                     {"factorizations", steps > 0 ? double(factorizations) / steps : 0.0}};
     j["load_factor"] = global(*p.results, "load_factor");
   }
   if (!p.adapt.is_null()) j["adapt"] = p.adapt;

@@ -180,13 +180,13 @@ TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
   std::getline(trace, line);
   EXPECT_EQ(line,
             "step,load_factor,attempt,outer,iteration,residual,increment_norm,active,entering,"
-            "leaving,max_penetration,max_pressure,penalty,status,stick,slip");
+            "leaving,max_penetration,max_pressure,penalty,status,stick,slip,factorizations");
   std::map<int, int> active_at_step;
   while (std::getline(trace, line)) {
     std::vector<std::string> cells;
     std::stringstream row(line);
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 16u) << line;
+    ASSERT_GE(cells.size(), 16u) << line;  // (factorizations: on an outer iteration's last row)
     if (cells[13] == "converged") active_at_step[std::stoi(cells[0])] = std::stoi(cells[7]);
   }
   EXPECT_EQ(active_at_step[1], 0);
