@@ -208,17 +208,20 @@ SolveStatus PenalizedSolver::solve_set(const std::vector<char>& set, const VecX&
     k_set[i] = set[i] ? k_gap[i] : 0.0;
     w[i] = set[i] ? lambda[i] - k_gap[i] * p_.gap0[i] : 0.0;
   }
-  SpMat kp = p_.stiffness;
   VecX rhs = p_.load;
-  if (m > 0) {
-    kp += SpMat(gt_ * k_set.asDiagonal() * p_.gap_jacobian);
-    rhs += gt_ * w;
+  if (m > 0) rhs += gt_ * w;
+  if (p_.num_equalities() > 0) rhs += rhs_eq;
+  SolveStatus st = SolveStatus::kConverged;
+  if (!factored_ || set != factored_set_ || k_gap != factored_k_gap_ || k_eq != factored_k_eq_) {
+    kp_ = p_.stiffness;
+    if (m > 0) kp_ += SpMat(gt_ * k_set.asDiagonal() * p_.gap_jacobian);
+    if (p_.num_equalities() > 0) kp_ += SpMat(at_ * k_eq.asDiagonal() * p_.eq_jacobian);
+    st = solver_.factorize(kp_);
+    factored_ = st == SolveStatus::kConverged;
+    factored_set_ = set;
+    factored_k_gap_ = k_gap;
+    factored_k_eq_ = k_eq;
   }
-  if (p_.num_equalities() > 0) {
-    kp += SpMat(at_ * k_eq.asDiagonal() * p_.eq_jacobian);
-    rhs += rhs_eq;
-  }
-  SolveStatus st = solver_.factorize(kp);
   if (st == SolveStatus::kConverged) st = solver_.solve(rhs, u);
   return st;
 }

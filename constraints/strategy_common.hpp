@@ -118,6 +118,12 @@ class PenalizedSolver {
   const ConstrainedProblem& p_;
   SpMat gt_, at_;  ///< Gᵀ and Aᵀ
   core::SpdSolver solver_;
+  /// The factorised matrix and what it was built from: a solve whose set and stiffnesses repeat
+  /// them (an augmented Lagrangian's multiplier update) needs a new right-hand side only.
+  SpMat kp_;
+  std::vector<char> factored_set_;
+  VecX factored_k_gap_, factored_k_eq_;
+  bool factored_ = false;
 };
 
 /// Scale that brings constraint rows to the magnitude of K's entries (mean of diag K).
