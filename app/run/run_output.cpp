@@ -186,9 +186,18 @@ void RunOutput::commit() {
   write_run_manifest(dir_, run_id_);
   fs::remove(dir_ + "/" + kWorkMarker, ec);
   const std::string old = dir_ + ".old";
-  if (fs::exists(target_, ec)) fs::rename(target_, old);
+  const bool replaced = fs::exists(target_, ec);
+  if (replaced) fs::rename(target_, old);
   fs::rename(dir_, target_);
-  remove_run_folder(old);  // only what the earlier run wrote; a folder with more stays
+  if (replaced) {
+    // A study worker's log of this run, open as its stdout, moves with its inode into the
+    // folder now in place (it was left behind in the folder set aside, with that folder).
+    if (fs::is_regular_file(old + "/stdout.log", ec) && !fs::exists(target_ + "/stdout.log", ec))
+      fs::rename(old + "/stdout.log", target_ + "/stdout.log", ec);
+    // Only what the earlier run wrote; a folder with more stays. An empty one (the log was all
+    // it held) goes.
+    if (!remove_run_folder(old)) fs::remove(old, ec);
+  }
   committed_ = true;
   if (interrupt_armed_) g_armed = 0;  // from here on the run is complete
 }

@@ -462,6 +462,16 @@ TEST(Cli, PenaltySweepShowsPenetrationFallingUntilIllConditioning) {
                 &output),
             0)
       << output;
+  // Each case's folder is its run's, with the worker's stdout.log; nothing set aside remains
+  // (the run used to leave CASE.part.PID.old holding the log it was writing).
+  int cases = 0;
+  for (const auto& e : fs::directory_iterator(out)) {
+    EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
+    if (!fs::exists(e.path() / "summary.json")) continue;
+    ++cases;
+    EXPECT_TRUE(fs::exists(e.path() / "stdout.log")) << e.path();
+  }
+  EXPECT_EQ(cases, 19);
   std::ifstream csv(out / "sweep.csv");
   std::string line;
   std::getline(csv, line);
