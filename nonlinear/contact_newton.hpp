@@ -26,6 +26,7 @@
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_set.hpp"
 #include "core/results.hpp"
+#include "nonlinear/contact_results.hpp"
 #include "nonlinear/newton_solver.hpp"
 #include "nonlinear/structural_system.hpp"
 
@@ -110,10 +111,5 @@ ContactStepResult solve_contact_step(StructuralSystem& system,
 /// stress falls back to the force of a 1e-6 strain on the smallest element edge.
 double residual_floor_scale(const core::Model& model);
 
-/// The contact quantities of a report as result globals (contact_pressure_max, contact_length,
-/// contact_force, contact_penetration) and point fields (contact_gap, contact_pressure,
-/// contact_force) for the VTU output and probes.
-void store_contact_results(const constraints::ContactReport& report, int num_nodes,
-                           core::Results& results);
 
 }  // namespace c2d::nonlinear
