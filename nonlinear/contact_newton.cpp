@@ -24,6 +24,8 @@ double inf_norm(const VecX& v) { return v.size() ? v.cwiseAbs().maxCoeff() : 0.0
 /// (Newton's quadratic rate near a solution); a slower one is finished by Newton with the set
 /// held, whose rows follow the iterate (a node sliding onto the next master edge).
 constexpr double kStepDecrease = 0.1;
+/// Factorisations a strategy's solve may cost for its step to be kept that way.
+constexpr int kCheapStrategy = 2;
 
 }  // namespace
 
@@ -347,7 +349,11 @@ class ConstrainedStep {
       // with the set the method kept at u is converged.
       const bool reached = satisfied(sys, x, newton, it, norm);
       if (reached && same_set) out_.status = SolveStatus::kConverged;
-      if (reached || (std::isfinite(norm) && norm <= kStepDecrease * last_norm_)) {
+      // A method whose solve costs more than a Newton iteration or two (ipopt's interior
+      // point, a penalty raised or augmented many times) is not asked again for a step
+      // Newton with the set held can finish: it is asked only to confirm.
+      const bool cheap = s0.factorizations <= kCheapStrategy;
+      if (reached || (cheap && std::isfinite(norm) && norm <= kStepDecrease * last_norm_)) {
         it.newton.status = SolveStatus::kConverged;
         it.newton.iterations = 1;
         it.newton.final_residual = norm;
