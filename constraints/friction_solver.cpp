@@ -138,20 +138,10 @@ class FrictionalSolve {
     }
     if (solved && surface_last_) complete_displacement(s);
     // Summed: a method may call repeatedly (stiffness raises, multiplier updates).
-    const KktSolveReport& r = kkt_.report();
-    const core::SpdSolveReport c = surface_report();
-    s.factorizations += r.numeric_factorizations - before.numeric_factorizations +
-                        c.numeric_factorizations - surface_before.numeric_factorizations;
-    s.symbolic_analyses += r.symbolic_analyses - before.symbolic_analyses + c.symbolic_analyses -
-                           surface_before.symbolic_analyses;
-    s.symbolic_seconds += r.symbolic_seconds - before.symbolic_seconds + c.symbolic_seconds -
-                          surface_before.symbolic_seconds;
-    s.numeric_seconds += r.numeric_seconds - before.numeric_seconds + c.numeric_seconds -
-                         surface_before.numeric_seconds;
-    s.solve_seconds += r.solve_seconds - before.solve_seconds + c.solve_seconds -
-                       surface_before.solve_seconds +
-                       (surface_ ? surface_->dense_seconds() - dense_before : 0.0);
-    s.pivot_ratio = surface_last_ ? surface_rcond_ : r.rcond;
+    add_solver_work(kkt_.report(), before, s);
+    add_solver_work(surface_report(), surface_before, s);
+    if (surface_) s.solve_seconds += surface_->dense_seconds() - dense_before;
+    s.pivot_ratio = surface_last_ ? surface_rcond_ : kkt_.report().rcond;
     finish(code, solved, s);
   }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "constraints/strategy_common.hpp"
+#include "constraints/surface_condensation.hpp"
 #include "core/stopwatch.hpp"
 
 namespace c2d::constraints {
@@ -84,24 +85,7 @@ bool SaddlePointSolver::factorize_regularised(int max_gap_rows) {
   std::vector<int> reg;
   for (int j = 0; j < me; ++j) reg.push_back(j);
   for (int i = 0; i < take; ++i) reg.push_back(me + gaps[i]);
-  // ρ_r = the row's local stiffness over |c_r|², so ρ_r c_r c_rᵀ is as stiff as K around it.
-  const VecX diag = p_.stiffness.diagonal();
-  rho_ = VecX::Zero(me + m);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int r : reg) {
-    double a2 = 0.0, ak = 0.0;
-    for (SpMat::InnerIterator it(ct_, r); it; ++it) {
-      a2 += it.value() * it.value();
-      ak += it.value() * it.value() * diag[it.row()];
-    }
-    if (!(a2 > 0) || !(ak > 0)) continue;
-    rho_[r] = ak / (a2 * a2);
-    const double sr = std::sqrt(rho_[r]);
-    for (SpMat::InnerIterator it(ct_, r); it; ++it) t.emplace_back(r, it.row(), sr * it.value());
-  }
-  SpMat scaled(me + m, n);
-  scaled.setFromTriplets(t.begin(), t.end());
-  k_rho_ = p_.stiffness + SpMat(scaled.transpose() * scaled);  // kept: the factor refers to it
+  k_rho_ = regularised_stiffness(p_.stiffness, ct_, reg, rho_);  // kept: the factor refers to it
   condensed_ = false;
   if (!tail_dofs_.empty() && static_cast<int>(tail_dofs_.size()) <= kMaxTail &&
       static_cast<int>(tail_dofs_.size()) < n) {

@@ -62,6 +62,17 @@ void copy_solver_figures(const Report& r, ConstraintSolution& s) {
   s.factor = r;
 }
 
+/// Adds a solver's work between two of its reports (`before`, then `now`) to s's figures: a
+/// method that calls a kept solver repeatedly sums each call's share.
+template <class Report>
+void add_solver_work(const Report& now, const Report& before, ConstraintSolution& s) {
+  s.factorizations += now.numeric_factorizations - before.numeric_factorizations;
+  s.symbolic_analyses += now.symbolic_analyses - before.symbolic_analyses;
+  s.symbolic_seconds += now.symbolic_seconds - before.symbolic_seconds;
+  s.numeric_seconds += now.numeric_seconds - before.numeric_seconds;
+  s.solve_seconds += now.solve_seconds - before.solve_seconds;
+}
+
 /// Solves the equality problem of the gap rows marked in a set: fills u, λ (0 off the set; a
 /// row of the set may be in tension) and μ, or returns a failed status with a message.
 using SetSolve = std::function<SolveStatus(const std::vector<char>& set, ConstraintSolution& s,

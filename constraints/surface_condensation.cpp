@@ -13,6 +13,27 @@ namespace {
 constexpr double kMinPivotRatio = 1e-11;
 }  // namespace
 
+SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<int>& rows,
+                            VecX& rho) {
+  const VecX diag = k.diagonal();
+  rho = VecX::Zero(ct.cols());
+  std::vector<Triplet> t;
+  for (int q : rows) {
+    double a2 = 0.0, ak = 0.0;
+    for (SpMat::InnerIterator it(ct, q); it; ++it) {
+      a2 += it.value() * it.value();
+      ak += it.value() * it.value() * diag[it.row()];
+    }
+    if (!(a2 > 0) || !(ak > 0)) continue;
+    rho[q] = ak / (a2 * a2);
+    const double sq = std::sqrt(rho[q]);
+    for (SpMat::InnerIterator it(ct, q); it; ++it) t.emplace_back(q, it.row(), sq * it.value());
+  }
+  SpMat scaled(ct.cols(), ct.rows());
+  scaled.setFromTriplets(t.begin(), t.end());
+  return k + SpMat(scaled.transpose() * scaled);
+}
+
 SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering)
     : ct_(std::move(ct)), slot_(ct_.cols(), -1) {
   ct_.makeCompressed();
@@ -42,24 +63,7 @@ bool SurfaceCondensation::factorize(const SpMat& k, const std::vector<int>& regu
     message_ = "the rows touch too many unknowns for a dense surface block";
     return false;
   }
-  const int n = static_cast<int>(ct_.rows());
-  const VecX diag = k.diagonal();
-  rho_ = VecX::Zero(ct_.cols());
-  std::vector<Triplet> t;
-  for (int q : regularise) {
-    double a2 = 0.0, ak = 0.0;
-    for (SpMat::InnerIterator it(ct_, q); it; ++it) {
-      a2 += it.value() * it.value();
-      ak += it.value() * it.value() * diag[it.row()];
-    }
-    if (!(a2 > 0) || !(ak > 0)) continue;
-    rho_[q] = ak / (a2 * a2);
-    const double sq = std::sqrt(rho_[q]);
-    for (SpMat::InnerIterator it(ct_, q); it; ++it) t.emplace_back(q, it.row(), sq * it.value());
-  }
-  SpMat scaled(ct_.cols(), n);
-  scaled.setFromTriplets(t.begin(), t.end());
-  k_rho_ = k + SpMat(scaled.transpose() * scaled);
+  k_rho_ = regularised_stiffness(k, ct_, regularise, rho_);
   if (tail_.factorize(k_rho_, tail_dofs_) != SolveStatus::kConverged ||
       !(tail_.report().pivot_ratio > kMinPivotRatio)) {
     message_ = tail_.report().message.empty() ? "K_ρ is singular to working precision"

@@ -27,6 +27,13 @@
 
 namespace c2d::constraints {
 
+/// K_ρ = K + Σ_{q∈rows} ρ_q c_q c_qᵀ for the columns c_q of `ct` (Cᵀ, n × rows), ρ_q the row's
+/// local stiffness over |c_q|² (Σ c_j² K_jj / (Σ c_j²)²), so that ρ_q c_q c_qᵀ is as stiff as K
+/// around it. `rho` gets ρ per column of ct (0 outside `rows`, and for a row without
+/// coefficients or local stiffness).
+SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<int>& rows,
+                            VecX& rho);
+
 class SurfaceCondensation {
  public:
   /// Largest tail (unknowns the rows touch) and number of rows the condensation takes: L₂₂ and

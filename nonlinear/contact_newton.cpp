@@ -299,8 +299,9 @@ class ConstrainedStep {
     const VecX& c = friction ? friction->c : c0;
     const int m = qp.num_gaps(), me = qp.num_equalities();
     // The held rows: the gap rows, then the equality rows (their forces: the multipliers μ).
-    VecX start_force(m + me);  // (terms whose forces follow from u ignore it)
-    start_force << s.contact_force, s.eq_multiplier;
+    VecX step_force(m + me);  // the strategy's (terms whose forces follow from u ignore them)
+    step_force << s.contact_force, s.eq_multiplier;
+    VecX start_force = step_force;
     if (same_set) {
       for (int i = 0; i < m; ++i) start_force[i] = force_by_slot_[rows_[i].slot];
       const int me0 = qp0.num_equalities();
@@ -337,9 +338,7 @@ class ConstrainedStep {
         return false;
     } else {
       if (same_set) {
-        VecX force(m + me);
-        force << s.contact_force, s.eq_multiplier;
-        x = sys.pack(VecX(u_ + s.u), force);
+        x = sys.pack(VecX(u_ + s.u), step_force);
       } else if (!std::isfinite(last_norm_)) {
         // The first iterate of the step: its residual before the step is the reference.
         VecX r;
@@ -354,14 +353,13 @@ class ConstrainedStep {
       // Newton with the set held can finish: it is asked only to confirm.
       const bool cheap = s0.factorizations <= kCheapStrategy;
       if (reached || (cheap && std::isfinite(norm) && norm <= kStepDecrease * last_norm_)) {
+        it.newton = NewtonReport{};  // the method's step as one Newton iteration
         it.newton.status = SolveStatus::kConverged;
         it.newton.iterations = 1;
         it.newton.final_residual = norm;
         it.newton.residual_norms = {norm};
         it.newton.last_step = inf_norm(s.u);
-        out_.newton.iterations += 1;
-        out_.newton.residual_norms.push_back(norm);
-        out_.newton.final_residual = norm;
+        add_newton(it);
       } else if (!newton_with_set_held(sys, x, newton, it)) {
         return false;
       }
@@ -391,10 +389,8 @@ class ConstrainedStep {
     return true;
   }
 
-  /// KINSOL with the set held from x; false when it failed (out_ says why).
-  bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& newton,
-                            ContactIteration& it) {
-    it.newton = solve_newton_with_fallback(sys, x, newton);
+  /// An iterate's Newton work (its factorisations, iterations, norms) into the step's.
+  void add_newton(ContactIteration& it) {
     out_.newton.iterations += it.newton.iterations;
     out_.newton.factorizations += it.newton.factorizations;
     it.factorizations += it.newton.factorizations;
@@ -403,6 +399,13 @@ class ConstrainedStep {
                                       it.newton.residual_norms.end());
     out_.newton.final_residual = it.newton.final_residual;
     out_.newton.last_step = it.newton.last_step;
+  }
+
+  /// KINSOL with the set held from x; false when it failed (out_ says why).
+  bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& newton,
+                            ContactIteration& it) {
+    it.newton = solve_newton_with_fallback(sys, x, newton);
+    add_newton(it);
     if (it.newton.status == SolveStatus::kConverged) return true;
     out_.iterations.push_back(it);
     fail(it.newton.status, where_ + "Newton with the active set fixed: " + it.newton.message);
