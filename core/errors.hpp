@@ -41,4 +41,13 @@ inline std::string quoted_found(std::string_view text) {
   return out + "'";
 }
 
+/// A number as a message shows it: `digits` significant digits, no trailing zeros ("1", "0.504",
+/// "1e-09", "1e+30"), never printf's %f, whose six fixed decimals print 1 as "1.000000" and a
+/// small value as "0.000000" (std::to_string(double) is %f).
+inline std::string number_text(double v, int digits = 6) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
 }  // namespace c2d
