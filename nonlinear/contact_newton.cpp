@@ -457,8 +457,8 @@ class ConstrainedStep {
     out_.penetration_tolerance = state_.max_penetration + 1e-9 * contact_.model_size();
     if (out_.status == SolveStatus::kConverged && measured > out_.penetration_tolerance)
       fail(SolveStatus::kPenetration,
-           "the final state penetrates by " + std::to_string(measured) + ", beyond the " +
-               std::to_string(state_.max_penetration) + " the method reports");
+           "the final state penetrates by " + number_text(measured) + ", beyond the " +
+               number_text(state_.max_penetration) + " the method reports");
   }
 
   void fail(SolveStatus status, const std::string& message) {

@@ -5,6 +5,7 @@
 
 #include "core/finite_strain_kernels.hpp"
 #include "core/springs.hpp"
+#include "core/stopwatch.hpp"
 
 namespace c2d::nonlinear {
 
@@ -34,6 +35,25 @@ FiniteStrainSystem::FiniteStrainSystem(const Model& model)
     }
   follower_ff_ = SpMat(model.dofs.num_free(), model.dofs.num_free());
   follower_ff_.setFromTriplets(t.begin(), t.end());
+}
+
+VecX FiniteStrainSystem::prescribed(double lambda) const {
+  return prescribed_displacement(model_, lambda);
+}
+
+bool FiniteStrainSystem::admissible(const VecX& u_full) const {
+  VecX f;
+  return internal_force(u_full, f);
+}
+
+VecX FiniteStrainSystem::reactions(const VecX& u_full) const {
+  VecX f;
+  internal_force(u_full, f);
+  // f_int holds the follower pressures at the current positions: only the dead loads remain.
+  const VecX dead = dead_load_at(lambda_);
+  for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
+    f[dof] = model_.dofs.is_constrained(dof) ? f[dof] - dead[dof] : 0.0;
+  return f;
 }
 
 void FiniteStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
@@ -82,6 +102,7 @@ bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {
 }
 
 bool FiniteStrainSystem::assemble(const VecX& u, const VecX* du_constrained, VecX* lift) {
+  const Stopwatch clock;
   const Mesh& mesh = model_.mesh;
   const int nn = mesh.nodes_per_element();
   bool ok = true;
@@ -107,6 +128,7 @@ bool FiniteStrainSystem::assemble(const VecX& u, const VecX* du_constrained, Vec
     VecX f;
     internal_force(u, f);
   }
+  assemble_seconds_ += clock.elapsed();
   return ok;
 }
 

@@ -18,8 +18,9 @@ class FiniteStrainSystem final : public StructuralSystem {
  public:
   explicit FiniteStrainSystem(const core::Model& model);
 
-  /// The load factor and the full vector carrying the prescribed values at it.
-  void set_state(double lambda, const VecX& u_prescribed);
+  /// λ × the supports' values; rotated supports turn through λθ.
+  VecX prescribed(double lambda) const override;
+  void set_state(double lambda, const VecX& u_prescribed) override;
   double load_factor() const { return lambda_; }
   const core::Model& model() const override { return model_; }
   VecX full(const VecX& u_free) const override;
@@ -36,8 +37,11 @@ class FiniteStrainSystem final : public StructuralSystem {
   double reaction_scale(const VecX& u_free) const override;
   /// K_T,ff: the elements' (and the springs', when the model has any).
   const SpMat& matrix() const override { return extra_ ? tangent_ : assembler_.matrix(); }
-  /// The largest external load at λ = 1 (dead and follower, reference values).
-  double load_scale() const { return load_scale_; }
+  /// The largest external load (dead and follower, reference values, amplitudes' peaks).
+  double load_scale() const override { return load_scale_; }
+  bool admissible(const VecX& u_full) const override;
+  VecX reactions(const VecX& u_full) const override;
+  double assemble_seconds() const override { return assemble_seconds_; }
   /// The dead loads at λ = 1 (full): the external force less the follower pressures, which
   /// internal_force counts at the current positions.
   /// The dead loads at load factor λ, amplitudes included (full vector).
@@ -53,9 +57,9 @@ class FiniteStrainSystem final : public StructuralSystem {
   bool residual(const VecX& u_free, VecX& r) override;
   bool factorize_jacobian(const VecX& u_free) override;
   /// Factorises the matrix last assembled.
-  bool factorize_jacobian_assembled();
+  bool factorize_jacobian_assembled() override;
   bool solve(const VecX& b, VecX& x) override;
-  const core::SpdSolveReport& linear_report() const { return solver_.report(); }
+  const core::SpdSolveReport& linear_report() const override { return solver_.report(); }
   /// "element N (1-based) is inverted" after an evaluation that met one; "" otherwise.
   std::string evaluation_failure() const override;
 
@@ -72,6 +76,7 @@ class FiniteStrainSystem final : public StructuralSystem {
   VecX f_dead_, f_ext_free_, u_prescribed_;
   VecX f_now_free_;  ///< the dead loads at the state's λ, free DOFs
   double lambda_ = 0.0;
+  double assemble_seconds_ = 0.0;
 };
 
 }  // namespace c2d::nonlinear

@@ -9,7 +9,7 @@
 #include "core/interrupt.hpp"
 #include "core/stopwatch.hpp"
 #include "core/stress_recovery.hpp"
-#include "nonlinear/finite_strain_system.hpp"
+#include "nonlinear/structural_system.hpp"
 
 namespace c2d::nonlinear {
 
@@ -22,12 +22,13 @@ namespace {
 /// and recover the fields of a converged state.
 class LoadStepper {
  public:
-  LoadStepper(const Model& model, const AnalysisSpec& analysis, const StepperOptions& options,
-              std::vector<StepRecord>* trace, const constraints::ContactSet* contact)
-      : model_(model), analysis_(analysis), options_(options), trace_(trace), contact_(contact),
-        system_(model), with_contact_(contact && !contact->empty()),
-        floor_scale_(residual_floor_scale(model)),
-        u_free_(VecX::Zero(model.dofs.num_free())), u_prev_full_(prescribe(0.0)),
+  LoadStepper(StructuralSystem& system, const AnalysisSpec& analysis,
+              const StepperOptions& options, std::vector<StepRecord>* trace,
+              const constraints::ContactSet* contact)
+      : model_(system.model()), analysis_(analysis), options_(options), trace_(trace),
+        contact_(contact), system_(system), with_contact_(contact && !contact->empty()),
+        floor_scale_(residual_floor_scale(model_)),
+        u_free_(VecX::Zero(model_.dofs.num_free())), u_prev_full_(prescribe(0.0)),
         memory_(with_contact_ ? contact->num_slots() : 0, 0),
         nominal_(1.0 / std::max(1, options.steps)),
         smallest_(nominal_ / std::ldexp(1.0, std::clamp(options.max_cutbacks, 0, 40))),
@@ -37,7 +38,10 @@ class LoadStepper {
         increment_(nominal_) {
     if (with_contact_) strategy_ = constraints::ConstraintStrategy::create(contact->options());
     last_contact_.method = strategy_ ? strategy_->name() : "";
-    r_.time.mesh = model.mesh_seconds;
+    const SpMat& k = system_.matrix();  // a small-strain K; a finite-strain K_T at u = 0
+    if (with_contact_ && system_.is_linear() && k.nonZeros())
+      last_contact_.stiffness_max = k.coeffs().cwiseAbs().maxCoeff();
+    r_.time.mesh = model_.mesh_seconds;
     r_.status = SolveStatus::kConverged;
   }
 
@@ -50,9 +54,9 @@ class LoadStepper {
  private:
   /// Prescribed displacements at load factor λ (full vector).
   VecX prescribe(double lambda) const {
+    if (!options_.prescribe) return system_.prescribed(lambda);
     VecX u = VecX::Zero(model_.dofs.num_dofs());
-    if (options_.prescribe) options_.prescribe(lambda, u);
-    else u = prescribed_displacement(model_, lambda);
+    options_.prescribe(lambda, u);
     return u;
   }
 
@@ -61,7 +65,7 @@ class LoadStepper {
     core::check_interrupt();
     if (++attempts_ > max_attempts_) {
       r_.status = SolveStatus::kStalled;
-      r_.message = "load stepping stopped at λ = " + std::to_string(lambda_) + " after " +
+      r_.message = "load stepping stopped at λ = " + number_text(lambda_) + " after " +
                    std::to_string(max_attempts_) + " attempts (the bound on attempts)";
       return false;
     }
@@ -91,7 +95,7 @@ class LoadStepper {
     else if (increment_ > smallest_ * (1 + 1e-9)) cut_back();
     else give_up = true;  // the smallest increment failed
     rec.step = converged_steps_;
-    if (with_contact_) record_contact_history(rec);
+    if (with_contact_) record_contact_history(rec, cstep);
     if (trace_) trace_->push_back(rec);
     if (options_.on_step) options_.on_step(rec);
     if (ok && options_.on_state) emit_state(rec);
@@ -105,9 +109,9 @@ class LoadStepper {
         r_.status = SolveStatus::kInvertedElement;
         why = inverted_at_ + "; the smaller steps ended: " + why;
       }
-      r_.message = "load step to λ = " + std::to_string(target) + " failed after " +
+      r_.message = "load step to λ = " + number_text(target) + " failed after " +
                    std::to_string(cutbacks_) + " cutbacks, at the smallest increment " +
-                   std::to_string(increment_) + " (" + why + ")";
+                   number_text(increment_) + " (" + why + ")";
       return false;
     }
     return true;
@@ -135,17 +139,18 @@ class LoadStepper {
       rec.factorizations = cstep.strategy.factorizations + cstep.newton.factorizations;
       return cstep.u_free;
     }
-    // Linear predictor from the last converged state: K_T Δu_f = λ f − f_int − K_fc Δu_c.
+    // Linear predictor from the last converged state: K_T Δu_f = λ f − f_int − K_fc Δu_c (a
+    // small-strain system's K is factorised once for the run: its predictor is the answer, and
+    // Newton finds the residual within its test at once).
+    const int factorized_before = system_.linear_report().numeric_factorizations;
     VecX guess = u_free_, rhs, step;
-    if (system_.step_predictor(u_prev_full_, rhs) && system_.factorize_jacobian_assembled()) {
-      rec.factorizations = 1;
+    if (system_.step_predictor(u_prev_full_, rhs) && system_.factorize_jacobian_assembled())
       if (system_.solve(rhs, step) && step.allFinite()) guess = u_free_ + step;
-    }
     NewtonOptions newton = options_.newton;
     newton.residual_scale = std::max({load_scale, system_.reaction_scale(guess), floor_scale_});
     VecX trial = guess;
     rec.newton = solve_newton_with_fallback(system_, trial, newton);
-    rec.factorizations += rec.newton.factorizations;
+    rec.factorizations = system_.linear_report().numeric_factorizations - factorized_before;
     return trial;
   }
 
@@ -167,14 +172,13 @@ class LoadStepper {
   /// What a failed attempt says of inverted elements ("" when none inverted): its Newton solve
   /// met one, or the contact method's last trial state has one.
   std::string inversion(double target, const StepRecord& rec, const ContactStepResult& cstep) {
-    const std::string at = "at the step to λ = " + std::to_string(target) + ", ";
+    const std::string at = "at the step to λ = " + number_text(target) + ", ";
     if (rec.newton.status == SolveStatus::kInvertedElement) {
       const std::string which = system_.evaluation_failure();
       return at + (which.empty() ? std::string("an element inverted") : which);
     }
-    VecX f;
     if (with_contact_ && cstep.u_free.size() == u_free_.size() &&
-        !system_.internal_force(system_.full(cstep.u_free), f))
+        !system_.admissible(system_.full(cstep.u_free)))
       return at + "in the method's last trial state " + system_.evaluation_failure();
     return "";
   }
@@ -197,7 +201,8 @@ class LoadStepper {
         accumulated_slip_[i] += std::abs(last_contact_.nodes[i].slip);
         last_contact_.nodes[i].accumulated_slip = accumulated_slip_[i];
       }
-      contact_->report_plates(u_prev_full_, cstep.state.eq_multiplier, false, last_contact_);
+      contact_->report_plates(u_prev_full_, cstep.state.eq_multiplier, system_.is_linear(),
+                              last_contact_);
       last_contact_.measured_penetration = cstep.measured_penetration;
       last_contact_.penetration_tolerance = cstep.penetration_tolerance;
       rec.contact_state = last_contact_;
@@ -213,21 +218,20 @@ class LoadStepper {
     increment_ = std::max(smallest_, 0.5 * increment_);
   }
 
-  /// The attempt's outer iterations in the contact report's history.
-  void record_contact_history(const StepRecord& rec) {
+  /// The attempt's work in the contact report: its outer iterations (detection passes), and the
+  /// method's own iterations, numbered on over the run, with its penalty raises.
+  void record_contact_history(const StepRecord& rec, const ContactStepResult& cstep) {
     for (const auto& it : rec.contact) {
       last_contact_.iterations += it.strategy_iterations;
       ++last_contact_.detection_passes;
-      constraints::IterationRecord h;
+    }
+    for (constraints::IterationRecord h : cstep.strategy.history) {
       h.iteration = static_cast<int>(last_contact_.history.size()) + 1;
-      h.active = it.active;
-      h.entering = it.entering;
-      h.leaving = it.leaving;
-      h.max_penetration = it.max_penetration;
-      h.penalty = it.penalty;
-      h.residual = it.newton.final_residual;
       last_contact_.history.push_back(h);
     }
+    last_contact_.penalty_history.insert(last_contact_.penalty_history.end(),
+                                         cstep.strategy.penalty_history.begin(),
+                                         cstep.strategy.penalty_history.end());
   }
 
   /// The fields of a converged state: displacement, reactions, stresses (smoothed, ZZ
@@ -236,14 +240,9 @@ class LoadStepper {
     const Mesh& mesh = model_.mesh;
     system_.set_state(lam, u_full);
     out.displacement = u_full;
-    VecX f_int;
-    system_.internal_force(out.displacement, f_int);
-    out.reaction = VecX::Zero(model_.dofs.num_dofs());
-    // f_int holds the follower pressures at the current positions: only the dead loads remain.
-    const VecX dead = system_.dead_load_at(lam);
-    for (int dof = 0; dof < model_.dofs.num_dofs(); ++dof)
-      if (model_.dofs.is_constrained(dof)) out.reaction[dof] = f_int[dof] - dead[dof];
-    out.element_stresses = compute_element_stresses(mesh, model_.materials, out.displacement, true);
+    out.reaction = system_.reactions(out.displacement);
+    out.element_stresses = compute_element_stresses(mesh, model_.materials, out.displacement,
+                                                    !system_.is_linear());
     out.nodal_stress = smooth_stresses(mesh, model_.materials, out.element_stresses, analysis_.smoothing);
     out.error = estimate_error(mesh, model_.materials, out.element_stresses, out.nodal_stress,
                                analysis_.target_error);
@@ -265,7 +264,9 @@ class LoadStepper {
   }
 
   Results finish(constraints::ContactReport* contact_report) {
-    r_.time.solve = run_clock_.elapsed() - recovery_seconds_ - output_seconds_;
+    r_.time.assemble = system_.assemble_seconds();
+    r_.time.solve = std::max(0.0, run_clock_.elapsed() - recovery_seconds_ - output_seconds_ -
+                                      r_.time.assemble);
     r_.time.output = output_seconds_;
     r_.solver = system_.linear_report();
     // The run's status, not the last factorisation's (a failed run said "converged" here).
@@ -315,7 +316,7 @@ class LoadStepper {
   const StepperOptions& options_;
   std::vector<StepRecord>* trace_;
   const constraints::ContactSet* contact_;
-  FiniteStrainSystem system_;
+  StructuralSystem& system_;
   const bool with_contact_;
   const double floor_scale_;
   std::unique_ptr<constraints::ConstraintStrategy> strategy_;
@@ -345,16 +346,41 @@ class LoadStepper {
 
 }  // namespace
 
-Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analysis,
-                                  const StepperOptions& options, std::vector<StepRecord>* trace,
-                                  const constraints::ContactSet* contact,
-                                  constraints::ContactReport* contact_report) {
-  if (contact && !contact->empty() && model.follower_matrix.nonZeros() > 0)
+Results solve_load_steps(const Model& model, const AnalysisSpec& analysis,
+                         const StepperOptions& options, std::vector<StepRecord>* trace,
+                         const constraints::ContactSet* contact,
+                         constraints::ContactReport* contact_report) {
+  if (analysis.geometric_nonlinearity && contact && !contact->empty() &&
+      model.follower_matrix.nonZeros() > 0)
     throw InputError(model.follower_where +
                      ": follower = true: expected a load-stepped run without [[contact]], "
                      "[[constraint]] or [[plate]] (their methods take a symmetric tangent; a "
                      "follower pressure's is not), found both");
-  return LoadStepper(model, analysis, options, trace, contact).run(contact_report);
+  const std::unique_ptr<StructuralSystem> system = make_structural_system(model, analysis);
+  // A linear analysis without amplitudes is proportional: its one step is every stage.
+  StepperOptions staged = options;
+  if (system->is_linear() && model.amplitude_loads.empty()) staged.steps = 1;
+  return LoadStepper(*system, analysis, staged, trace, contact).run(contact_report);
+}
+
+Results solve_geometric_nonlinear(const Model& model, const AnalysisSpec& analysis,
+                                  const StepperOptions& options, std::vector<StepRecord>* trace,
+                                  const constraints::ContactSet* contact,
+                                  constraints::ContactReport* contact_report) {
+  AnalysisSpec finite = analysis;
+  finite.geometric_nonlinearity = true;
+  return solve_load_steps(model, finite, options, trace, contact, contact_report);
+}
+
+Results solve_linear_static(const Model& model, const AnalysisSpec& analysis,
+                            const constraints::ContactSet* contact,
+                            constraints::ContactReport* contact_report) {
+  AnalysisSpec linear = analysis;
+  linear.geometric_nonlinearity = false;
+  StepperOptions options;
+  options.steps = analysis.steps;
+  options.newton.max_iterations = analysis.max_newton_iterations;
+  return solve_load_steps(model, linear, options, nullptr, contact, contact_report);
 }
 
 }  // namespace c2d::nonlinear

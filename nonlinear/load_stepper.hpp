@@ -1,5 +1,6 @@
-// The geometric-nonlinear analysis: load stepping with Newton (KINSOL) on the
-// updated-Lagrangian St. Venant–Kirchhoff model, cutback and retry on a failed step.
+// The analysis driver: load stepping with Newton (KINSOL) on a structural system, the
+// updated-Lagrangian St. Venant–Kirchhoff model or the small-strain one, cutback and retry on a
+// failed step. Linear and geometric-nonlinear analyses, with or without contact, all pass here.
 #pragma once
 
 #include <functional>
@@ -51,15 +52,32 @@ struct StepperOptions {
   std::function<void(const StepRecord&, const core::Results&)> on_state;
 };
 
-/// Solves from λ = 0 to 1. On failure the results hold the last converged step, with the status
-/// and message of the failure. Never throws on a numerical failure; throws InputError (at the
-/// follower load) when the model has follower pressures and `contact` holds rows. With `contact`, every step
-/// runs the outer active-set iterations of solve_contact_step; `contact_report` gets the state
-/// of the last converged step.
+/// The analysis driver: the load from λ = 0 to 1 in `options.steps` increments (cut back and
+/// retried on failure) on the analysis' structural system: finite strain (updated Lagrangian,
+/// K_T = K_D + K_σ) when `analysis.geometric_nonlinearity`, else small strain (K factorised once
+/// for the run). A linear analysis is the small-strain system taking the load in one step, or,
+/// when a load has an amplitude, in `options.steps` (its stages). On failure the results hold
+/// the last converged step, with the status and message of the failure. Never throws on a
+/// numerical failure; throws InputError (at the follower load) when a finite-strain model has
+/// follower pressures and `contact` holds rows. With `contact`, every step runs the constrained
+/// step (solve_contact_step); `contact_report` gets the state of the last converged step.
+core::Results solve_load_steps(const core::Model& model, const core::AnalysisSpec& analysis,
+                               const StepperOptions& options,
+                               std::vector<StepRecord>* trace = nullptr,
+                               const constraints::ContactSet* contact = nullptr,
+                               constraints::ContactReport* contact_report = nullptr);
+
+/// solve_load_steps with finite strain, whatever the analysis says.
 core::Results solve_geometric_nonlinear(const core::Model& model, const core::AnalysisSpec& analysis,
                                         const StepperOptions& options,
                                         std::vector<StepRecord>* trace = nullptr,
                                         const constraints::ContactSet* contact = nullptr,
                                         constraints::ContactReport* contact_report = nullptr);
+
+/// solve_load_steps with small strain, whatever the analysis says, in the analysis' steps
+/// (default 1), its Newton limit, the default cutbacks.
+core::Results solve_linear_static(const core::Model& model, const core::AnalysisSpec& analysis,
+                                  const constraints::ContactSet* contact = nullptr,
+                                  constraints::ContactReport* contact_report = nullptr);
 
 }  // namespace c2d::nonlinear

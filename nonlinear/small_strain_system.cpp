@@ -1,9 +1,74 @@
+#include <algorithm>
+
+#include "core/assembler.hpp"
+#include "core/elasticity_kernels.hpp"
+#include "core/springs.hpp"
+#include "core/stopwatch.hpp"
+#include "nonlinear/finite_strain_system.hpp"
 #include "nonlinear/structural_system.hpp"
 
 namespace c2d::nonlinear {
 
+using namespace c2d::core;
+
+std::unique_ptr<StructuralSystem> make_structural_system(const Model& model,
+                                                         const AnalysisSpec& analysis) {
+  if (analysis.geometric_nonlinearity) return std::make_unique<FiniteStrainSystem>(model);
+  return std::make_unique<SmallStrainSystem>(model, analysis);
+}
+
+SmallStrainSystem::SmallStrainSystem(const Model& model, const AnalysisSpec& analysis)
+    : model_(model),
+      solver_(analysis.solver == "ldlt" ? SpdSolver::Backend::kEigenLdlt
+                                        : SpdSolver::Backend::kCholmod) {
+  if (model.fill_order) solver_.set_ordering(model.fill_order, "corner_amd");
+  const Stopwatch clock;
+  const DofMap& dofs = model.dofs;
+  Assembler assembler(model.mesh, dofs);
+  assembler.set_threads(0);  // element_stiffness is a pure function of the element
+  const VecX u_one = prescribed(1.0);
+  assembler.assemble(
+      [&](int e, LocalMatrix& ke) {
+        ke = element_stiffness(model.mesh.element_coords(e),
+                               model.materials[model.mesh.element_material[e]]);
+      },
+      &u_one, &lift_one_);
+  k_ff_ = std::move(assembler.matrix());
+  if (!model.springs.empty())
+    k_ff_ += spring_stiffness(model, VecX::Zero(dofs.num_dofs()), false, &u_one, &lift_one_);
+  assemble_seconds_ = clock.elapsed();
+  VecX peak = dofs.restrict(model.external_force).cwiseAbs();
+  for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
+    double largest = 0.0;
+    for (const auto& [lambda, value] : a.table) largest = std::max(largest, std::abs(value));
+    peak += largest * dofs.restrict(a.force).cwiseAbs();
+  }
+  load_scale_ = peak.size() ? peak.maxCoeff() : 0.0;
+  set_state(0.0, prescribed(0.0));
+}
+
+VecX SmallStrainSystem::prescribed(double lambda) const {
+  return model_.dofs.expand(VecX::Zero(model_.dofs.num_free()), lambda);
+}
+
+void SmallStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
+  lambda_ = lambda;
+  u_prescribed_ = u_prescribed;
+  rhs_ = model_.dofs.restrict(model_.external_force_at(lambda)) - lambda * lift_one_;
+}
+
 VecX SmallStrainSystem::full(const VecX& u_free) const {
   return model_.dofs.with_free(u_prescribed_, u_free);
+}
+
+bool SmallStrainSystem::factorize_jacobian_assembled() {
+  // K never changes: one factorisation serves the run.
+  if (!factorized_) factorized_ = solver_.factorize(k_ff_) == SolveStatus::kConverged;
+  return factorized_;
+}
+
+bool SmallStrainSystem::solve(const VecX& b, VecX& x) {
+  return factorized_ && solver_.solve(b, x) == SolveStatus::kConverged;
 }
 
 bool SmallStrainSystem::step_predictor(const VecX& u0, VecX& load) {
@@ -15,6 +80,38 @@ bool SmallStrainSystem::step_predictor(const VecX& u0, VecX& load) {
 bool SmallStrainSystem::residual(const VecX& u_free, VecX& r) {
   r = k_ff_ * u_free - rhs_;
   return true;
+}
+
+VecX SmallStrainSystem::reactions(const VecX& u) const {
+  // K u on the constrained DOFs, from the elements that touch one, plus the springs' forces,
+  // less the external load there.
+  const Mesh& mesh = model_.mesh;
+  const DofMap& dofs = model_.dofs;
+  VecX f = VecX::Zero(dofs.num_dofs());
+  const int nn = mesh.nodes_per_element();
+  LocalVector ue(2 * nn);
+  for (int e = 0; e < mesh.num_elements(); ++e) {
+    bool touches = false;
+    for (int i = 0; i < nn; ++i) {
+      const int n = mesh.elements[e][i];
+      touches = touches || dofs.is_constrained(2 * n) || dofs.is_constrained(2 * n + 1);
+      ue.segment<2>(2 * i) = u.segment<2>(2 * n);
+    }
+    if (!touches) continue;
+    const LocalVector fe =
+        element_stiffness(mesh.element_coords(e), model_.materials[mesh.element_material[e]]) * ue;
+    for (int i = 0; i < nn; ++i)
+      for (int c = 0; c < 2; ++c)
+        if (const int dof = 2 * mesh.elements[e][i] + c; dofs.is_constrained(dof)) f[dof] += fe[2 * i + c];
+  }
+  add_spring_forces(model_, u, false, f);
+  const VecX f_ext = model_.external_force_at(lambda_);
+  for (int dof = 0; dof < dofs.num_dofs(); ++dof) f[dof] = dofs.is_constrained(dof) ? f[dof] - f_ext[dof] : 0.0;
+  return f;
+}
+
+double SmallStrainSystem::reaction_scale(const VecX& u_free) const {
+  return reactions(full(u_free)).cwiseAbs().maxCoeff();
 }
 
 }  // namespace c2d::nonlinear

@@ -156,13 +156,39 @@ py::dict fields(const app::SceneRun& run) {
       active.push_back(last ? last->active : 0);
       stick.push_back(last ? last->stick : 0), slip.push_back(last ? last->slip : 0);
     }
-    f["steps"] = py::dict(py::arg("load_factor") = py::array(py::cast(lambda)),
-                          py::arg("step") = py::array(py::cast(step)),
-                          py::arg("converged") = py::array(py::cast(converged)),
-                          py::arg("newton_iterations") = py::array(py::cast(newton)),
-                          py::arg("active") = py::array(py::cast(active)),
-                          py::arg("stick") = py::array(py::cast(stick)),
-                          py::arg("slip") = py::array(py::cast(slip)));
+    f["attempts"] = py::dict(py::arg("load_factor") = py::array(py::cast(lambda)),
+                             py::arg("step") = py::array(py::cast(step)),
+                             py::arg("converged") = py::array(py::cast(converged)),
+                             py::arg("newton_iterations") = py::array(py::cast(newton)),
+                             py::arg("active") = py::array(py::cast(active)),
+                             py::arg("stick") = py::array(py::cast(stick)),
+                             py::arg("slip") = py::array(py::cast(slip)));
+  }
+  {  // one entry per converged step, as steps.csv: a load-deflection curve with no work
+    const auto& rows = run.step_rows;
+    auto column = [&](auto get) {
+      std::vector<double> v;
+      for (const app::StepRow& r : rows) v.push_back(static_cast<double>(get(r)));
+      return py::array(py::cast(v));
+    };
+    py::dict steps;
+    steps["step"] = column([](const app::StepRow& r) { return r.step; });
+    steps["load_factor"] = column([](const app::StepRow& r) { return r.load_factor; });
+    steps["newton_iterations"] = column([](const app::StepRow& r) { return r.newton_iterations; });
+    steps["factorizations"] = column([](const app::StepRow& r) { return r.factorizations; });
+    steps["reaction_x"] = column([](const app::StepRow& r) { return r.reaction_x; });
+    steps["reaction_y"] = column([](const app::StepRow& r) { return r.reaction_y; });
+    if (run.contact) {
+      steps["active_nodes"] = column([](const app::StepRow& r) { return r.active_nodes; });
+      steps["contact_force"] = column([](const app::StepRow& r) { return r.contact_force; });
+      steps["tangential_force"] = column([](const app::StepRow& r) { return r.tangential_force; });
+    }
+    py::dict probes;
+    if (!rows.empty())
+      for (const auto& [name, value] : rows[0].probes)
+        probes[py::str(name)] = column([&, key = name](const app::StepRow& r) { return r.probes.at(key); });
+    steps["probes"] = probes;
+    f["steps"] = steps;
   }
   return f;
 }

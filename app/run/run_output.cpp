@@ -11,6 +11,9 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <iomanip>
+#include <map>
+#include <sstream>
 #include <system_error>
 #include <vector>
 
@@ -226,11 +229,37 @@ void RunOutput::write_cycle(const AdaptCycle& cycle, const SceneRun& run) {
   core::write_file_atomic(dir_ + "/adapt.csv", adapt_csv(cycles_));
 }
 
+namespace {
+
+/// steps.csv: one row per converged step (StepRow), the probes as the last columns.
+std::string steps_csv(const SceneRun& run) {
+  std::ostringstream os;
+  os << std::setprecision(12)
+     << "step,load_factor,newton_iterations,factorizations,reaction_x,reaction_y";
+  if (run.contact) os << ",active_nodes,contact_force,tangential_force";
+  const auto& first = run.step_rows.empty() ? std::map<std::string, double>() : run.step_rows[0].probes;
+  for (const auto& [name, value] : first) os << ',' << name;
+  os << '\n';
+  for (const StepRow& r : run.step_rows) {
+    os << r.step << ',' << r.load_factor << ',' << r.newton_iterations << ',' << r.factorizations
+       << ',' << r.reaction_x << ',' << r.reaction_y;
+    if (run.contact) os << ',' << r.active_nodes << ',' << r.contact_force << ',' << r.tangential_force;
+    for (const auto& [name, value] : r.probes) os << ',' << value;
+    os << '\n';
+  }
+  return os.str();
+}
+
+}  // namespace
+
 void RunOutput::write_tables(const SceneRun& run) {
   const core::Results& results = run.results;
+  core::write_file_atomic(dir_ + "/steps.csv", steps_csv(run));
   if (scene_.output_fields)
     core::write_file_atomic(dir_ + "/nodes.csv", core::nodes_csv(run.model, results));
-  const bool stepped = !run.steps.empty();
+  // A load-stepped scene's tables go by step; a one-step linear run's trace is its method's
+  // iterations, and its contact table the one state.
+  const bool stepped = scene_.analysis.geometric_nonlinearity || run.steps.size() > 1;
   if (run.contact) core::write_file_atomic(dir_ + "/contact.csv", contact_csv(run.contact_report));
   if (run.contact && !run.contact_report.equality_names.empty())
     core::write_file_atomic(dir_ + "/constraints.csv", constraints_csv(run.contact_report));

@@ -5,9 +5,29 @@
 #include "core/errors.hpp"
 #include "core/interrupt.hpp"
 #include "core/probes.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 namespace c2d::app {
+
+namespace {
+
+StepRow step_row(const core::Scene& scene, const core::Model& model,
+                 const nonlinear::StepRecord& s, const core::Results& r) {
+  StepRow row;
+  row.step = s.step;
+  row.load_factor = s.load_factor;
+  row.newton_iterations = s.newton.iterations;
+  row.factorizations = s.factorizations;
+  for (int dof = 0; dof < model.dofs.num_dofs(); ++dof)
+    if (model.dofs.is_constrained(dof)) (dof % 2 ? row.reaction_y : row.reaction_x) += r.reaction[dof];
+  row.active_nodes = s.contact_state.active_nodes;
+  row.contact_force = s.contact_state.total_force;
+  row.tangential_force = s.contact_state.tangent_force;
+  row.probes = core::evaluate_probes(scene, model, r);
+  return row;
+}
+
+}  // namespace
 
 std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::string& method,
                                       const std::function<void(const std::string&)>& progress,
@@ -31,10 +51,13 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
       (run->contact ? " with " + run->contact_spec.options.method + " contact (" +
                           std::to_string(run->contact->num_slave_nodes()) + " slave nodes)"
                     : std::string()));
-  if (scene.analysis.geometric_nonlinearity) {
-    nonlinear::StepperOptions so;
-    so.steps = scene.analysis.steps;
-    so.newton.max_iterations = scene.analysis.max_newton_iterations;
+  // One driver: a linear analysis is the small-strain system taking its load in its steps (one
+  // by default), a geometric-nonlinear one the finite-strain system in its load steps.
+  nonlinear::StepperOptions so;
+  so.steps = scene.analysis.steps;
+  so.newton.max_iterations = scene.analysis.max_newton_iterations;
+  const bool stepped = scene.analysis.geometric_nonlinearity || scene.analysis.steps > 1;
+  if (stepped)
     so.on_step = [&](const nonlinear::StepRecord& s) {
       char line[200];
       std::snprintf(line, sizeof line, "step %d  lambda %.4g  %s in %d Newton iterations", s.step,
@@ -49,16 +72,12 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
       if (s.attempt > 0) text += " (after a cutback)";
       say(text);
     };
-    if (on_state)
-      so.on_state = [&](const nonlinear::StepRecord& s, const core::Results& r) {
-        on_state(s, model, r);
-      };
-    run->results = nonlinear::solve_geometric_nonlinear(model, scene.analysis, so, &run->steps,
-                                                        run->contact.get(), &run->contact_report);
-  } else {
-    run->results = nonlinear::solve_linear_static(model, scene.analysis, run->contact.get(),
-                                                  &run->contact_report);
-  }
+  so.on_state = [&](const nonlinear::StepRecord& s, const core::Results& r) {
+    run->step_rows.push_back(step_row(scene, model, s, r));
+    if (on_state) on_state(s, model, r);
+  };
+  run->results = nonlinear::solve_load_steps(model, scene.analysis, so, &run->steps,
+                                             run->contact.get(), &run->contact_report);
   if (run->results.status == SolveStatus::kConverged)
     run->results.probes = core::evaluate_probes(scene, model, run->results);
   return run;

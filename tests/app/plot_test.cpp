@@ -16,7 +16,7 @@
 #include "core/probes.hpp"
 #include "core/scene.hpp"
 #include "core/writers.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 

@@ -8,7 +8,7 @@
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/scene.hpp"
-#include "core/linear_solve.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 using namespace c2d::core;
@@ -26,7 +26,7 @@ struct Point {
 Point solve(const std::vector<std::string>& overrides) {
   const Scene scene = load_scene(kScene, overrides);
   const Model model = build_model(scene);
-  Results r = core::solve_linear(model, scene.analysis);
+  Results r = c2d::nonlinear::solve_linear_static(model, scene.analysis);
   EXPECT_EQ(r.status, SolveStatus::kConverged);
   const auto probes = evaluate_probes(scene, model, r);
   // Strain energy 1/2 fᵀu: converges monotonically from below at the rate of the energy norm.

@@ -4,7 +4,7 @@
 
 #include "core/model.hpp"
 #include "core/scene.hpp"
-#include "core/linear_solve.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 using namespace c2d::core;
@@ -38,7 +38,7 @@ on = { edge = "right" }
 traction = [5.0, 0.0]
 )", "uniform.toml");
   const Model model = build_model(scene);
-  const Results r = core::solve_linear(model, scene.analysis);
+  const Results r = c2d::nonlinear::solve_linear_static(model, scene.analysis);
   ASSERT_EQ(r.status, SolveStatus::kConverged);
   EXPECT_LT(r.error.error_norm, 1e-9 * r.error.energy_norm);
   EXPECT_LT(r.error.global_parameter, 1e-8);
@@ -54,7 +54,7 @@ TEST(ZienkiewiczZhu, GlobalParameterDecreasesUnderRefinement) {
                                       "body.beam.mesh.size=" + std::to_string(size),
                                       "body.beam.mesh.refine=[]"});
       const Model model = build_model(scene);
-      const Results r = core::solve_linear(model, scene.analysis);
+      const Results r = c2d::nonlinear::solve_linear_static(model, scene.analysis);
       ASSERT_EQ(r.status, SolveStatus::kConverged);
       EXPECT_LT(r.error.global_parameter, previous) << element << " h = " << size;
       previous = r.error.global_parameter;

@@ -9,7 +9,7 @@
 #include "core/errors.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
-#include "core/linear_solve.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 using namespace c2d::core;
@@ -28,8 +28,8 @@ TEST(LegacyReader, SameDisplacementsAsTomlScene) {
   const Scene dat = load_scene(example("legacy/v1_beam.dat"));
   const Scene toml = load_scene(example("legacy/v1_beam.toml"));
   const Model md = build_model(dat), mt = build_model(toml);
-  const Results rd = core::solve_linear(md, dat.analysis);
-  const Results rt = core::solve_linear(mt, toml.analysis);
+  const Results rd = c2d::nonlinear::solve_linear_static(md, dat.analysis);
+  const Results rt = c2d::nonlinear::solve_linear_static(mt, toml.analysis);
   ASSERT_EQ(rd.status, SolveStatus::kConverged);
   ASSERT_EQ(rt.status, SolveStatus::kConverged);
   ASSERT_EQ(md.mesh.num_nodes(), mt.mesh.num_nodes());
@@ -60,7 +60,7 @@ TEST(LegacyReader, PrescribedDisplacementFromSupportedLoadColumn) {
 )");
   const Scene s = load_scene(path);
   const Model m = build_model(s);
-  const Results r = core::solve_linear(m, s.analysis);
+  const Results r = c2d::nonlinear::solve_linear_static(m, s.analysis);
   ASSERT_EQ(r.status, SolveStatus::kConverged);
   // Uniaxial stretch eps_x = 0.001 with nu = 0: sx = E eps = 1, uniform.
   for (int e = 0; e < 2; ++e) EXPECT_NEAR(r.element_stresses.at_points[e](0, 0), 1.0, 1e-12);

@@ -8,7 +8,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "core/linear_solve.hpp"
+#include "nonlinear/load_stepper.hpp"
 #include "core/mesh_budget.hpp"
 #include "core/mesh_refine.hpp"
 #include "core/model.hpp"
@@ -118,7 +118,7 @@ TEST(MeshRefine, PatchTestOnASubdividedQuarterDisc) {
   const core::Scene scene = core::parse_scene(quarter_disc_scene(0.005, "T3"), "disc.toml");
   ASSERT_GE(core::subdivision_levels(core::estimate_elements(scene.bodies[0]), core::kCoarseElements), 1);
   const core::Model model = core::build_model(scene);
-  const core::Results r = core::solve_linear(model, scene.analysis);
+  const core::Results r = c2d::nonlinear::solve_linear_static(model, scene.analysis);
   ASSERT_EQ(r.status, SolveStatus::kConverged);
   const double scale = -2.0 * (1.0 - 0.25) / 1000.0;
   double worst = 0.0;

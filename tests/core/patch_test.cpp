@@ -7,7 +7,7 @@
 
 #include "core/model.hpp"
 #include "core/stress_recovery.hpp"
-#include "core/linear_solve.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 using namespace c2d::core;
@@ -88,7 +88,7 @@ void run_patch(const Mesh& mesh, PlaneState state) {
   ASSERT_GT(model.dofs.num_free(), 0);
   model.external_force = VecX::Zero(mesh.num_dofs());
   AnalysisSpec analysis;
-  const Results r = core::solve_linear(model, analysis);
+  const Results r = c2d::nonlinear::solve_linear_static(model, analysis);
   ASSERT_EQ(r.status, SolveStatus::kConverged);
   const double uscale = 0.03;
   for (int n = 0; n < mesh.num_nodes(); ++n)

@@ -11,7 +11,7 @@
 #include "core/errors.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
-#include "core/linear_solve.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 
@@ -171,7 +171,7 @@ TEST(PointCloud, ACloudBodyPassesThePatchTest) {
           "total_force = [30.0, 0.0]\n";
   const core::Scene scene = core::parse_scene(text, "cloud.toml");
   const core::Model model = core::build_model(scene);
-  const core::Results r = core::solve_linear(model, scene.analysis);
+  const core::Results r = c2d::nonlinear::solve_linear_static(model, scene.analysis);
   ASSERT_EQ(r.status, SolveStatus::kConverged) << r.message;
   for (const auto& s : r.element_stresses.at_points) {
     EXPECT_LT((s.row(0).array() - 15.0).abs().maxCoeff(), 1e-10 * 15.0);

@@ -14,7 +14,7 @@
 #include "core/model.hpp"
 #include "core/scene.hpp"
 #include "core/stress_recovery.hpp"
-#include "core/linear_solve.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 using namespace c2d::core;
@@ -24,7 +24,7 @@ namespace {
 Results solve_v1(Model& model) {
   const Scene scene = load_scene(std::string(C2D_SOURCE_DIR) + "/examples/legacy/v1_beam.dat");
   model = build_model(scene);
-  return core::solve_linear(model, scene.analysis);
+  return c2d::nonlinear::solve_linear_static(model, scene.analysis);
 }
 
 // The seed program prints 3 decimals. Element values must agree to half a unit in the last

@@ -26,7 +26,7 @@ function(step name)
 endfunction()
 
 step("install" "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${prefix}")
-foreach(f include/contact2d/core/model.hpp include/contact2d/nonlinear/linear_static.hpp
+foreach(f include/contact2d/core/model.hpp include/contact2d/nonlinear/load_stepper.hpp
           lib/cmake/contact2d/contact2dConfig.cmake
           lib/cmake/contact2d/contact2dConfigVersion.cmake bin/contact2d)
   if(NOT EXISTS "${prefix}/${f}")

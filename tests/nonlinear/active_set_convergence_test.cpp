@@ -12,7 +12,7 @@
 #include "constraints/method_registry.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 using namespace c2d::constraints;

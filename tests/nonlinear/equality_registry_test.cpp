@@ -16,7 +16,7 @@
 #include "constraints/equality.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;
 using namespace c2d::constraints;

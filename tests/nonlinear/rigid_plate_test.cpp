@@ -17,7 +17,7 @@
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/scene.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 #include "nonlinear/load_stepper.hpp"
 #include "scene_run.hpp"
 

@@ -11,7 +11,6 @@
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/scene.hpp"
-#include "nonlinear/linear_static.hpp"
 #include "nonlinear/load_stepper.hpp"
 
 namespace c2d::test {

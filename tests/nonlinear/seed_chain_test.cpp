@@ -13,7 +13,7 @@
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/scene.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 #include "scene_run.hpp"
 
 using namespace c2d;

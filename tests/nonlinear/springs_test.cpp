@@ -13,7 +13,7 @@
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/scene.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 #include "nonlinear/load_stepper.hpp"
 
 using namespace c2d;

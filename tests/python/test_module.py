@@ -67,6 +67,29 @@ def test_dict_scene_against_the_bar_closed_form():
     assert np.allclose(s["fields"]["stress"][:, 0], 2.0, rtol=1e-8)
 
 
+def test_steps_give_a_load_deflection_curve_per_converged_step(tmp_path):
+    # A linear bar staged by an amplitude (0 -> 1 by λ = 0.5, then back to 0.5): one row per
+    # converged step with the probe and the reactions there. Closed form: u(L) = a σ L / E, and
+    # the supports carry the load, Σ reaction_x = -a × traction × height.
+    scene = bar()
+    scene["analysis"]["steps"] = 4
+    scene["load"][0]["amplitude"] = [[0.0, 0.0], [0.5, 1.0], [1.0, 0.5]]
+    scene["probe"] = [{"name": "tip", "at": [4.0, 0.5], "quantity": "ux"}]
+    out = tmp_path / "staged"
+    s = contact2d.run(scene, out=out)
+    assert s["status"] == "converged" and s["steps"] == 4
+    st = s["fields"]["steps"]
+    a = np.array([0.5, 1.0, 0.75, 0.5])
+    assert np.allclose(st["load_factor"], [0.25, 0.5, 0.75, 1.0], rtol=0, atol=1e-12)
+    assert np.allclose(st["probes"]["tip"], a * 8e-3, rtol=1e-9)
+    assert np.allclose(st["reaction_x"], -a * 2.0, rtol=1e-9)
+    assert np.allclose(st["reaction_y"], 0.0, atol=1e-9)
+    rows = (out / "steps.csv").read_text().splitlines()
+    assert rows[0].split(",")[:2] == ["step", "load_factor"] and rows[0].endswith(",tip")
+    assert len(rows) == 5
+    assert np.allclose([float(r.split(",")[-1]) for r in rows[1:]], a * 8e-3, rtol=1e-9)
+
+
 def test_bad_input_raises_located_input_error():
     with pytest.raises(contact2d.InputError) as e:
         contact2d.run(HERTZ, set=["analysis.kind=plane_strian"])

@@ -12,7 +12,7 @@
 #include "core/model.hpp"
 #include "core/scene.hpp"
 #include "core/solver_status.hpp"
-#include "nonlinear/linear_static.hpp"
+#include "nonlinear/load_stepper.hpp"
 
 namespace {
 
