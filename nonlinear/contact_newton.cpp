@@ -45,13 +45,12 @@ class ConstrainedStep {
     // Small strain: the rows' gaps come from absolute coordinates. Finite strain: from positions
     // relative to a node of the row, with the displacement kept apart (gap_linearisation.hpp),
     // so their round-off is that of the local lengths.
-    if (system.is_linear()) {
-      for (const Vec2& xn : system.model().mesh.nodes)
-        coordinate_scale_ = std::max(coordinate_scale_, xn.cwiseAbs().maxCoeff());
-      coordinate_scale_ += inf_norm(in.u_free) + contact.model_size();
-    } else {
-      coordinate_scale_ = contact.length_scale();
-    }
+    // A rigid obstacle's rows (the slave node its only term) take their gaps from absolute
+    // coordinates whatever the kinematics.
+    for (const Vec2& xn : system.model().mesh.nodes)
+      absolute_scale_ = std::max(absolute_scale_, xn.cwiseAbs().maxCoeff());
+    absolute_scale_ += inf_norm(in.u_free) + contact.model_size();
+    coordinate_scale_ = system.is_linear() ? absolute_scale_ : contact.length_scale();
   }
 
   ContactStepResult run() {
@@ -96,6 +95,11 @@ class ConstrainedStep {
     }
     core::Stopwatch detection;
     rows_ = contact_.detect(u_full, system_.is_linear());
+    if (!system_.is_linear())
+      coordinate_scale_ =
+          std::any_of(rows_.begin(), rows_.end(), [](const GapRow& r) { return r.terms.size() == 1; })
+              ? absolute_scale_
+              : contact_.length_scale();
     out_.detection_seconds += detection.lap();
     // A linear system whose state reproduces the rows and gaps it was solved with poses the
     // same problem again: the strategy would return the same set and no step.
@@ -139,7 +143,7 @@ class ConstrainedStep {
     warm_start(qp);
 
     // 2. The strategy on the linearised problem.
-    const ConstraintSolution s = strategy_.solve(qp);
+    const ConstraintSolution s = solve_strategy(qp);
     out_.strategy.add(s);
     it.factorizations = s.factorizations;
     const ContactMemory next = record_strategy(qp, s, it);
@@ -237,17 +241,44 @@ class ConstrainedStep {
     // guess the nearest closed. A body held only by its contact (a cylinder on a floor) is
     // otherwise singular in the first solve; a wrong guess costs one active-set iteration. Node
     // rows at a first touch have gap 0, but a mortar row's gap is a mean under its hat, positive
-    // on a curved surface. Rows on prescribed DOFs only cannot be closed.
-    if (!any && m > 0) {
-      std::vector<char> free(m, 0);
-      for (int k = 0; k < qp.gap_jacobian.outerSize(); ++k)
-        for (SpMat::InnerIterator it(qp.gap_jacobian, k); it; ++it) free[it.row()] = 1;
-      double nearest = std::numeric_limits<double>::infinity();
-      for (int i = 0; i < m; ++i)
-        if (free[i]) nearest = std::min(nearest, qp.gap0[i]);
-      if (nearest <= 1e-2 * qp.length_scale)
-        for (int i = 0; i < m; ++i) qp.initial_active[i] = free[i] && qp.gap0[i] <= nearest + touch;
-    }
+    // on a curved surface. Farther rows are closed only when the open solve is singular
+    // (close_nearest after the solve).
+    if (!any) close_nearest(qp, 1e-2 * qp.length_scale);
+  }
+
+  /// Closes the rows nearest to touching (gap within the touch tolerance of the smallest) when
+  /// that smallest gap is at most `within`; rows on prescribed DOFs only cannot be closed.
+  /// Returns whether it closed any.
+  bool close_nearest(ConstrainedProblem& qp, double within) const {
+    const int m = qp.num_gaps();
+    std::vector<char> free(m, 0);
+    for (int k = 0; k < qp.gap_jacobian.outerSize(); ++k)
+      for (SpMat::InnerIterator it(qp.gap_jacobian, k); it; ++it) free[it.row()] = 1;
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < m; ++i)
+      if (free[i]) nearest = std::min(nearest, qp.gap0[i]);
+    if (!(nearest <= within)) return false;
+    const double touch = touch_tolerance(qp);
+    for (int i = 0; i < m; ++i) qp.initial_active[i] = free[i] && qp.gap0[i] <= nearest + touch;
+    return true;
+  }
+
+  /// The strategy's solve; a body held only by its contact, caught at first touch from farther
+  /// than the warm start guesses, is singular with every row open: then the nearest rows close
+  /// and the strategy solves again (the active-set iteration opens them if the load says so).
+  ConstraintSolution solve_strategy(ConstrainedProblem& qp) {
+    ConstraintSolution s = strategy_.solve(qp);
+    const bool none_closed =
+        std::none_of(qp.initial_active.begin(), qp.initial_active.end(), [](char a) { return a; });
+    if (s.status != SolveStatus::kSingular || !none_closed ||
+        !close_nearest(qp, std::numeric_limits<double>::infinity()))
+      return s;
+    const ConstraintSolution open = std::move(s);
+    s = strategy_.solve(qp);
+    s.factorizations += open.factorizations;  // the singular attempt's work counts too
+    s.iterations += open.iterations;
+    s.seconds += open.seconds;
+    return s;
   }
 
   /// The strategy's figures in the iteration record; returns its active set by slot.
@@ -378,8 +409,7 @@ class ConstrainedStep {
   bool satisfied(ActiveSetSystem& sys, const VecX& x, const NewtonOptions& newton,
                  ContactIteration& it, double& norm) const {
     VecX r;
-    const double floor =
-        16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale_ * sys.row_stiffness();
+    const double floor = round_off_floor(sys);
     norm = sys.residual(x, r) ? inf_norm(r) : std::numeric_limits<double>::infinity();
     if (!(norm <= std::max(newton.residual_tolerance * newton.residual_scale, floor)))
       return false;
@@ -402,8 +432,21 @@ class ConstrainedStep {
   }
 
   /// KINSOL with the set held from x; false when it failed (out_ says why).
-  bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& newton,
+  /// The residual's round-off floor with the set held: a gap's round-off, ε·|x|, times the
+  /// stiffest row.
+  double round_off_floor(const ActiveSetSystem& sys) const {
+    return 16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale_ * sys.row_stiffness();
+  }
+
+  bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& options,
                             ContactIteration& it) {
+    // KINSOL's test is relative to the scale: never below what the rows' round-off allows (a
+    // stiff penalty on an obstacle row otherwise leaves Newton stuck a decade above its test,
+    // ending on a zero step).
+    NewtonOptions newton = options;
+    if (newton.residual_scale > 0)
+      newton.residual_tolerance =
+          std::max(newton.residual_tolerance, round_off_floor(sys) / newton.residual_scale);
     it.newton = solve_newton_with_fallback(sys, x, newton);
     add_newton(it);
     if (it.newton.status == SolveStatus::kConverged) return true;
@@ -484,6 +527,7 @@ class ConstrainedStep {
   /// The residual at the last state kept (∞ before the first): a step must halve it.
   double last_norm_ = std::numeric_limits<double>::infinity();
   double coordinate_scale_ = 0.0;      ///< the lengths a gap is computed from, for round-off
+  double absolute_scale_ = 0.0;        ///< the coordinates' size (gaps from absolute positions)
   std::vector<GapRow> rows_, state_rows_;
   ConstraintSolution state_;
   std::string where_;
