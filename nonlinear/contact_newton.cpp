@@ -555,6 +555,18 @@ void StrategyTotals::add(const ConstraintSolution& s) {
   if (!s.factor.ordering.empty()) factor = s.factor;
 }
 
+void StrategyTotals::add_work(const StrategyTotals& t) {
+  iterations += t.iterations;
+  factorizations += t.factorizations;
+  symbolic_analyses += t.symbolic_analyses;
+  seconds += t.seconds;
+  symbolic_seconds += t.symbolic_seconds;
+  numeric_seconds += t.numeric_seconds;
+  solve_seconds += t.solve_seconds;
+  if (std::isfinite(t.pivot_ratio)) pivot_ratio = t.pivot_ratio;
+  if (!t.factor.ordering.empty()) factor = t.factor;
+}
+
 double residual_floor_scale(const core::Model& model) {
   // A nodal force computed from strains carries a round-off of a few ε·E·t·h whatever the
   // stress (the strain of F = I + ∇u is exact to ε only), largest at the largest elements: on

@@ -73,6 +73,9 @@ struct StrategyTotals {
   std::vector<constraints::IterationRecord> history;
   std::vector<double> penalty_history;
   void add(const constraints::ConstraintSolution& s);
+  /// Another total's work (counts, times; its pivot ratio and factor when it has them), not
+  /// its history.
+  void add_work(const StrategyTotals& t);
 };
 
 struct ContactStepResult {

@@ -156,16 +156,8 @@ class LoadStepper {
 
   /// Adds an attempt's method work to the run's totals.
   void add_totals(const ContactStepResult& cstep) {
-    const StrategyTotals& t = cstep.strategy;
-    totals_.iterations += t.iterations;
-    totals_.factorizations += t.factorizations + cstep.newton.factorizations;
-    totals_.symbolic_analyses += t.symbolic_analyses;
-    totals_.seconds += t.seconds;
-    totals_.symbolic_seconds += t.symbolic_seconds;
-    totals_.numeric_seconds += t.numeric_seconds;
-    totals_.solve_seconds += t.solve_seconds;
-    if (std::isfinite(t.pivot_ratio)) totals_.pivot_ratio = t.pivot_ratio;
-    if (!t.factor.ordering.empty()) totals_.factor = t.factor;
+    totals_.add_work(cstep.strategy);
+    totals_.factorizations += cstep.newton.factorizations;
     detection_seconds_ += cstep.detection_seconds;
   }
 
