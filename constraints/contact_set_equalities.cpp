@@ -26,7 +26,7 @@ void ContactSet::check_plate_rows() {
         throw InputError(model_.plates[p].where + ": the plate's prescribed motion moves node " +
                          std::to_string(model_.plates[p].nodes[0] + 1) +
                          "'s support away from what the support prescribes (the two disagree by " +
-                         std::to_string(value) + ")");
+                         number_text(value) + ")");
     }
   }
 }

@@ -1,5 +1,6 @@
 #include "constraints/kkt_solver.hpp"
 
+#include "core/errors.hpp"
 #include "core/stopwatch.hpp"
 
 #include <Eigen/UmfPackSupport>
@@ -73,7 +74,7 @@ SolveStatus KktSolver::solve(const VecX& b, VecX& x) {
     x.setZero(b.size());
   } else if (report_.relative_residual > 1e-6) {
     report_.status = SolveStatus::kIllConditioned;
-    report_.message = "saddle-point solve residual " + std::to_string(report_.relative_residual);
+    report_.message = "saddle-point solve residual " + number_text(report_.relative_residual);
   }
   return report_.status;
 }

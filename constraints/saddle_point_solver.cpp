@@ -5,6 +5,7 @@
 
 #include "constraints/strategy_common.hpp"
 #include "constraints/surface_condensation.hpp"
+#include "core/errors.hpp"
 #include "core/stopwatch.hpp"
 
 namespace c2d::constraints {
@@ -247,7 +248,7 @@ SolveStatus SaddlePointSolver::factorize_schur() {
   if (!(report_.rcond > kMinSchurRcond)) {
     report_.status = SolveStatus::kSingular;
     report_.message = std::string(kDependentRows) + " (Schur complement rcond " +
-                      std::to_string(report_.rcond) + ")";
+                      number_text(report_.rcond) + ")";
   }
   return report_.status;
 }
@@ -465,7 +466,7 @@ void SaddlePointSolver::check_solution(const VecX& b, const VecX& y, const VecX&
     x.setZero(size_);
   } else if (report_.relative_residual > 1e-6) {
     report_.status = SolveStatus::kIllConditioned;
-    report_.message = "saddle-point solve residual " + std::to_string(report_.relative_residual);
+    report_.message = "saddle-point solve residual " + number_text(report_.relative_residual);
   }
 }
 

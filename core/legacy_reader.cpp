@@ -62,7 +62,7 @@ class LineReader {
 int as_index(LineReader& r, double v, int count, const char* what) {
   if (v != std::floor(v) || v < 1 || v > count)
     r.fail(std::string("expected a ") + what + " number in 1.." + std::to_string(count) +
-           ", found " + std::to_string(v));
+           ", found " + number_text(v));
   return static_cast<int>(v) - 1;
 }
 
@@ -76,7 +76,7 @@ std::pair<int, int> read_counts(LineReader& r) {
   const auto integral = [](double v) { return v >= 1 && v <= 1e9 && v == std::floor(v); };
   if (!integral(head[0]) || !integral(head[1]))
     r.fail("expected positive integer node and element counts, found " +
-           std::to_string(head[0]) + " and " + std::to_string(head[1]));
+           number_text(head[0]) + " and " + number_text(head[1]));
   const int nn = static_cast<int>(head[0]), ne = static_cast<int>(head[1]);
   if (nn < 3) r.fail("expected at least 3 nodes, found " + std::to_string(nn));
   // (Generous: a short file gets its own located message at the line that is missing.)
@@ -91,7 +91,7 @@ std::pair<int, int> read_counts(LineReader& r) {
 void add_node_condition(LineReader& r, const std::string& path, int id, int c, double flag,
                         double value, Scene& scene) {
   if (flag != 0 && flag != 1)
-    r.fail("expected a support flag 0 or 1, found " + std::to_string(flag));
+    r.fail("expected a support flag 0 or 1, found " + number_text(flag));
   SelectionSpec on;
   on.kind = SelectionSpec::Kind::kNodes;
   on.nodes = {id};
@@ -124,7 +124,7 @@ std::vector<bool> read_nodes(LineReader& r, const std::string& path, int nn, Mes
       r.fail("expected 7 numbers on a node line (id x y sx sy fx fy), found " +
              std::to_string(v.size()));
     for (double x : v)
-      if (!std::isfinite(x)) r.fail("expected finite numbers on a node line, found " + std::to_string(x));
+      if (!std::isfinite(x)) r.fail("expected finite numbers on a node line, found " + number_text(x));
     // Coordinates as the scene's shapes (gmsh-free here, but 1e300 would overflow the extent),
     // loads and prescribed values as the scene's: beyond 1e30, K u or f overflows.
     if (!(std::abs(v[1]) <= 1e15 && std::abs(v[2]) <= 1e15))
@@ -132,7 +132,7 @@ std::vector<bool> read_nodes(LineReader& r, const std::string& path, int nn, Mes
     for (int k = 3; k < 7; ++k)
       if (!(std::abs(v[k]) <= 1e30))
         r.fail("expected support values and loads of at most 1e30 in magnitude, found " +
-               std::to_string(v[k]));
+               number_text(v[k]));
     const int id = as_index(r, v[0], nn, "node");
     if (seen[id]) r.fail("node " + std::to_string(id + 1) + " defined twice");
     seen[id] = true;
@@ -173,7 +173,7 @@ ElementLine read_element_line(LineReader& r) {
   const double type = v[1 + e.nodes_per];
   if (type != 0 && type != 1 && type != 2)
     r.fail("expected element type 0 (plane stress), 1 (gap) or 2 (plane strain), found " +
-           std::to_string(type));
+           number_text(type));
   e.type = static_cast<int>(type);
   e.p1 = v[2 + e.nodes_per], e.p2 = v[3 + e.nodes_per], e.p3 = v[4 + e.nodes_per];
   return e;
@@ -188,10 +188,10 @@ void add_gap_element(LineReader& r, const ElementLine& e, int nn, ExplicitModel&
   gap.stiffness = e.p3;
   if (gap.node_a == gap.node_b) r.fail("gap element from a node to itself");
   if (!(gap.stiffness > 0) || !std::isfinite(gap.stiffness))
-    r.fail("gap element with a stiffness k > 0, found " + std::to_string(gap.stiffness));
+    r.fail("gap element with a stiffness k > 0, found " + number_text(gap.stiffness));
   if (!gap.direction.allFinite())
-    r.fail("gap element with a finite direction (nx, ny), found (" + std::to_string(e.p1) + ", " +
-           std::to_string(e.p2) + ")");
+    r.fail("gap element with a finite direction (nx, ny), found (" + number_text(e.p1) + ", " +
+           number_text(e.p2) + ")");
   if (!(gap.direction.norm() > 0)) r.fail("gap element with a non-zero direction (nx, ny), found (0, 0)");
   model.gaps.push_back(gap);
 }

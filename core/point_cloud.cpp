@@ -93,8 +93,8 @@ void split_point_cloud(const ShapeSpec& s, std::vector<Vec2>& boundary, std::vec
     }
     if (placed) continue;
     if (!inside_polygon(polygon, q))
-      throw InputError("shape.points: point " + std::to_string(k + 1) + " (" + std::to_string(q.x()) +
-                       ", " + std::to_string(q.y()) + ") lies outside the boundary polygon");
+      throw InputError("shape.points: point " + std::to_string(k + 1) + " (" + number_text(q.x()) +
+                       ", " + number_text(q.y()) + ") lies outside the boundary polygon");
     interior.push_back(q);
   }
   for (size_t i = 0; i < polygon.size(); ++i) {

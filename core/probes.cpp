@@ -48,8 +48,8 @@ std::map<std::string, double> evaluate_probes(const Scene& scene, const Model& m
       if (!locator) locator = std::make_unique<PointLocator>(mesh);
       const auto hit = locator->locate(*p.point);
       if (hit.element < 0)
-        throw InputError(p.at.where + ": probe point (" + std::to_string(p.point->x()) + ", " +
-                         std::to_string(p.point->y()) + ") lies outside the mesh");
+        throw InputError(p.at.where + ": probe point (" + number_text(p.point->x()) + ", " +
+                         number_text(p.point->y()) + ") lies outside the mesh");
       const int nn = mesh.nodes_per_element();
       Eigen::VectorXd n(nn);
       if (nn == 3)

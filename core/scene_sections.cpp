@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/errors.hpp"
 #include "core/mesh_budget.hpp"
 #include "core/mesher.hpp"
 
@@ -307,9 +308,9 @@ void check_mesh_budget(const TomlView& mesh, const AnalysisSpec& analysis, const
   const double diagonal = shape_diagonal(bs.shape);
   auto resolvable = [&](double size, const TomlView& at) {
     if (bs.mesh_size > 0 && !(size >= 1e-7 * diagonal))
-      at.fail("a size of at least 1e-7 of the body's extent " + std::to_string(diagonal) +
-              " (after analysis.mesh_scale = " + std::to_string(analysis.mesh_scale) + ": " +
-              std::to_string(size) + ")");
+      at.fail("a size of at least 1e-7 of the body's extent " + number_text(diagonal) +
+              " (after analysis.mesh_scale = " + number_text(analysis.mesh_scale) + ": " +
+              number_text(size) + ")");
   };
   resolvable(bs.mesh_size, mesh["size"]);
   const auto refine = mesh["refine"].items();
@@ -322,7 +323,7 @@ void check_mesh_budget(const TomlView& mesh, const AnalysisSpec& analysis, const
               std::to_string(static_cast<long long>(limit)) +
               (given ? std::string() : std::string(" (the default: what this machine's memory holds)")) +
               " triangles; these sizes (after analysis.mesh_scale = " +
-              std::to_string(analysis.mesh_scale) + ") give about " +
+              number_text(analysis.mesh_scale) + ") give about " +
               std::to_string(static_cast<long long>(std::min(estimate, 9e18))));
 }
 

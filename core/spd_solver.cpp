@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/errors.hpp"
 #include "core/factor_blocks.hpp"
 #include "core/split_cholesky.hpp"
 #include "core/stopwatch.hpp"
@@ -238,7 +239,7 @@ SolveStatus SpdSolver::solve(const VecX& b, VecX& x) {
     report_.message = "solution is not finite (singular stiffness matrix)";
   } else if (report_.relative_residual > 1e-6) {
     report_.status = SolveStatus::kIllConditioned;
-    report_.message = "relative residual " + std::to_string(report_.relative_residual) +
+    report_.message = "relative residual " + number_text(report_.relative_residual) +
                       " after the direct solve (ill-conditioned stiffness matrix)";
   }
   return report_.status;
@@ -274,7 +275,7 @@ SolveStatus SpdSolver::solve(const Eigen::MatrixXd& b, Eigen::MatrixXd& x) {
     report_.message = "solution is not finite (singular stiffness matrix)";
   } else if (worst > 1e-6) {
     report_.status = SolveStatus::kIllConditioned;
-    report_.message = "relative residual " + std::to_string(worst) +
+    report_.message = "relative residual " + number_text(worst) +
                       " after the direct solve (ill-conditioned stiffness matrix)";
   }
   return report_.status;

@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/errors.hpp"
 #include "core/elasticity_kernels.hpp"
 #include "core/finite_strain_kernels.hpp"
 #include "core/triangle.hpp"
@@ -114,7 +115,7 @@ Eigen::Matrix3Xd l2_projection(const Mesh& mesh, const std::vector<Material>& ma
     if ((r2 <= kTolerance * kTolerance * b2).all()) break;
     if (it == kMaxIterations || !r2.allFinite())
       throw std::logic_error("L2 stress projection: conjugate gradients on the mass matrix did "
-                             "not converge (residual " + std::to_string(std::sqrt(r2.maxCoeff())) + ")");
+                             "not converge (residual " + number_text(std::sqrt(r2.maxCoeff())) + ")");
     m.apply(mesh, p, q);
     const Eigen::Array3d pq = (p.array() * q.array()).rowwise().sum();
     const Eigen::Array3d alpha = (pq > 0).select(rz / pq, 0.0);

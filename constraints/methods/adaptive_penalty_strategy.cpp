@@ -5,6 +5,7 @@
 
 #include "constraints/methods/penalty_strategy.hpp"
 #include "constraints/strategy_common.hpp"
+#include "core/errors.hpp"
 
 namespace c2d::constraints {
 
@@ -66,7 +67,7 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
     }
     if (!raised && capped) {
       s.status = SolveStatus::kMaxIterations;
-      s.message = "penalty reached its cap (" + std::to_string(options_.max_penalty_factor) +
+      s.message = "penalty reached its cap (" + number_text(options_.max_penalty_factor) +
                   " x local stiffness) with penetration still above the tolerance";
       break;
     }

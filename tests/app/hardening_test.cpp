@@ -284,7 +284,7 @@ TEST(Hardening, F4MeshBeyondTheElementBudgetExitsTwo) {
 TEST(Hardening, F4TinyMeshScaleExitsTwo) {
   const TempDir dir("f4_scale");
   expect_refused(dir, dir.write("scene.toml", block("")),
-                 {"scene.toml:9:", "body[0].mesh", "analysis.max_elements", "analysis.mesh_scale = 0.000001", "give about"},
+                 {"scene.toml:9:", "body[0].mesh", "analysis.max_elements", "analysis.mesh_scale = 1e-06)", "give about"},
                  {"--set", "analysis.mesh_scale=1e-6"});
 }
 

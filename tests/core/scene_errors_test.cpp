@@ -250,3 +250,14 @@ TEST(MeshBudget, EstimateIsWithinAFactorOfTwoOfGmsh) {
     EXPECT_LT(estimate, 2.0 * actual) << mesh;
   }
 }
+
+// Issue 32, finding 8: numbers in messages were printed with std::to_string's %f:
+// "(after analysis.mesh_scale = 1.000000: 0.000000)" for a size of 1e-8.
+TEST(SceneErrors, NumbersInMessagesAreShownWithTheirDigits) {
+  const std::string t = std::string(kMaterial) +
+                        "[[body]]\nname = \"b\"\nmaterial = \"steel\"\n"
+                        "shape = { type = \"rectangle\", min = [0.0, 0.0], max = [20.0, 20.0] }\n"
+                        "mesh = { size = 1e-8 }\n";
+  expect_error({"size 1e-8", t.c_str(), {}, {"extent 28.2843 (after analysis.mesh_scale = 1: 1e-08)"}});
+  expect_error({"scaled", t.c_str(), {"analysis.mesh_scale=0.5"}, {"mesh_scale = 0.5: 5e-09)"}});
+}
