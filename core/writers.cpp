@@ -1,35 +1,50 @@
 #include "core/writers.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <bit>
+#include <cerrno>
 #include <charconv>
 #include <cstdint>
+#include <cstring>
 #include <functional>
-#include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
-#include <unistd.h>
 
 #include "core/probes.hpp"
 
 namespace c2d::core {
 
+WriteError::WriteError(const std::string& path, int error_number, const std::string& message)
+    : std::runtime_error(message.empty() ? path + ": cannot write: " + std::strerror(error_number)
+                                         : message),
+      path_(path),
+      reason_(std::strerror(error_number)),
+      error_number_(error_number) {}
+
 void write_file_atomic(const std::string& path, const std::string& content) {
   const std::string tmp = path + ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw std::runtime_error(path + ": cannot write (" + tmp + ")");
-    out << content;
-    out.flush();
-    if (!out) throw std::runtime_error(path + ": write failed");
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) throw WriteError(path, errno);
+  // errno is taken where the call failed: close() and unlink() below may change it.
+  auto fail = [&](int error_number) {
+    ::unlink(tmp.c_str());  // a full disk gets its space back
+    throw WriteError(path, error_number);
+  };
+  for (size_t done = 0; done < content.size();) {
+    const ssize_t n = ::write(fd, content.data() + done, content.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int e = n < 0 ? errno : EIO;
+      ::close(fd);
+      fail(e);
+    }
+    done += static_cast<size_t>(n);
   }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error(path + ": cannot rename the temporary file: " + ec.message());
-  }
+  if (::close(fd) != 0) fail(errno);  // NFS and quotas report some failures only here
+  if (::rename(tmp.c_str(), path.c_str()) != 0) fail(errno);
 }
 
 namespace {

@@ -7,6 +7,7 @@
 #include "app/cli/options.hpp"
 #include "app/cli/verbs.hpp"
 #include "core/errors.hpp"
+#include "core/writers.hpp"
 
 using namespace c2d;
 
@@ -53,6 +54,9 @@ int main(int argc, char** argv) {
   } catch (const InputError& e) {
     std::cerr << "error: " << e.what() << '\n';
     return app::kExitBadInput;
+  } catch (const core::WriteError& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return app::kExitWriteFailed;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << '\n';
     return app::kExitSolveFailed;

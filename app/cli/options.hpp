@@ -6,8 +6,9 @@
 
 namespace c2d::app {
 
-/// Exit codes (DESIGN §5): ok, a solve failed (results so far kept), bad input.
-constexpr int kExitOk = 0, kExitSolveFailed = 1, kExitBadInput = 2;
+/// Exit codes (DESIGN §5): ok, a solve failed (results so far kept), bad input, the output
+/// could not be written (a full disk: the system's reason and the output folder named).
+constexpr int kExitOk = 0, kExitSolveFailed = 1, kExitBadInput = 2, kExitWriteFailed = 3;
 
 /// Everything a verb may take; `scene` is the positional argument (a scene file, or the output
 /// folder for trace and plot).

@@ -10,6 +10,7 @@
 #include "app/report/summary.hpp"
 #include "app/run/adapt.hpp"
 #include "app/run/run_output.hpp"
+#include "core/writers.hpp"
 
 namespace c2d::app {
 
@@ -65,15 +66,21 @@ std::string cycle_line(const AdaptCycle& c) {
   return line;
 }
 
-}  // namespace
+/// A file of the run that could not be written, as the user sees it: the output folder they
+/// named (not the work folder beside it, which is gone once this propagates), the file, and the
+/// system's reason.
+core::WriteError in_output_folder(const core::WriteError& e, const RunOutput& output) {
+  const std::string work = output.work_dir() + "/";
+  const std::string name =
+      e.path().rfind(work, 0) == 0 ? e.path().substr(work.size()) : e.path();
+  return core::WriteError(e.path(), e.error_number(),
+                          output.dir() + ": cannot write the run's " + name + ": " + e.reason() +
+                              " (nothing of this run was kept)");
+}
 
-int cmd_run(const Options& o) {
-  install_interrupt_handler();
-  const auto t0 = RunOutput::Clock::now();
-  Reporter rep(o.quiet);
-  rep.phase("reading " + o.scene);
-  const core::Scene scene = load_run_scene(o);
-  RunOutput output(scene, default_out(o, scene));
+/// The run once its output folder is set up: solve, write, commit.
+int run_into(const Options& o, const core::Scene& scene, RunOutput& output, Reporter& rep,
+             RunOutput::Clock::time_point t0) {
   rep.attach(output);
   output.end_on_interrupt();
   const auto phase = [&](const std::string& line) { rep.phase(line); };
@@ -103,6 +110,22 @@ int cmd_run(const Options& o) {
   if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
   output.commit();
   return solved->results.status == SolveStatus::kConverged ? kExitOk : kExitSolveFailed;
+}
+
+}  // namespace
+
+int cmd_run(const Options& o) {
+  install_interrupt_handler();
+  const auto t0 = RunOutput::Clock::now();
+  Reporter rep(o.quiet);
+  rep.phase("reading " + o.scene);
+  const core::Scene scene = load_run_scene(o);
+  RunOutput output(scene, default_out(o, scene));
+  try {
+    return run_into(o, scene, output, rep, t0);
+  } catch (const core::WriteError& e) {
+    throw in_output_folder(e, output);
+  }
 }
 
 }  // namespace c2d::app

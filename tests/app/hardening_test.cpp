@@ -9,10 +9,13 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -911,4 +914,31 @@ TEST(Hardening, BoxSlaveSelectionTakesBoundaryNodesOnly) {
   EXPECT_EQ(s["contact"]["slave_nodes"], 10);
   EXPECT_EQ(s["contact"]["active_nodes"], 6);
   EXPECT_NEAR(s["contact"]["total_force"].get<double>(), 1000.0, 1e-9);
+}
+
+// Issue 32, finding 8: a full disk said ".../o.part.PID/step_0002.vtu: write failed" (the work
+// folder, no reason) with exit 1. Now: exit 3, one line naming the output folder, the file and
+// the system's reason, and nothing of the run left on the full disk. A 64 KiB tmpfs (root
+// only: skipped where mounting is not permitted) is the full disk.
+TEST(Hardening, AFullDiskNamesTheOutputFolderAndTheReasonWithExit3) {
+  const TempDir dir("full_disk");
+  const std::string disk = dir / "disk";
+  fs::create_directories(disk);
+  if (::mount("tmpfs", disk.c_str(), "tmpfs", 0, "size=64k") != 0)
+    GTEST_SKIP() << "cannot mount a tmpfs here: " << std::strerror(errno);
+  struct Unmount {
+    std::string path;
+    ~Unmount() { ::umount2(path.c_str(), MNT_DETACH); }
+  } unmount{disk};
+  const std::string scene = dir.write("fine.toml", square("1.0", "{ size = 0.02 }"));
+  const std::string out = disk + "/o";
+  const Outcome o = run_c2d({"run", scene, "--out", out, "--quiet"});
+  EXPECT_EQ(o.code, 3) << o.text;
+  EXPECT_EQ(o.text.rfind("error: " + out + ": cannot write the run's ", 0), 0u) << o.text;
+  EXPECT_NE(o.text.find(": No space left on device (nothing of this run was kept)\n"),
+            std::string::npos)
+      << o.text;
+  EXPECT_EQ(o.text.find(".part."), std::string::npos) << o.text;
+  EXPECT_EQ(o.text.find('\n'), o.text.size() - 1) << "not one line: " << o.text;
+  EXPECT_TRUE(fs::is_empty(disk)) << "the run left files on the full disk";
 }
