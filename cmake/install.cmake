@@ -16,6 +16,8 @@ install(TARGETS core constraints nonlinear EXPORT contact2dTargets
         LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
         RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 install(TARGETS contact2d RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
+# The program's code, loaded by bin/contact2d from here (app/cli/launcher.cpp).
+install(TARGETS contact2d_cli LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}/contact2d")
 foreach(_c2d_module core constraints nonlinear)
   install(DIRECTORY "${PROJECT_SOURCE_DIR}/${_c2d_module}/"
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/contact2d/${_c2d_module}"

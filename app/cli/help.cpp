@@ -32,7 +32,7 @@ const char* kMainHelp =
     "running them: run it with GNU parallel or Slurm, then `contact2d merge DIR`.\n"
     "\n"
     "Every verb has --help. Exit codes: 0 ok, 1 solve failed (partial results kept),\n"
-    "2 bad input, 3 the output could not be written (a full disk).\n";
+    "2 bad input, 3 the output could not be written (a full disk), 130 interrupted.\n";
 
 const char* kRunHelp =
     "usage: contact2d run SCENE [--method M] [--set key=value ...] [--out DIR] [--quiet]\n"

@@ -1,11 +1,16 @@
-// contact2d: the command-line program. Dispatch only: parse the arguments, run the verb, turn
+// contact2d: the command-line program (libcontact2d_cli.so, loaded and called by the
+// executable, cli/launcher.cpp). Dispatch only: parse the arguments, run the verb, turn
 // exceptions into exit codes (DESIGN §5).
+#include <signal.h>
+
 #include <iostream>
 #include <string>
+#include <string_view>
 
 #include "app/cli/help.hpp"
 #include "app/cli/options.hpp"
 #include "app/cli/verbs.hpp"
+#include "app/run/run_output.hpp"
 #include "core/errors.hpp"
 #include "core/writers.hpp"
 
@@ -48,7 +53,15 @@ int dispatch(const app::Options& o) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+/// Called by the launcher with SIGINT and SIGTERM held since before this library was loaded;
+/// `caller_mask` is the mask to restore (null: nothing held).
+extern "C" __attribute__((visibility("default"))) int contact2d_main(int argc, char** argv,
+                                                                    const sigset_t* caller_mask) {
+  // First thing: the run verb's handler, then the interrupts are let through. One that came
+  // while the libraries loaded reaches the handler now: exit 130 and its line, no folder yet.
+  // (The other verbs keep the default action, or install their own when they start.)
+  if (argc > 1 && std::string_view(argv[1]) == "run") app::install_interrupt_handler();
+  if (caller_mask) sigprocmask(SIG_SETMASK, caller_mask, nullptr);
   try {
     return dispatch(app::parse_args(argc, argv));
   } catch (const InputError& e) {

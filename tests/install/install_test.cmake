@@ -28,7 +28,8 @@ endfunction()
 step("install" "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${prefix}")
 foreach(f include/contact2d/core/model.hpp include/contact2d/nonlinear/load_stepper.hpp
           lib/cmake/contact2d/contact2dConfig.cmake
-          lib/cmake/contact2d/contact2dConfigVersion.cmake bin/contact2d)
+          lib/cmake/contact2d/contact2dConfigVersion.cmake bin/contact2d
+          lib/contact2d/libcontact2d_cli.so)
   if(NOT EXISTS "${prefix}/${f}")
     message(FATAL_ERROR "install test: ${prefix}/${f} was not installed")
   endif()
