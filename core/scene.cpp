@@ -60,7 +60,7 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
     check_body(scene.supports.back().on, s);
   }
   for (const auto& sp : root["spring"].tables()) {
-    SpringSpec spring = parse_spring(sp, static_cast<int>(scene.springs.size()));
+    SpringSpec spring = parse_spring(sp, static_cast<int>(scene.springs.size()), scene.materials);
     for (const auto& other : scene.springs)
       if (other.name == spring.name) sp["name"].fail("a unique spring name");
     scene.springs.push_back(std::move(spring));

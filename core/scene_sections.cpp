@@ -381,8 +381,21 @@ BodySpec parse_body(const TomlView& b, const Scene& scene) {
   return bs;
 }
 
-SpringSpec parse_spring(const TomlView& s, int index) {
+double spring_stiffness_limit(const std::vector<MaterialSpec>& materials) {
+  double stiffest = 0.0;
+  for (const MaterialSpec& m : materials) stiffest = std::max(stiffest, m.young * m.thickness);
+  return std::min(1e12 * stiffest, 1e30);
+}
+
+SpringSpec parse_spring(const TomlView& s, int index, const std::vector<MaterialSpec>& materials) {
   s.check_keys({"name", "on", "between", "k"});
+  // k = 1e30 on E = 1000 (indeed from 1e18 on) left pivots of 1e-28 of the largest: the run
+  // ended "singular ... missing supports?" on a supported body.
+  const double limit = spring_stiffness_limit(materials);
+  const std::string bound =
+      "at most " + number_text(limit) + " (1e12 x E t of the stiffest material: a stiffer "
+      "spring is a support in all but name and leaves the stiffness numerically singular; use a "
+      "[[support]])";
   SpringSpec sp;
   sp.at.where = s.where();
   sp.name = s["name"].string_or("spring" + std::to_string(index + 1));
@@ -392,9 +405,11 @@ SpringSpec parse_spring(const TomlView& s, int index) {
     sp.to_ground = true;
     sp.on = parse_selection(s["on"]);
     sp.k_ground = s["k"].vec2();
-    if (!sp.k_ground.allFinite() || sp.k_ground.minCoeff() < 0 || sp.k_ground.maxCoeff() <= 0 ||
-        sp.k_ground.maxCoeff() > 1e30)
-      s["k"].fail("[kx, ky], finite, >= 0 and not both 0 (at most 1e30)");
+    if (!sp.k_ground.allFinite() || sp.k_ground.minCoeff() < 0 || sp.k_ground.maxCoeff() <= 0)
+      s["k"].fail("[kx, ky], finite, >= 0 and not both 0");
+    if (sp.k_ground.maxCoeff() > limit)
+      s["k"].fail_message("expected [kx, ky] of " + bound + ", found " +
+                          number_text(sp.k_ground.maxCoeff()));
     return sp;
   }
   sp.to_ground = false;
@@ -403,7 +418,7 @@ SpringSpec parse_spring(const TomlView& s, int index) {
   sp.a = parse_selection(ends[0]);
   sp.b = parse_selection(ends[1]);
   sp.k = s["k"].positive();
-  if (sp.k > 1e30) s["k"].fail("a stiffness of at most 1e30");
+  if (sp.k > limit) s["k"].fail("a stiffness of " + bound);
   return sp;
 }
 

@@ -21,7 +21,13 @@ MaterialSpec parse_material(const TomlView& m, const std::vector<MaterialSpec>& 
 /// A [[body]] of `scene` (its materials, earlier bodies and mesh scale already read).
 BodySpec parse_body(const TomlView& b, const Scene& scene);
 SupportSpec parse_support(const TomlView& s);
-SpringSpec parse_spring(const TomlView& s, int index);
+/// A [[spring]] (the index names an unnamed one); `materials` bound its stiffness
+/// (spring_stiffness_limit).
+SpringSpec parse_spring(const TomlView& s, int index, const std::vector<MaterialSpec>& materials);
+/// The stiffest spring a scene takes: 1e12 times the largest E·t of its materials (a stiffness
+/// per unit length, as a spring's). A stiffer spring is a support in all but name, and the
+/// factorisation cannot tell the body from an unsupported one.
+double spring_stiffness_limit(const std::vector<MaterialSpec>& materials);
 LoadSpec parse_load(const TomlView& l);
 /// [reference]: the kind of reference and its values (what a run is checked against).
 void parse_reference(const TomlView& root, Scene& scene);

@@ -261,3 +261,18 @@ TEST(SceneErrors, NumbersInMessagesAreShownWithTheirDigits) {
   expect_error({"size 1e-8", t.c_str(), {}, {"extent 28.2843 (after analysis.mesh_scale = 1: 1e-08)"}});
   expect_error({"scaled", t.c_str(), {"analysis.mesh_scale=0.5"}, {"mesh_scale = 0.5: 5e-09)"}});
 }
+
+// Issue 32, finding 8: a spring of k = 1e30 on E = 210000 was accepted and the run ended
+// "singular ... missing supports?" on a supported body; it is refused at its key, beyond 1e12
+// times the stiffest material's E t (here 2.1e17).
+TEST(SceneErrors, SpringsStifferThanTheBodiesCanBearAreRefusedAtTheirKey) {
+  const std::string ground = scene("[[spring]]\non = { nearest = [1.0, 1.0] }\nk = [1e30, 0.0]\n");
+  expect_error({"ground", ground.c_str(), {}, {"bad.toml:12:5: spring[0].k: expected [kx, ky] of at most 2.1e+17",
+                                              "use a [[support]]", "found 1e+30"}});
+  const std::string axial = scene(
+      "[[spring]]\nbetween = [ { nearest = [0.0, 1.0] }, { nearest = [1.0, 1.0] } ]\nk = 1e18\n");
+  expect_error({"axial", axial.c_str(), {}, {"bad.toml:12:5: spring[0].k: expected a stiffness of at most 2.1e+17",
+                                             "found number 1e+18"}});
+  const std::string fine = scene("[[spring]]\non = { nearest = [1.0, 1.0] }\nk = [2e17, 0.0]\n");
+  EXPECT_NO_THROW(parse_scene(fine, "ok.toml"));
+}
