@@ -188,6 +188,11 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
       if (c.obstacle >= 0 && !find_discretization(c.detection)->obstacles)
         v["detection"].fail("a detection that takes an obstacle master");
       if (v.has("direction")) {
+        // Only node_to_node pairs along a fixed direction; the others ignored it without a word.
+        if (c.detection != "node_to_node")
+          v["direction"].fail_message("expected no direction with detection = \"" + c.detection +
+                                      "\" (a fixed direction pairs nodes for detection = "
+                                      "\"node_to_node\" only), found one");
         c.direction = v["direction"].vec2();
         if (c.direction->norm() == 0) v["direction"].fail("a non-zero direction");
         c.direction->normalize();

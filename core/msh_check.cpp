@@ -6,6 +6,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <unordered_map>
 #include <unordered_set>
@@ -100,8 +101,12 @@ class Reader {
   }
 
   [[noreturn]] void fail(const std::string& expected, const std::string& found) const {
-    throw InputError(path_ + ":" + std::to_string(current_ + 1) + ": expected " + expected +
-                     ", found " + found);
+    fail_at(line_number(), expected, found);
+  }
+  /// The same, naming line `line` (1-based): a check that could only be made after the line.
+  [[noreturn]] void fail_at(int line, const std::string& expected, const std::string& found) const {
+    throw InputError(path_ + ":" + std::to_string(line) + ": expected " + expected + ", found " +
+                     found);
   }
 
  private:
@@ -153,18 +158,37 @@ class MshCheck {
     r_.fail("$MeshFormat", "an empty file");
   }
 
+  /// A name the scene selects by: one physical group each. gmsh merges the node sets of every
+  /// group of a name, so a curve and the surface both named "fixed" made a support on "fixed"
+  /// clamp the whole body.
   void physical_names() {
     const long long n = r_.count(r_.line(1, "the number of physical names")[0], "physical names");
+    struct Group {
+      long long dim, tag;
+      int line;
+    };
+    std::map<std::string, Group> groups;
     for (long long i = 0; i < n; ++i) {
       const std::vector<std::string> t = r_.line();
       if (t.size() < 3) r_.fail("dimension, tag and \"name\"", quoted(r_.raw_line()));
-      r_.integer(t[0], 0, 3, "a physical dimension");
-      r_.integer(t[1], 1, kMaxTag, "a physical tag");
+      const long long dim = r_.integer(t[0], 0, 3, "a physical dimension");
+      const long long tag = r_.integer(t[1], 1, kMaxTag, "a physical tag");
       const std::string raw = r_.raw_line();
       const size_t open = raw.find('"'), close = raw.rfind('"');
       if (open == std::string::npos || close == open) r_.fail("a quoted name", quoted(raw));
+      const std::string name = raw.substr(open + 1, close - open - 1);
+      const auto [it, fresh] = groups.emplace(name, Group{dim, tag, r_.line_number()});
+      if (!fresh)
+        r_.fail("a physical name given to one group",
+                quoted(name) + " for both " + group_text(it->second.dim, it->second.tag) +
+                    " (line " + std::to_string(it->second.line) + ") and " +
+                    group_text(dim, tag));
     }
     r_.expect_marker("$EndPhysicalNames");
+  }
+  static std::string group_text(long long dim, long long tag) {
+    static const char* const kKind[] = {"point", "curve", "surface", "volume"};
+    return std::string("the physical ") + kKind[dim] + " " + std::to_string(tag);
   }
 
   void entities() {
@@ -222,11 +246,12 @@ class MshCheck {
       for (long long i = 0; i < n; ++i) {
         const std::vector<std::string> c = r_.line(values, "node coordinates");
         for (const std::string& v : c) r_.real(v, "a coordinate");
-        xy_[tags[i]] = {r_.real(c[0], "a coordinate"), r_.real(c[1], "a coordinate")};
+        add_coordinates(tags[i], c[0], c[1], c[2]);
       }
       seen += n;
     }
     end_blocks(seen, total, "nodes", "$EndNodes");
+    check_plane();
     seen_nodes_ = true;
   }
 
@@ -236,10 +261,35 @@ class MshCheck {
       const std::vector<std::string> t = r_.line(4, "node tag and x y z");
       const long long tag = add_node(t[0], 1, kMaxTag);
       for (int k = 1; k < 4; ++k) r_.real(t[k], "a coordinate");
-      xy_[tag] = {r_.real(t[1], "a coordinate"), r_.real(t[2], "a coordinate")};
+      add_coordinates(tag, t[1], t[2], t[3]);
     }
     r_.expect_marker("$EndNodes");
+    check_plane();
     seen_nodes_ = true;
+  }
+
+  /// A node's x and y, and its z against the first node's (gmsh keeps z, the solver drops it).
+  void add_coordinates(long long tag, const std::string& x, const std::string& y,
+                       const std::string& z) {
+    const double px = r_.real(x, "a coordinate"), py = r_.real(y, "a coordinate");
+    const double pz = r_.real(z, "a coordinate");
+    xy_[tag] = {px, py};
+    extent_ = std::max({extent_, std::abs(px), std::abs(py)});
+    if (!plane_z_) plane_z_ = pz;
+    if (!off_plane_ || std::abs(pz - *plane_z_) > std::abs(off_plane_->z - *plane_z_))
+      off_plane_ = OffPlane{tag, r_.line_number(), pz};
+  }
+  /// A 2D mesh lies in one plane z = const: the node farthest off it (beyond round-off of the
+  /// model's size) is refused, as dropping its z would solve another body.
+  void check_plane() {
+    if (!off_plane_ ||
+        std::abs(off_plane_->z - *plane_z_) <= 1e-9 * std::max(extent_, std::abs(*plane_z_)))
+      return;
+    const OffPlane& o = *off_plane_;
+    r_.fail_at(o.line,
+               "every node in the plane of the first, z = " + number_text(*plane_z_) +
+                   " (a 2D mesh)",
+               "node " + std::to_string(o.tag) + " at z = " + number_text(o.z));
   }
 
   long long add_node(const std::string& token, long long lo, long long hi) {
@@ -354,6 +404,14 @@ class MshCheck {
   Reader r_;
   bool v4_ = false, seen_nodes_ = false, seen_elements_ = false;
   std::unordered_map<long long, std::array<double, 2>> xy_;  ///< node coordinates by tag
+  struct OffPlane {
+    long long tag;
+    int line;
+    double z;
+  };
+  std::optional<double> plane_z_;      ///< the first node's z
+  std::optional<OffPlane> off_plane_;  ///< the node farthest from the first node's z
+  double extent_ = 0.0;                ///< the largest |x| or |y|
   std::unordered_set<long long> nodes_, elements_;
 };
 

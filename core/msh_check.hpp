@@ -7,10 +7,12 @@
 // expected and what was found:
 //   - $MeshFormat first: ASCII MSH 4.1 or 2.2 (binary files and other versions refused);
 //   - every section closed by its $End marker; unknown sections skipped to their end;
-//   - $PhysicalNames: dimension 0..3, tag 1..2^31−1, a quoted name;
+//   - $PhysicalNames: dimension 0..3, tag 1..2^31−1, a quoted name, each name given to one
+//     group (gmsh would merge a curve and a surface of the same name into one node set);
 //   - $Entities (4.1): counts, tags and physical tags in range;
 //   - $Nodes: block counts that add up to the declared total, node tags unique and in
-//     1..2^31−1 (and within the declared min/max in 4.1), finite coordinates;
+//     1..2^31−1 (and within the declared min/max in 4.1), finite coordinates, every node in
+//     the first node's plane z = const (the solver drops z);
 //   - $Elements: block counts that add up, known element types with their node counts, tags in
 //     range, every referenced node defined.
 // Counts are checked against what is left of the file before anything is sized by them, so a

@@ -4,6 +4,9 @@
 
 #include "app/cli/verbs.hpp"
 #include "app/output_folder.hpp"
+#include "constraints/contact_scene.hpp"
+#include "constraints/contact_set.hpp"
+#include "core/errors.hpp"
 #include "core/model.hpp"
 #include "core/probes.hpp"
 #include "core/writers.hpp"
@@ -16,9 +19,32 @@ std::string default_out(const Options& o, const core::Scene& scene) {
   return "out/" + std::filesystem::path(o.scene).stem().string();
 }
 
+namespace {
+
+/// The model, with every table checked as a run checks it before solving, in the same order and
+/// with the same messages (solve_scene): [[contact]], [[constraint]] and their friction tables,
+/// their selections on the mesh, and the probes. info and mesh exited 0 on tables a run refused
+/// (issue 32, finding 9), so they could not check a scene.
+core::Model checked_model(const Options& o, const core::Scene& scene) {
+  const constraints::ContactSceneSpec contact = constraints::parse_contact_scene(scene, o.method);
+  core::Model model = core::build_model(scene);
+  if (!contact.empty() || !model.plates.empty() ||
+      (scene.explicit_model && !scene.explicit_model->gaps.empty()))
+    const constraints::ContactSet resolved(model, contact, scene);  // pairs and constraints
+  else if (!o.method.empty())
+    throw InputError("--method " + o.method + ": the scene has no [[contact]] to enforce");
+  // A probe point outside the mesh is refused when the probes are evaluated.
+  core::evaluate_probes(scene, model,
+                        core::Results::zeros(model.mesh.num_nodes(), model.mesh.num_elements(),
+                                             model.mesh.nodes_per_element()));
+  return model;
+}
+
+}  // namespace
+
 int cmd_mesh(const Options& o) {
   const core::Scene scene = core::load_scene(o.scene, o.sets);
-  const core::Model model = core::build_model(scene);
+  const core::Model model = checked_model(o, scene);
   const std::string out = default_out(o, scene);
   create_output_folder(out);
   const core::Results empty = core::Results::zeros(
@@ -40,7 +66,7 @@ int cmd_mesh(const Options& o) {
 
 int cmd_info(const Options& o) {
   const core::Scene scene = core::load_scene(o.scene, o.sets);
-  const core::Model model = core::build_model(scene);
+  const core::Model model = checked_model(o, scene);
   std::cout << "scene      " << scene.path << (scene.title.empty() ? "" : " - " + scene.title)
             << "\nunits      " << (scene.units.empty() ? "(not stated)" : scene.units)
             << "\nanalysis   "

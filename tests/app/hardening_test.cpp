@@ -979,3 +979,44 @@ TEST(Hardening, SigintWhileTheProgramStartsEndsWithExit130) {
       EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
   }
 }
+
+// Issue 32, finding 9: a `direction` with detection = "mortar" (or node_to_segment) was ignored
+// without a word; only node_to_node pairs along it.
+TEST(Hardening, ADirectionWithoutNodeToNodeIsRefusedAtItsKey) {
+  const TempDir dir("mortar_direction");
+  expect_refused(dir,
+                 dir.write("d.toml", two_blocks("[[contact]]\nslave = { body = \"punch\", edge = "
+                                                "\"bottom\" }\nmaster = { body = \"b\", edge = "
+                                                "\"top\" }\ndetection = \"mortar\"\n"
+                                                "direction = [0.0, 1.0]\n")),
+                 {"d.toml:26:", "contact[0].direction", "expected no direction with detection = "
+                  "\"mortar\"", "\"node_to_node\" only"});
+}
+
+// Issue 32, finding 9: info and mesh exited 0 on [[contact]], [[constraint]] and friction tables
+// that a run refuses, so they could not check a scene; they now refuse them with the run's
+// message and exit 2.
+TEST(Hardening, InfoAndMeshRefuseWhatARunRefuses) {
+  const TempDir dir("info_checks");
+  const std::string pair = "[[contact]]\nslave = { body = \"punch\", edge = \"bottom\" }\n";
+  const std::vector<std::string> scenes = {
+      dir.write("master.toml",
+                two_blocks(pair + "master = { body = \"punsh\", edge = \"top\" }\n")),
+      dir.write("friction.toml",
+                two_blocks(pair + "master = { body = \"b\", edge = \"top\" }\n"
+                                  "friction = { coefficient = -0.3 }\n")),
+      dir.write("constraint.toml",
+                two_blocks("[[constraint]]\ntype = \"equal\"\non = { body = \"b\", edge = "
+                           "\"tpo\" }\ndof = \"ux\"\n"))};
+  for (const std::string& scene : scenes) {
+    const Outcome run = run_c2d({"run", scene, "--out", dir / "o", "--quiet"});
+    ASSERT_EQ(run.code, 2) << scene << ": " << run.text;
+    const Outcome info = run_c2d({"info", scene});
+    EXPECT_EQ(info.code, 2) << scene;
+    EXPECT_EQ(info.text, run.text) << scene;
+    const Outcome mesh = run_c2d({"mesh", scene, "--out", dir / "m"});
+    EXPECT_EQ(mesh.code, 2) << scene;
+    EXPECT_EQ(mesh.text, run.text) << scene;
+    EXPECT_FALSE(fs::exists(dir / "m"));
+  }
+}

@@ -91,3 +91,38 @@ TEST(MshCheck, OneTokenEditsAreRefusedWithTheirLine) {
   EXPECT_NE(refusal(text.substr(0, text.find("$EndElements"))).find("end of the file"),
             std::string::npos);
 }
+
+// Issue 32, finding 9: a curve and the surface both named "root" were merged into one node set
+// (a support on "root" clamped the whole body); the second name is refused on its line, naming
+// both groups.
+TEST(MshCheck, APhysicalNameGivenToTwoGroupsIsRefused) {
+  const std::string m = refusal(edit(beam(), 7, "2 2 \"root\""));
+  EXPECT_EQ(m.rfind("part.msh:7: expected a physical name given to one group", 0), 0u) << m;
+  EXPECT_NE(m.find("'root' for both the physical curve 1 (line 6) and the physical surface 2"),
+            std::string::npos)
+      << m;
+}
+
+// Issue 32, finding 9: nodes off the first node's plane were read with z dropped; the node
+// farthest off it is refused on its coordinate line with its tag and z. A mesh in another plane
+// z = const, or with z off by round-off, is still read.
+TEST(MshCheck, NodesOffThePlaneAreRefused) {
+  const std::string m = refusal(edit(beam(), 27, "0.5 0.3 0.25"));
+  EXPECT_EQ(m, "part.msh:27: expected every node in the plane of the first, z = 0 (a 2D mesh), "
+               "found node 4 at z = 0.25");
+  std::string lifted = beam();
+  for (int line : {19, 20, 26, 27, 28, 29}) {
+    std::istringstream in(lifted);
+    std::string l;
+    for (int k = 1; k <= line; ++k) std::getline(in, l);
+    lifted = edit(lifted, line, l.substr(0, l.rfind(' ')) + " 5");
+  }
+  EXPECT_EQ(refusal(lifted), "accepted");
+  EXPECT_EQ(refusal(edit(beam(), 27, "0.5 0.3 1e-12")), "accepted");
+  const std::string v2 =
+      "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+      "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0.5\n4 0 1 0\n$EndNodes\n"
+      "$Elements\n2\n1 2 2 1 1 1 2 3\n2 2 2 1 1 1 3 4\n$EndElements\n";
+  EXPECT_EQ(refusal(v2), "part.msh:8: expected every node in the plane of the first, z = 0 (a 2D "
+                         "mesh), found node 3 at z = 0.5");
+}
