@@ -83,6 +83,16 @@ std::vector<int> named_edges(const Model& model, const SelectionSpec& s, int bod
   return out;
 }
 
+/// " (did you mean 'top'?)" for an edge name the body does not have: the nearest of its edge
+/// names and the generic sides.
+std::string nearest_edge_name(const Model& model, const SelectionSpec& s, int body) {
+  const std::string prefix = body >= 0 ? model.body_names[body] + "/" : "";
+  std::vector<std::string> names = {"top", "bottom", "left", "right"};
+  for (const auto& [name, ids] : model.mesh.edge_groups)
+    if (body < 0 || name.rfind(prefix, 0) == 0) names.push_back(bare_name(name));
+  return did_you_mean(s.name, names);
+}
+
 bool on_predicate(const SelectionSpec& s, const Vec2& p, double tol) {
   using K = SelectionSpec::Kind;
   switch (s.kind) {
@@ -162,7 +172,8 @@ std::vector<int> select_nodes(const Model& model, const SelectionSpec& s) {
   out.erase(std::unique(out.begin(), out.end()), out.end());
   if (out.empty())
     throw InputError(s.at.where + ": the selection matches no node" +
-                     (s.kind == K::kEdge ? " (no boundary edge named '" + s.name + "')"
+                     (s.kind == K::kEdge ? " (no boundary edge named '" + s.name + "')" +
+                                               nearest_edge_name(model, s, body)
                                          : std::string(" (check coordinates and 'tol')")));
   return out;
 }
@@ -173,7 +184,8 @@ std::vector<int> select_edges(const Model& model, const SelectionSpec& s) {
     const int body = selected_body(model, s);
     auto out = named_edges(model, s, body);
     if (out.empty())
-      throw InputError(s.at.where + ": no boundary edge named '" + s.name + "'");
+      throw InputError(s.at.where + ": no boundary edge named '" + s.name + "'" +
+                       nearest_edge_name(model, s, body));
     return out;
   }
   const auto nodes = select_nodes(model, s);

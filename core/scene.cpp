@@ -76,8 +76,11 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
     scene.plates.push_back(ps);
   }
   for (const auto& l : root["load"].tables()) {
-    scene.loads.push_back(parse_load(l));
-    check_body(scene.loads.back().on, l);
+    LoadSpec load = parse_load(l, static_cast<int>(scene.loads.size()));
+    for (const auto& other : scene.loads)
+      if (other.name == load.name) l["name"].fail("a unique load name");
+    check_body(load.on, l);
+    scene.loads.push_back(std::move(load));
   }
   for (const auto& p : root["probe"].tables()) {
     ProbeSpec ps = parse_probe(p);
@@ -101,38 +104,86 @@ Scene build_scene(const toml::table& root_table, const std::string& file) {
 
 }  // namespace
 
+namespace {
+
+/// The arrays of tables whose unnamed entries have a default name, the key and the entry's
+/// number from 1 ("contact1", as messages and summary.json call it).
+bool has_default_names(const std::string& key) {
+  return key == "contact" || key == "constraint" || key == "spring" || key == "plate" ||
+         key == "load";
+}
+
+/// An entry's name: its `name`, else its default one (empty when the array has none).
+std::string entry_name(const toml::node& entry, const std::string& key, size_t index) {
+  if (const auto n = (*entry.as_table())["name"].value<std::string>()) return *n;
+  return has_default_names(key) ? key + std::to_string(index + 1) : std::string();
+}
+
+/// `key[i]` or `key.i` with i digits: i, else -1 (and `key` without its brackets).
+int path_index(std::string& key, const std::string& where) {
+  const auto lb = key.find('[');
+  if (lb == std::string::npos || key.back() != ']') return -1;
+  const std::string digits = key.substr(lb + 1, key.size() - lb - 2);
+  int index = -1;
+  size_t used = 0;
+  try {
+    index = std::stoi(digits, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (digits.empty() || used != digits.size() || index < 0 ||
+      digits.find_first_not_of("0123456789") != std::string::npos)
+    throw InputError(where + ": expected an index 0, 1, ... in '" + key + "', found '" + digits +
+                     "'");
+  key = key.substr(0, lb);
+  return index;
+}
+
+bool all_digits(const std::string& text) {
+  return !text.empty() && text.size() <= 9 &&
+         text.find_first_not_of("0123456789") == std::string::npos;
+}
+
+}  // namespace
+
 std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<std::string>& keys,
                                          bool create, const std::string& where) {
   std::vector<toml::table*> current{&root};
   for (size_t i = 0; i < keys.size(); ++i) {
     std::string key = keys[i];
-    int index = -1;
-    if (const auto lb = key.find('['); lb != std::string::npos && key.back() == ']') {
-      const std::string digits = key.substr(lb + 1, key.size() - lb - 2);
-      size_t used = 0;
-      try {
-        index = std::stoi(digits, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (digits.empty() || used != digits.size() || index < 0 ||
-          digits.find_first_not_of("0123456789") != std::string::npos)
-        throw InputError(where + ": expected an index 0, 1, ... in '" + key + "', found '" +
-                         digits + "'");
-      key = key.substr(0, lb);
-    }
+    const int bracket = path_index(key, where);
+    const std::string next_key = i + 1 < keys.size() ? keys[i + 1] : std::string();
     std::vector<toml::table*> next;
-    bool named = false;
+    bool consumed = false;  // the next key named an entry (by name or number)
     for (toml::table* t : current) {
       toml::node* child = t->get(key);
       if (!child) {
+        // An index picks an entry that exists: plate[5] on a scene without plates made a table
+        // 'plate' and then complained about plate[0].on.
+        if (bracket >= 0)
+          throw InputError(where + ": expected a table at index " + std::to_string(bracket) +
+                           " of '" + key + "', found no '" + key + "'");
         if (!create) continue;
         t->insert_or_assign(key, toml::table{});
         next.push_back(t->get(key)->as_table());
       } else if (child->is_table()) {
+        if (bracket >= 0)
+          throw InputError(where + ": expected an array of tables '" + key + "' for the index " +
+                           std::to_string(bracket) + ", found a table");
         next.push_back(child->as_table());
       } else if (child->is_array()) {
         auto& arr = *child->as_array();
+        // key[i], key.NAME (an entry's name or default name, "contact1"), key.i, else every
+        // entry.
+        std::vector<toml::table*> picked;
+        int index = bracket;
+        if (index < 0 && !next_key.empty()) {
+          for (size_t e = 0; e < arr.size(); ++e)
+            if (arr[e].is_table() && entry_name(arr[e], key, e) == next_key)
+              picked.push_back(arr[e].as_table());
+          if (picked.empty() && all_digits(next_key)) index = std::stoi(next_key);
+          consumed = consumed || !picked.empty() || index >= 0;
+        }
         if (index >= 0) {
           if (index >= static_cast<int>(arr.size()) || !arr[index].is_table())
             throw InputError(where + ": expected a table at index " + std::to_string(index) +
@@ -140,26 +191,17 @@ std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<st
                              (index >= static_cast<int>(arr.size())
                                   ? std::to_string(arr.size()) + " entries"
                                   : std::string("a value there")));
-          next.push_back(arr[index].as_table());
-          continue;
+          picked = {arr[index].as_table()};
+        } else if (picked.empty()) {
+          for (auto& entry : arr)
+            if (entry.is_table()) picked.push_back(entry.as_table());
         }
-        // By entry name (key.NAME.rest), else every entry.
-        bool found = false;
-        if (i + 1 < keys.size())
-          for (auto& entry : arr)
-            if (entry.is_table()) {
-              auto n = (*entry.as_table())["name"].value<std::string>();
-              if (n && *n == keys[i + 1]) next.push_back(entry.as_table()), found = true;
-            }
-        named = named || found;
-        if (!found)
-          for (auto& entry : arr)
-            if (entry.is_table()) next.push_back(entry.as_table());
+        next.insert(next.end(), picked.begin(), picked.end());
       } else {
         throw InputError(where + ": expected '" + key + "' to be a table, found a value");
       }
     }
-    if (named) ++i;  // consumed the name
+    if (consumed) ++i;
     current = std::move(next);
   }
   return current;
@@ -168,8 +210,12 @@ std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<st
 void apply_override(toml::table& root, const std::string& assignment) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError("--set " + assignment + ": expected key.path=value, found no '='");
+    throw InputError("--set " + quoted_found(assignment) + ": expected key.path=value, found no '='");
   const std::string path = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  // TOML would read the line after a break as more keys (then dropped): "1\nx = 2" set 1.
+  if (assignment.find_first_of("\n\r") != std::string::npos)
+    throw InputError("--set " + quoted_found(assignment) +
+                     ": expected a value on one line, found a line break");
   // The value: any TOML value; a bare word is taken as a string.
   toml::table parsed;
   try {

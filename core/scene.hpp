@@ -111,6 +111,7 @@ struct PlateSpec {
 
 struct LoadSpec {
   enum class Kind { kNodalForce, kTotalForce, kTraction, kPressure, kBodyForce };
+  std::string name;  ///< its `name`, else "loadN" (N from 1)
   Kind kind = Kind::kNodalForce;
   SelectionSpec on;
   Vec2 vector = Vec2::Zero();
@@ -219,9 +220,11 @@ SelectionSpec parse_selection(const TomlView& v);
 void apply_override(toml::table& root, const std::string& assignment);
 
 /// The tables a dotted key path leads to (`keys`: every key but the value's own): an array of
-/// tables fans out to every entry unless an index `key[i]` or an entry name (`key.NAME`) picks
-/// one. Missing tables are created when `create`, else skipped. Throws InputError, prefixed by
-/// `where`, for a bad index or a key that holds a value, not a table.
+/// tables fans out to every entry unless an index (`key[i]`, or `key.i` when no entry is named
+/// i) or an entry name (`key.NAME`: its `name`, or for contact, constraint, spring, plate and
+/// load the default name, `contact1` for the first) picks one. Missing tables are created when
+/// `create`, else skipped. Throws InputError, prefixed by `where`, for an index beyond the
+/// entries (or into an array the scene does not have) or a key that holds a value, not a table.
 std::vector<toml::table*> tables_on_path(toml::table& root, const std::vector<std::string>& keys,
                                          bool create, const std::string& where);
 

@@ -455,10 +455,11 @@ SupportSpec parse_support(const TomlView& s) {
   return ss;
 }
 
-LoadSpec parse_load(const TomlView& l) {
-  l.check_keys({"on", "force", "total_force", "traction", "pressure", "body_force", "follower",
-                "amplitude"});
+LoadSpec parse_load(const TomlView& l, int index) {
+  l.check_keys({"name", "on", "force", "total_force", "traction", "pressure", "body_force",
+                "follower", "amplitude"});
   LoadSpec ls;
+  ls.name = l["name"].string_or("load" + std::to_string(index + 1));
   ls.at.where = l.where();
   ls.on = parse_selection(l["on"]);
   int kinds = 0;

@@ -28,7 +28,8 @@ SpringSpec parse_spring(const TomlView& s, int index, const std::vector<Material
 /// per unit length, as a spring's). A stiffer spring is a support in all but name, and the
 /// factorisation cannot tell the body from an unsupported one.
 double spring_stiffness_limit(const std::vector<MaterialSpec>& materials);
-LoadSpec parse_load(const TomlView& l);
+/// A [[load]] (the index names an unnamed one).
+LoadSpec parse_load(const TomlView& l, int index);
 /// [reference]: the kind of reference and its values (what a run is checked against).
 void parse_reference(const TomlView& root, Scene& scene);
 

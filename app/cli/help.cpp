@@ -108,6 +108,8 @@ const char* kSweepHelp =
     "\nRuns SCENE once per value of one key (a:b:log:n, a:b:lin:n or v1,v2,...), e.g.\n"
     "  contact2d sweep examples/hertz_rigid.toml --method penalty \\\n"
     "      --set contact.penalty.k=1e3:1e13:log:11\n"
+    "The swept --set is the one whose value is such a range or list of numbers; every other\n"
+    "--set is applied to each run as given (a title \"Hertz, fine\" included).\n"
     "Each run is a `contact2d run` in DIR/caseK; J at a time (J > 1: then each runs once\n"
     "more alone, without charts or fields, for the table's times). Writes:\n"
     "  sweep.csv   value, status, iterations, solve time, p_max and its error, penetration,\n"

@@ -91,8 +91,8 @@ int cmd_info(const Options& o) {
     std::cout << "support    " << s.at.where << ": " << core::select_nodes(model, s.on).size()
               << " nodes\n";
   for (const auto& l : scene.loads)
-    std::cout << "load       " << l.at.where << ": " << core::select_nodes(model, l.on).size()
-              << " nodes\n";
+    std::cout << "load       " << l.name << " (" << l.at.where
+              << "): " << core::select_nodes(model, l.on).size() << " nodes\n";
   for (const auto& p : scene.probes)
     std::cout << "probe      " << p.name << " (" << p.quantity << ")"
               << (p.on ? ": " + std::to_string(core::select_nodes(model, *p.on).size()) + " nodes"

@@ -93,15 +93,26 @@ struct SweptKey {
   std::vector<std::string> fixed;
 };
 
+/// Whether a --set value is a sweep's range: a list of numbers v1,v2,... or a:b:SCALE:n (a value
+/// with three ':' is taken as a range, so a mistyped one is reported as such). Anything else,
+/// a title "Hertz, fine" or "a:b", a quoted string, an array [1.0, 2.0], is a fixed --set; before,
+/// any ',' or ':' made a second swept key.
+bool is_range(const std::string& value) {
+  if (std::count(value.begin(), value.end(), ':') == 3) return true;
+  try {
+    parse_range(value, "");
+    return true;
+  } catch (const InputError&) {
+    return false;
+  }
+}
+
 SweptKey swept_key(const std::vector<std::string>& sets) {
   SweptKey k;
   for (const auto& s : sets) {
     const auto eq = s.find('=');
     const std::string value = eq == std::string::npos ? "" : s.substr(eq + 1);
-    const bool ranged =
-        value.find(':') != std::string::npos ||
-        (value.find(',') != std::string::npos && value.find('[') == std::string::npos);
-    if (!ranged) {
+    if (!is_range(value)) {
       k.fixed.push_back(s);
       continue;
     }

@@ -1020,3 +1020,20 @@ TEST(Hardening, InfoAndMeshRefuseWhatARunRefuses) {
     EXPECT_FALSE(fs::exists(dir / "m"));
   }
 }
+
+// Issue 32, finding 10: sweep took every --set holding ',' or ':' for a second swept key, so a
+// title with a comma could not be set. Only a range or a list of numbers is swept.
+TEST(Hardening, SweepSetsATitleWithACommaAsGiven) {
+  const TempDir dir("sweep_title");
+  const Outcome o = run_c2d({"sweep", example("hertz_rigid_fast.toml"), "--method", "penalty",
+                             "--set", "contact.penalty.k=1e6,1e7", "--set",
+                             "title=\"Hertz, fine: k\"", "--job-list", "--out", dir / "s"});
+  ASSERT_EQ(o.code, 0) << o.text;
+  const std::string jobs = read_text(dir.path() / "s" / "jobs.txt");
+  EXPECT_NE(jobs.find("'title=\"Hertz, fine: k\"'"), std::string::npos) << jobs;
+  size_t swept = 0;
+  for (size_t at = jobs.find("'contact.penalty.k="); at != std::string::npos;
+       at = jobs.find("'contact.penalty.k=", at + 1))
+    ++swept;
+  EXPECT_EQ(swept, 2u) << jobs;
+}

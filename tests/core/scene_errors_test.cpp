@@ -276,3 +276,72 @@ TEST(SceneErrors, SpringsStifferThanTheBodiesCanBearAreRefusedAtTheirKey) {
   const std::string fine = scene("[[spring]]\non = { nearest = [1.0, 1.0] }\nk = [2e17, 0.0]\n");
   EXPECT_NO_THROW(parse_scene(fine, "ok.toml"));
 }
+
+namespace {
+
+/// The message of the InputError `f` throws ("accepted" when it throws none).
+template <class F>
+std::string refusal_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
+/// Two loads (an unnamed one, then "press"), a contact without a name and a plate "cap".
+std::string loaded(const std::string& extra = "") {
+  return scene("[[support]]\non = { edge = \"bottom\" }\nfix = [\"ux\", \"uy\"]\n"
+               "[[load]]\non = { edge = \"top\" }\ntraction = [0.0, -1.0]\n"
+               "[[load]]\nname = \"press\"\non = { edge = \"left\" }\npressure = 1.0\n" +
+               extra);
+}
+
+}  // namespace
+
+// Issue 32, finding 10: --set as a user expects it.
+TEST(SceneErrors, SetAddressesDefaultNamesIndicesAndNamedLoads) {
+  // The documented default name contact1 (was: unknown key 'contact1').
+  const std::string contact =
+      loaded("[[contact]]\nslave = { edge = \"top\" }\nmaster = { edge = \"bottom\" }\n");
+  const Scene s = parse_scene(contact, "s.toml", {"contact.contact1.method=penalty"});
+  EXPECT_EQ((*s.raw)["contact"][0]["method"].value<std::string>(), "penalty");
+  EXPECT_FALSE((*s.raw)["contact"][0]["contact1"]);
+  // load.0.x is load[0].x (was: unknown key '0'); load.x still sets every load; a load is
+  // addressed by its name, or by its default name load1.
+  Scene l = parse_scene(loaded(), "l.toml", {"load.0.traction=[0.0, -2.0]"});
+  EXPECT_EQ(l.loads[0].vector.y(), -2.0);
+  EXPECT_EQ(l.loads[1].value, 1.0);
+  l = parse_scene(loaded(), "l.toml", {"load.press.pressure=3.0", "load.load1.traction=[1.0, 0.0]"});
+  EXPECT_EQ(l.loads[1].value, 3.0);
+  EXPECT_EQ(l.loads[0].vector.x(), 1.0);
+  EXPECT_EQ(l.loads[0].name, "load1");
+  EXPECT_EQ(l.loads[1].name, "press");
+  l = parse_scene(loaded(), "l.toml", {"load.follower=false"});
+  EXPECT_EQ(l.loads.size(), 2u);
+  EXPECT_EQ(refusal_of([] { parse_scene(loaded(), "l.toml", {"load.2.pressure=1.0"}); }),
+            "--set load.2.pressure=1.0: expected a table at index 2 of 'load', found 2 entries");
+  // An index into an array the scene does not have (was: plate[0].on: expected a table).
+  EXPECT_EQ(refusal_of([] { parse_scene(loaded(), "l.toml", {"plate[5].force=[0.0, 1.0]"}); }),
+            "--set plate[5].force=[0.0, 1.0]: expected a table at index 5 of 'plate', found no "
+            "'plate'");
+  // A line break: the rest of the value was dropped without a word.
+  EXPECT_EQ(refusal_of([] { parse_scene(loaded(), "l.toml", {"title=a\nanalysis.steps = 3"}); }),
+            "--set 'title=a\\x0aanalysis.steps = 3': expected a value on one line, found a line "
+            "break");
+  // Load names are unique.
+  EXPECT_NE(refusal_of([] { parse_scene(loaded(), "l.toml", {"load[0].name=press"}); })
+                .find("load[1].name: expected a unique load name"),
+            std::string::npos);
+}
+
+// Issue 32, finding 10: an edge name the body does not have gets the nearest one.
+TEST(SceneErrors, AMissingEdgeNameSuggestsOne) {
+  const Scene s = parse_scene(scene("[[support]]\non = { edge = \"botom\" }\nfix = [\"ux\"]\n"), "e.toml");
+  const std::string m = refusal_of([&] { build_model(s); });
+  EXPECT_NE(m.find("e.toml:11:6: support[0].on: the selection matches no node (no boundary edge "
+                   "named 'botom') (did you mean 'bottom'?)"),
+            std::string::npos)
+      << m;
+}
