@@ -179,9 +179,9 @@ py::dict fields(const app::SceneRun& run) {
     steps["reaction_x"] = column([](const app::StepRow& r) { return r.reaction_x; });
     steps["reaction_y"] = column([](const app::StepRow& r) { return r.reaction_y; });
     if (run.contact) {
-      steps["active_nodes"] = column([](const app::StepRow& r) { return r.active_nodes; });
-      steps["contact_force"] = column([](const app::StepRow& r) { return r.contact_force; });
-      steps["tangential_force"] = column([](const app::StepRow& r) { return r.tangential_force; });
+      steps["contact_active_nodes"] = column([](const app::StepRow& r) { return r.active_nodes; });
+      steps["contact_normal_force"] = column([](const app::StepRow& r) { return r.contact_force; });
+      steps["contact_tangential_force"] = column([](const app::StepRow& r) { return r.tangential_force; });
     }
     py::dict probes;
     if (!rows.empty())

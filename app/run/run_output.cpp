@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <iomanip>
 #include <map>
+#include <set>
 #include <sstream>
 #include <system_error>
 #include <vector>
@@ -236,9 +237,13 @@ std::string steps_csv(const SceneRun& run) {
   std::ostringstream os;
   os << std::setprecision(12)
      << "step,load_factor,newton_iterations,factorizations,reaction_x,reaction_y";
-  if (run.contact) os << ",active_nodes,contact_force,tangential_force";
+  static const std::set<std::string> kFixed = {
+      "step", "load_factor", "newton_iterations", "factorizations", "reaction_x", "reaction_y",
+      "contact_active_nodes", "contact_normal_force", "contact_tangential_force"};
+  if (run.contact) os << ",contact_active_nodes,contact_normal_force,contact_tangential_force";
   const auto& first = run.step_rows.empty() ? std::map<std::string, double>() : run.step_rows[0].probes;
-  for (const auto& [name, value] : first) os << ',' << name;
+  // A probe named as a fixed column keeps its name behind "probe_".
+  for (const auto& [name, value] : first) os << ',' << (kFixed.count(name) ? "probe_" : "") << name;
   os << '\n';
   for (const StepRow& r : run.step_rows) {
     os << r.step << ',' << r.load_factor << ',' << r.newton_iterations << ',' << r.factorizations

@@ -194,6 +194,27 @@ TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
   EXPECT_GE(active_at_step[3], 1);
   EXPECT_GE(active_at_step[5], 1);
   EXPECT_TRUE(fs::exists(out / "contact_steps.csv"));
+  // steps.csv: one row per converged step with the contact's total and the probes; no contact
+  // force before closure (λ_c = 0.41), and the last row's equals summary.json's.
+  std::ifstream steps_csv(out / "steps.csv");
+  std::getline(steps_csv, line);
+  EXPECT_EQ(line.rfind("step,load_factor,newton_iterations,factorizations,reaction_x,reaction_y,"
+                       "contact_active_nodes,contact_normal_force,contact_tangential_force,",
+                       0),
+            0u)
+      << line;
+  std::vector<std::vector<std::string>> step_rows;
+  while (std::getline(steps_csv, line)) {
+    std::vector<std::string> cells;
+    std::stringstream row(line);
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    step_rows.push_back(cells);
+  }
+  ASSERT_EQ(step_rows.size(), 5u);
+  EXPECT_DOUBLE_EQ(std::stod(step_rows[1][7]), 0.0);
+  EXPECT_NEAR(std::stod(step_rows[4][7]), s["contact"]["total_force"].get<double>(),
+              1e-9 * s["contact"]["total_force"].get<double>());
+  EXPECT_NEAR(std::stod(step_rows[4][1]), 1.0, 1e-12);
   // The trace verb draws the activation, force and residual charts as PNG and SVG.
   std::string output;
   ASSERT_EQ(run("trace " + out.string(), &output), 0) << output;
