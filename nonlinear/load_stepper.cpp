@@ -110,8 +110,11 @@ class LoadStepper {
         r_.status = SolveStatus::kInvertedElement;
         why = inverted_at_ + "; the smaller steps ended: " + why;
       }
-      r_.message = "load step to λ = " + number_text(target) + " failed after " +
-                   std::to_string(cutbacks_) + " cutbacks, at the smallest increment " +
+      // Attempts from the converged state (the increment may have stayed at its smallest
+      // since an earlier cutback: "after 1 cutbacks" then hid that it could not be cut again).
+      r_.message = "load step to λ = " + number_text(target) + " from λ = " + number_text(lambda_) +
+                   " failed after " + std::to_string(cutbacks_ + 1) + " attempt" +
+                   (cutbacks_ ? "s" : "") + " from that state, the last at the smallest increment " +
                    number_text(increment_) + " (" + why + ")";
       return false;
     }
