@@ -49,6 +49,49 @@ using constraints::ContactReport;
 
 namespace {
 
+/// The first-touch disk (issue 33 item 5) with its lowest point `gap` above the floor (as the
+/// scene writes it) and its centre at `centre_y`; `where` says so in the scene's comment.
+std::string disk_on_floor(const std::string& name, const std::string& where,
+                          const std::string& gap, const std::string& centre_y) {
+  return R"toml(# Robustness (issue 33 item 5): a body held only by contact, caught at first touch. A disk
+# R = 1 (E = 1000, nu = 0.3, plane strain, T6) )toml" + where + R"toml(
+# under a distributed body force (0, -1) (F = pi), held laterally only (ux = 0 on its vertical
+# diameter): in y nothing but the floor holds it. Reference: converged with the normal forces
+# summing to the applied load (a flat floor: every normal is vertical); the contact patch
+# centred under the disk.
+# Run: contact2d run hard_cases/)toml" + name + R"toml(.toml --method M --out /tmp/h33/)toml" + name + R"toml(_M
+[analysis]
+kind = "plane_strain"
+element = "T6"
+geometric_nonlinearity = true
+steps = 5
+[[material]]
+name = "m"
+E = 1000.0
+nu = 0.3
+[[body]]
+name = "disk"
+material = "m"
+shape = { type = "disk", center = [0.0, )toml" + centre_y + R"toml(], radius = 1.0 }
+mesh = { size = 0.2, refine = [ { near = [0.0, )toml" + gap + R"toml(], size = 0.05, radius = 0.3, growth = 1.3 } ] }
+[[obstacle]]
+name = "floor"
+type = "line"
+point = [0.0, 0.0]
+normal = [0.0, 1.0]
+[[support]]
+on = { body = "disk", line = { point = [0.0, )toml" + centre_y + R"toml(], direction = [0.0, 1.0] } }
+fix = ["ux"]
+[[load]]
+on = { body = "disk" }
+body_force = [0.0, -1.0]
+[[contact]]
+name = "disk_floor"
+slave = { body = "disk", edge = "arc" }
+master = { obstacle = "floor" }
+)toml";
+}
+
 // BEGIN SCENES (the same text as hard_cases/NAME.toml; C2D_HARD_CASES_DIR writes them)
 const std::map<std::string, std::string>& scenes() {
   static const std::map<std::string, std::string> kScenes = {
@@ -322,82 +365,10 @@ name = "ry"
 on = { body = "arch", box = [[-6.0, -1.0], [-4.9, 0.2]] }
 quantity = "reaction_y"
 )toml"},
-      {"disk_catch",
-       R"toml(# Robustness (issue 33 item 5): a body held only by contact, caught at first touch. A disk
-# R = 1 (E = 1000, nu = 0.3, plane strain, T6) 2e-3 (1e-3 of its diameter) above a rigid floor,
-# under a distributed body force (0, -1) (F = pi), held laterally only (ux = 0 on its vertical
-# diameter): in y nothing but the floor holds it. Reference: converged with the normal forces
-# summing to the applied load (a flat floor: every normal is vertical); the contact patch
-# centred under the disk.
-# Run: contact2d run hard_cases/disk_catch.toml --method M --out /tmp/h33/disk_catch_M
-[analysis]
-kind = "plane_strain"
-element = "T6"
-geometric_nonlinearity = true
-steps = 5
-[[material]]
-name = "m"
-E = 1000.0
-nu = 0.3
-[[body]]
-name = "disk"
-material = "m"
-shape = { type = "disk", center = [0.0, 1.002], radius = 1.0 }
-mesh = { size = 0.2, refine = [ { near = [0.0, 0.002], size = 0.05, radius = 0.3, growth = 1.3 } ] }
-[[obstacle]]
-name = "floor"
-type = "line"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
-[[support]]
-on = { body = "disk", line = { point = [0.0, 1.002], direction = [0.0, 1.0] } }
-fix = ["ux"]
-[[load]]
-on = { body = "disk" }
-body_force = [0.0, -1.0]
-[[contact]]
-name = "disk_floor"
-slave = { body = "disk", edge = "arc" }
-master = { obstacle = "floor" }
-)toml"},
-      {"disk_touch",
-       R"toml(# Robustness (issue 33 item 5): a body held only by contact, caught at first touch. A disk
-# R = 1 (E = 1000, nu = 0.3, plane strain, T6) touching a rigid floor at one point,
-# under a distributed body force (0, -1) (F = pi), held laterally only (ux = 0 on its vertical
-# diameter): in y nothing but the floor holds it. Reference: converged with the normal forces
-# summing to the applied load (a flat floor: every normal is vertical); the contact patch
-# centred under the disk.
-# Run: contact2d run hard_cases/disk_touch.toml --method M --out /tmp/h33/disk_touch_M
-[analysis]
-kind = "plane_strain"
-element = "T6"
-geometric_nonlinearity = true
-steps = 5
-[[material]]
-name = "m"
-E = 1000.0
-nu = 0.3
-[[body]]
-name = "disk"
-material = "m"
-shape = { type = "disk", center = [0.0, 1.0], radius = 1.0 }
-mesh = { size = 0.2, refine = [ { near = [0.0, 0.0], size = 0.05, radius = 0.3, growth = 1.3 } ] }
-[[obstacle]]
-name = "floor"
-type = "line"
-point = [0.0, 0.0]
-normal = [0.0, 1.0]
-[[support]]
-on = { body = "disk", line = { point = [0.0, 1.0], direction = [0.0, 1.0] } }
-fix = ["ux"]
-[[load]]
-on = { body = "disk" }
-body_force = [0.0, -1.0]
-[[contact]]
-name = "disk_floor"
-slave = { body = "disk", edge = "arc" }
-master = { obstacle = "floor" }
-)toml"},
+      {"disk_catch", disk_on_floor("disk_catch", "2e-3 (1e-3 of its diameter) above a rigid floor,",
+                                   "0.002", "1.002")},
+      {"disk_touch", disk_on_floor("disk_touch", "touching a rigid floor at one point,", "0.0",
+                                   "1.0")},
       {"jacobian_slider",
        R"toml(# The Newton Jacobian check's scene (issue 33 item 5): a 1 x 0.5 slider on a 3 x 1 block
 # (E = 1000, nu = 0.3, plane strain, T3, node_to_segment, Coulomb mu = 0.3), pressed by P = 2
