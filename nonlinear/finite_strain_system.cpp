@@ -14,13 +14,7 @@ using namespace c2d::core;
 FiniteStrainSystem::FiniteStrainSystem(const Model& model)
     : model_(model), assembler_(model.mesh, model.dofs), f_dead_(model.external_force) {
   if (model.fill_order) solver_.set_ordering(model.fill_order, "corner_amd");
-  VecX all = model.dofs.restrict(model.external_force).cwiseAbs();
-  for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
-    double peak = 0.0;
-    for (const auto& [lambda, value] : a.table) peak = std::max(peak, std::abs(value));
-    all += peak * model.dofs.restrict(a.force).cwiseAbs();
-  }
-  load_scale_ = all.size() ? all.maxCoeff() : 0.0;
+  load_scale_ = largest_external_load(model);
   extra_ = !model.springs.empty() || model.follower_matrix.nonZeros() > 0;
   // The follower pressures act at the current positions: only the dead loads stay in f_ext.
   if (model.follower_matrix.nonZeros() > 0) f_dead_ -= model.follower_reference;

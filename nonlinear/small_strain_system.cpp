@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 
 #include "core/assembler.hpp"
 #include "core/elasticity_kernels.hpp"
@@ -15,6 +16,16 @@ std::unique_ptr<StructuralSystem> make_structural_system(const Model& model,
                                                          const AnalysisSpec& analysis) {
   if (analysis.geometric_nonlinearity) return std::make_unique<FiniteStrainSystem>(model);
   return std::make_unique<SmallStrainSystem>(model, analysis);
+}
+
+double largest_external_load(const Model& model) {
+  VecX peak = model.dofs.restrict(model.external_force).cwiseAbs();
+  for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
+    double largest = 0.0;
+    for (const auto& [lambda, value] : a.table) largest = std::max(largest, std::abs(value));
+    peak += largest * model.dofs.restrict(a.force).cwiseAbs();
+  }
+  return peak.size() ? peak.maxCoeff() : 0.0;
 }
 
 SmallStrainSystem::SmallStrainSystem(const Model& model, const AnalysisSpec& analysis)
@@ -37,13 +48,7 @@ SmallStrainSystem::SmallStrainSystem(const Model& model, const AnalysisSpec& ana
   if (!model.springs.empty())
     k_ff_ += spring_stiffness(model, VecX::Zero(dofs.num_dofs()), false, &u_one, &lift_one_);
   assemble_seconds_ = clock.elapsed();
-  VecX peak = dofs.restrict(model.external_force).cwiseAbs();
-  for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
-    double largest = 0.0;
-    for (const auto& [lambda, value] : a.table) largest = std::max(largest, std::abs(value));
-    peak += largest * dofs.restrict(a.force).cwiseAbs();
-  }
-  load_scale_ = peak.size() ? peak.maxCoeff() : 0.0;
+  load_scale_ = largest_external_load(model);
   set_state(0.0, prescribed(0.0));
 }
 

@@ -55,6 +55,10 @@ class StructuralSystem : public NewtonSystem {
   virtual double assemble_seconds() const = 0;
 };
 
+/// The largest external nodal load a run reaches, dead and follower at their reference values,
+/// each amplitude at its peak (free DOFs): the force scale of both systems.
+double largest_external_load(const core::Model& model);
+
 /// The structural system of an analysis: FiniteStrainSystem when the analysis has geometric
 /// nonlinearity, else SmallStrainSystem.
 std::unique_ptr<StructuralSystem> make_structural_system(const core::Model& model,
