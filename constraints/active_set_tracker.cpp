@@ -11,7 +11,8 @@ ActiveSetTracker::Change ActiveSetTracker::record(const std::vector<char>& activ
       c.entering += active[i] && !last_[i];
       c.leaving += !active[i] && last_[i];
     }
-    c.unchanged = c.entering == 0 && c.leaving == 0;
+    // (entries may be states, not flags: a stick row turning to slip changes the set)
+    c.unchanged = active == last_;
     c.repeated = !c.unchanged && seen_.count(active) > 0;
   } else {
     c.entering = count_active(active);
@@ -20,6 +21,16 @@ ActiveSetTracker::Change ActiveSetTracker::record(const std::vector<char>& activ
   last_ = active;
   has_last_ = true;
   return c;
+}
+
+void ActiveSetTracker::follow(const std::vector<char>& set) {
+  last_ = set;
+  has_last_ = true;
+}
+
+void ActiveSetTracker::restart(const std::vector<char>& set) {
+  reset();
+  record(set);
 }
 
 void ActiveSetTracker::reset() {

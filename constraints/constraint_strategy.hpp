@@ -9,6 +9,7 @@
 
 #include "constraints/active_set_terms.hpp"
 #include "constraints/constrained_problem.hpp"
+#include "constraints/set_rules.hpp"
 
 namespace c2d::constraints {
 
@@ -58,6 +59,9 @@ class ConstraintStrategy {
   /// Their rows are the gap rows followed by the equality rows, which are always held.
   virtual std::unique_ptr<ActiveSetTerms> active_set_terms(
       const ConstrainedProblem& problem, const ConstraintSolution& solution) const = 0;
+  /// The rule by which the method's set iterations choose each row's next normal and
+  /// tangential state (set_rules.hpp): the one set engine asks it, for every method.
+  virtual const SetRule& set_rule() const = 0;
   /// Hooks of a load-stepped analysis: the step just solved was accepted, or is being cut back
   /// (a method with history per step keeps or restores it here). Nothing by default.
   virtual void step_accepted() {}
@@ -82,6 +86,11 @@ class RegularisedStrategy : public ConstraintStrategy {
   bool exact() const final { return false; }
   std::unique_ptr<ActiveSetTerms> active_set_terms(const ConstrainedProblem& problem,
                                                    const ConstraintSolution& s) const final;
+  /// The return map of the regularised rows.
+  const SetRule& set_rule() const final { return rule_; }
+
+ private:
+  ReturnMapRule rule_;
 };
 
 /// A method that enforces the constraints exactly through multipliers: a Newton solve holds

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <set>
 #include <string>
 
 #include "constraints/kkt_solver.hpp"
+#include "constraints/set_rules.hpp"
 #include "constraints/strategy_common.hpp"
 #include "constraints/surface_condensation.hpp"
 #include "core/interrupt.hpp"
@@ -42,15 +42,13 @@ VecX tangent_penalties(const ConstrainedProblem& p, const VecX& k_gap) {
 
 namespace {
 
-using Rule = FrictionalOptions::Rule;
-
 // The sets, as the iteration tracks them: entry i (a gap row) is 1 when the row is held, entry
-// m + i its tangential row's state, entry 2m + i the piece of its friction law that bounds it.
-// A Coulomb row's tangential row is free while its normal row is; a Tresca row's (a law whose
-// bound is positive at zero normal force) is not tied to it (the classical Tresca problem bounds the friction on the
-// whole candidate surface, which keeps it convex: tying it to contact made the bound switch on
-// and off with the contact and the sets cycle).
-enum Tangential : char { kFree = 0, kStick = 1, kSlipPlus = 2, kSlipMinus = 3 };
+// m + i its tangential row's state (set_rules.hpp's Tangential), entry 2m + i the piece of its
+// friction law that bounds it. A Coulomb row's tangential row is free while its normal row is;
+// a Tresca row's (a law whose bound is positive at zero normal force) is not tied to it (the
+// classical Tresca problem bounds the friction on the whole candidate surface, which keeps it
+// convex: tying it to contact made the bound switch on and off with the contact and the sets
+// cycle).
 
 /// The rows of a sparse matrix as (column, value) lists.
 std::vector<std::vector<std::pair<int, double>>> row_lists(const SpMat& a, double sign) {
@@ -76,15 +74,16 @@ class FrictionalSolve {
 
   void run(const FrictionalOptions& options, ConstraintSolution& s) {
     o_ = &options;
-    penalised_ = o_->rule == Rule::kPenalised;
-    rule_ = o_->rule;
+    rule_ = o_->rule ? o_->rule : &primal_dual_;
+    penalised_ = rule_->regularised();
     const KktSolveReport before = kkt_.report();
     const core::SpdSolveReport surface_before = surface_report();
     const double dense_before = surface_ ? surface_->dense_seconds() : 0.0;
     const std::vector<char> cold = cold_start();
     std::vector<char> code = warm_start(cold);
     bool warm = code != cold;
-    std::set<std::vector<char>> seen{code};
+    ActiveSetTracker sets;
+    sets.record(code);
     s.status = SolveStatus::kMaxIterations;
     s.message = "stick, slip and contact sets still changing after " +
                 std::to_string(o_->max_iterations) + " iterations";
@@ -111,22 +110,22 @@ class FrictionalSolve {
       std::vector<char> next = code;
       const double residual = update(s, g, sl, next);
       s.history.push_back(record(it, code, next, g, residual));
-      if (next == code) {
+      const ActiveSetTracker::Change change = sets.record(next);
+      if (change.unchanged) {
         s.status = SolveStatus::kConverged;
         s.message.clear();
         break;
       }
-      if (!seen.insert(next).second) {
-        if (rule_ == Rule::kSemiSmooth) {
-          // The semi-smooth step has no globalisation: where its sets cycle, the primal-dual
-          // rule (its limit c → 0, which moves one decision at a time) continues from them.
-          rule_ = Rule::kPrimalDual;
-          seen = {next};
+      if (change.repeated) {
+        if (const SetRule* fallback = rule_->on_cycle()) {
+          // A rule without globalisation (the semi-smooth step) hands a cycle to its fallback.
+          rule_ = fallback;
+          sets.restart(next);
         } else if (warm) {
           // A warm start is a guess: one that leads into a cycle is dropped for the cold one.
           warm = false;
           next = cold;
-          seen = {next};
+          sets.restart(next);
         } else {
           s.status = SolveStatus::kCycling;
           s.message = "stick, slip and contact sets returned to an earlier combination at "
@@ -369,8 +368,6 @@ class FrictionalSolve {
     if (surface_->complete(u) == SolveStatus::kConverged) s.u = u;
   }
 
-  static bool code_on(const std::vector<char>& code, int i) { return code[i] != 0; }
-
   /// The method's rule: the next sets from the solution; returns the iteration's residual (the
   /// largest violation of the complementarity conditions, as a force).
   double update(const ConstraintSolution& sol, const VecX& g, const VecX& sl,
@@ -379,77 +376,36 @@ class FrictionalSolve {
     const VecX& lt = sol.tangent_force;
     double scale = 0.0;
     for (int i = 0; i < m_; ++i) scale = std::max({scale, std::abs(lambda[i]), std::abs(lt[i])});
-    const double ftol = 1e-10 * std::max(scale, 1e-300);
-    const double gap_tol = touch_tolerance(p_);
-    const double c = s_;
+    const RuleScales scales = rule_scales(p_, scale, s_);
     double residual = 0.0;
     for (int i = 0; i < m_; ++i) {
-      const bool was = code_on(next, i);
-      const char now = next[m_ + i];
-      bool on = false;
-      double normal = 0.0, trial_t = 0.0;  // the normal force the bound is taken from
-      switch (rule_) {
-        case Rule::kPrimalDual:
-          on = was ? lambda[i] >= -ftol : !gap_rows_[i].empty() && g[i] < -gap_tol;
-          normal = lambda[i];
-          trial_t = lt[i];
-          residual = std::max(residual, was ? std::max(0.0, -lambda[i]) : 0.0);
-          break;
-        case Rule::kSemiSmooth:
-          normal = lambda[i] - c * g[i];
-          on = !gap_rows_[i].empty() && normal > ftol;
-          trial_t = lt[i] + c * sl[i];
-          residual = std::max(residual, std::abs(lambda[i] - std::max(0.0, normal)));
-          break;
-        case Rule::kPenalised:
-          normal = o_->lambda_hat[i] - o_->k_gap[i] * g[i];
-          on = normal > 0;
-          trial_t = o_->tangent_hat[i] + o_->k_tangent[i] * sl[i];
-          break;
+      RowSolution r;
+      r.force = lambda[i];
+      r.gap = g[i];
+      r.tangent_force = lt[i];
+      r.slip = sl[i];
+      r.held = next[i] != 0;
+      r.tangential = next[m_ + i];
+      r.closable = !gap_rows_[i].empty();
+      if (penalised_) {
+        r.penalty = o_->k_gap[i], r.tangent_penalty = o_->k_tangent[i];
+        r.force_estimate = o_->lambda_hat[i], r.tangent_estimate = o_->tangent_hat[i];
       }
-      next[i] = on;
-      if (!frictional(i) || (!on && !tresca(i))) {
+      const NormalDecision d = rule_->normal(r, scales);
+      residual = std::max(residual, d.residual);
+      next[i] = d.held;
+      if (!frictional(i) || (!d.held && !tresca(i))) {
         next[m_ + i] = kFree;
         continue;
       }
       // A row that enters takes the piece at zero normal force, the one it closes on (an open
       // row's trial force measures its penetration, not its force: starting a capped law's row
       // on its cap from it made the sets cycle); a held row the piece at its force.
-      next[2 * m_ + i] = piece_code(i, was ? normal : 0.0);
-      const double bound = p_.friction_bound(i, normal).at(std::max(0.0, normal));
-      if (rule_ == Rule::kPrimalDual) {
-        // A stick row slips when its force exceeds the bound; a slipping row sticks when its
-        // slip turns against its force. A row that enters (λ = λ_t = 0, g < 0) slips along its
-        // slip when |s| > μ|g| (Tresca: when s ≠ 0), else sticks: the limit c → 0 of the
-        // semi-smooth rule, |c s| ≤ μ c |g|.
-        if (now == kStick && std::abs(lt[i]) > bound + ftol) {
-          next[m_ + i] = lt[i] > 0 ? kSlipPlus : kSlipMinus;
-        } else if ((now == kSlipPlus && sl[i] < -gap_tol) ||
-                   (now == kSlipMinus && sl[i] > gap_tol)) {
-          next[m_ + i] = kStick;
-        } else if (now == kFree) {
-          const double allowed =
-              tresca(i) ? gap_tol : p_.friction_bound(i, 0.0).slope * std::abs(g[i]);
-          next[m_ + i] =
-              std::abs(sl[i]) > allowed ? (sl[i] > 0 ? kSlipPlus : kSlipMinus) : kStick;
-        }
-        if (now == kStick) residual = std::max(residual, std::abs(lt[i]) - bound);
-        continue;
-      }
-      const double excess = std::abs(trial_t) - bound;
-      // A penalised row whose trial force turns against its slip passes through stick (the
-      // return map alone can flip such a row between the two slip directions for ever).
-      const bool turned = rule_ == Rule::kPenalised &&
-                          ((now == kSlipPlus && trial_t < 0) || (now == kSlipMinus && trial_t > 0));
-      if (turned)
-        next[m_ + i] = kStick;
-      else if (excess > ftol)
-        next[m_ + i] = trial_t > 0 ? kSlipPlus : kSlipMinus;
-      else if (excess < -ftol || now == kFree)
-        next[m_ + i] = kStick;
-      // else: within round-off of the bound, the row keeps its state
-      if (next[m_ + i] == kSlipPlus || next[m_ + i] == kSlipMinus)
-        residual = std::max(residual, std::abs(lt[i] - (trial_t > 0 ? bound : -bound)));
+      next[2 * m_ + i] = piece_code(i, r.held ? d.normal : 0.0);
+      r.entry_slip_allowance = tresca(i) ? scales.gap_tolerance
+                                         : p_.friction_bound(i, 0.0).slope * std::abs(g[i]);
+      const double bound = p_.friction_bound(i, d.normal).at(std::max(0.0, d.normal));
+      next[m_ + i] = rule_->tangential(r, d, bound, scales, residual);
     }
     return residual;
   }
@@ -496,7 +452,8 @@ class FrictionalSolve {
   int n_, me_, m_;
   double s_;
   bool penalised_ = false;
-  Rule rule_;  ///< the rule in use (ssn's falls back to the primal-dual one on a cycle)
+  const SetRule* rule_ = nullptr;  ///< the rule in use (ssn's falls back on a cycle)
+  PrimalDualRule primal_dual_;     ///< the rule of a caller that names none
   std::vector<char> binds_open_;  ///< per row: its law bounds it while open (Tresca)
   /// Per row: the pieces of its law seen so far (the sets name a piece by its number).
   mutable std::vector<std::vector<FrictionBound>> pieces_;
@@ -525,10 +482,10 @@ void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& opti
   FrictionalSolver(p).solve(options, s);
 }
 
-ConstraintSolution solve_frictional(const ConstrainedProblem& p, FrictionalOptions::Rule rule,
+ConstraintSolution solve_frictional(const ConstrainedProblem& p, const SetRule& rule,
                                     int max_iterations) {
   FrictionalOptions o;
-  o.rule = rule;
+  o.rule = &rule;
   o.max_iterations = max_iterations;
   ConstraintSolution s;
   solve_frictional(p, o, s);

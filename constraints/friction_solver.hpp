@@ -10,23 +10,18 @@
 // 2D, with σ fixed, that slip condition is linear in the multipliers, so each iteration solves
 // one linear system, exactly the semi-smooth Newton step of the frictional complementarity
 // functions (Hüeber, Stadler and Wohlmuth, SISC 2008): K u − s Cᵀ z = f with the rows' equations,
-// non-symmetric through the slip rows' coupling to their normal multiplier, factorised by
-// UMFPACK with one symbolic analysis (every row keeps its entries, zero when unused).
+// non-symmetric through the slip rows' coupling to their normal multiplier: condensed onto the
+// rows (surface_condensation.hpp: K factorised once, a small dense block per set), or, where K
+// does not factorise, the whole saddle point by UMFPACK with one symbolic analysis (every row
+// keeps its entries, zero when unused).
 //
-// The rules that choose the next sets (from the new λ, λ_t, g and s):
-//   semi-smooth (ssn):    normal held iff λ − c g > 0; then stick iff |λ_t + c s| ≤ μ(λ − c g)
-//                         (or b), else slip with σ = sign(λ_t + c s); c = s (a stiffness);
-//   primal-dual (lagrange): a held row stays unless λ < 0, a free row enters when g < 0; a stick
-//                         row slips when |λ_t| exceeds the bound, a slipping row sticks when its
-//                         slip turns against σ (the limit c → 0 of the rule above);
-//   penalised (penalty, adaptive_penalty, auglag): the return map. Normal held iff the trial
-//                         force λ̂ − k g > 0; then stick iff |λ̂_t + k_t s| ≤ μ(λ̂ − k g) (or b),
-//                         else slip with σ = sign(λ̂_t + k_t s).
-// Within a round-off margin of the bound a row keeps its state, so the sets cannot chatter on
-// it. The iteration ends when the sets repeat (converged), return to an earlier combination
-// (cycling) or reach the iteration limit; each is a named status. The semi-smooth step has no
-// globalisation: where its sets return to an earlier combination, the primal-dual rule (its
-// limit c → 0) continues from them.
+// The rules that choose the next sets from the new λ, λ_t, g and s are the method's
+// (constraints/set_rules.hpp: primal-dual, semi-smooth, return map); this iteration asks the
+// rule for every row and records the sets in the one cycle detector (ActiveSetTracker). The
+// iteration ends when the sets repeat (converged), return to an earlier combination (cycling)
+// or reach the iteration limit; each is a named status. Where a rule without globalisation
+// cycles (the semi-smooth step), its fallback (the primal-dual rule, its limit c → 0)
+// continues from those sets; a warm start that cycles is dropped for the cold one.
 #pragma once
 
 #include <memory>
@@ -35,10 +30,13 @@
 
 namespace c2d::constraints {
 
+class SetRule;
+
 struct FrictionalOptions {
-  enum class Rule { kPrimalDual, kSemiSmooth, kPenalised };
-  Rule rule = Rule::kSemiSmooth;
-  /// kPenalised: the stiffness of each gap, tangential and equality row, and the multiplier
+  /// The method's rule (null: the primal-dual rule). A regularised rule (the return map) makes
+  /// every row compliant with the stiffnesses below.
+  const SetRule* rule = nullptr;
+  /// Regularised rules: the stiffness of each gap, tangential and equality row, and the multiplier
   /// estimates λ̂, λ̂_t, μ̂ (the augmented Lagrangian's; the penalty's λ̂_t is the elastic
   /// tangential force of the last converged state, λ̂ and μ̂ are 0). Ignored by the exact rules.
   VecX k_gap, k_tangent, k_eq;
@@ -76,8 +74,8 @@ class FrictionalSolver {
 void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
                       ConstraintSolution& s);
 
-/// The same for an exact rule (kPrimalDual, kSemiSmooth) from the problem's warm start.
-ConstraintSolution solve_frictional(const ConstrainedProblem& p, FrictionalOptions::Rule rule,
+/// The same for an exact rule (primal-dual, semi-smooth) from the problem's warm start.
+ConstraintSolution solve_frictional(const ConstrainedProblem& p, const SetRule& rule,
                                     int max_iterations);
 
 /// The tangential stiffness of penalty-type methods: k_t = ratio × k per row.

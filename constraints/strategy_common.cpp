@@ -45,6 +45,39 @@ double penetration_tolerance(const StrategyOptions& o, const ConstrainedProblem&
 
 double touch_tolerance(const ConstrainedProblem& p) { return 1e-12 * p.model_size; }
 
+RuleScales rule_scales(const ConstrainedProblem& p, double force_scale, double c) {
+  RuleScales s;
+  s.gap_tolerance = touch_tolerance(p);
+  s.force_tolerance = 1e-10 * std::max({force_scale, c * s.gap_tolerance, 1e-300});
+  s.c = c;
+  return s;
+}
+
+double next_normal_set(const SetRule& rule, const ConstrainedProblem& p, const VecX& force,
+                       const VecX& gap, const VecX& penalty, const VecX& estimate, double c,
+                       std::vector<char>& next) {
+  const int m = p.num_gaps();
+  std::vector<char> closable(m, 0);
+  for (int k = 0; k < p.gap_jacobian.outerSize(); ++k)
+    for (SpMat::InnerIterator it(p.gap_jacobian, k); it; ++it) closable[it.row()] = 1;
+  const RuleScales scales =
+      rule_scales(p, force.size() > 0 ? force.cwiseAbs().maxCoeff() : 0.0, c);
+  const bool regularised = penalty.size() == m && estimate.size() == m;
+  double residual = 0.0;
+  for (int i = 0; i < m; ++i) {
+    RowSolution r;
+    r.force = force.size() == m ? force[i] : 0.0;
+    r.gap = gap[i];
+    r.held = next[i] != 0;
+    r.closable = closable[i] != 0;
+    if (regularised) r.penalty = penalty[i], r.force_estimate = estimate[i];
+    const NormalDecision d = rule.normal(r, scales);
+    next[i] = d.held;
+    residual = std::max(residual, d.residual);
+  }
+  return residual;
+}
+
 std::vector<char> initially_closed(const ConstrainedProblem& p) {
   if (static_cast<int>(p.initial_active.size()) == p.num_gaps()) return p.initial_active;
   std::vector<char> active(p.num_gaps(), 0);
@@ -194,8 +227,8 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
   return SolveStatus::kMaxIterations;
 }
 
-PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p)
-    : p_(p), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()) {
+PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule)
+    : p_(p), rule_(rule), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()) {
   if (p.ordering) solver_.set_ordering(p.ordering, "corner_amd");
 }
 
@@ -248,8 +281,8 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
       return out;
     }
     const VecX g = m > 0 ? VecX(p_.gap0 + p_.gap_jacobian * u) : VecX();
-    std::vector<char> next(m, 0);
-    for (int i = 0; i < m; ++i) next[i] = lambda[i] - k_gap[i] * g[i] > 0;
+    std::vector<char> next = active;
+    next_normal_set(rule_, p_, VecX(), g, k_gap, lambda, 0.0, next);
     const auto change = tracker.record(next);
     IterationRecord rec =
         make_record(first_iteration + it - 1, next, change, g, solver_.report().relative_residual);

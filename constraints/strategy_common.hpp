@@ -9,6 +9,7 @@
 
 #include "constraints/active_set_tracker.hpp"
 #include "constraints/constraint_strategy.hpp"
+#include "constraints/set_rules.hpp"
 #include "core/spd_solver.hpp"
 
 namespace c2d::constraints {
@@ -19,6 +20,18 @@ double penetration_tolerance(const StrategyOptions& options, const ConstrainedPr
 /// Rows closed at the start: the problem's warm start if it has one, else the rows with
 /// g0 ≤ 1e-12 × model size (touching or already penetrating).
 std::vector<char> initially_closed(const ConstrainedProblem& p);
+
+/// The margins a set rule compares with: 1e-10 of `force_scale` (the largest force; at least
+/// of c × the touch tolerance), the touch tolerance for gaps, and c.
+RuleScales rule_scales(const ConstrainedProblem& p, double force_scale, double c);
+
+/// A frictionless set iteration's next set from the rule: `next` holds the current set on entry
+/// and the rule's decisions on return; `penalty` and `estimate` are a regularised rule's k and
+/// λ̂ (empty for an exact rule); c is the semi-smooth rule's. Returns the largest violation of
+/// the complementarity conditions.
+double next_normal_set(const SetRule& rule, const ConstrainedProblem& p, const VecX& force,
+                       const VecX& gap, const VecX& penalty, const VecX& estimate, double c,
+                       std::vector<char>& next);
 
 /// The history record of one active-set iteration that produced `next`.
 IterationRecord make_record(int iteration, const std::vector<char>& next,
@@ -100,7 +113,8 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
 /// analysis is reused across iterations and calls.
 class PenalizedSolver {
  public:
-  explicit PenalizedSolver(const ConstrainedProblem& p);
+  /// `rule` chooses each iteration's set (the method's return map).
+  PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule);
 
   struct Outcome {
     SolveStatus status = SolveStatus::kFailed;
@@ -127,6 +141,7 @@ class PenalizedSolver {
                         const VecX& k_eq, const VecX& rhs_eq, VecX& u);
 
   const ConstrainedProblem& p_;
+  const SetRule& rule_;
   SpMat gt_, at_;  ///< Gᵀ and Aᵀ
   core::SpdSolver solver_;
   /// The factorised matrix and what it was built from: a solve whose set and stiffnesses repeat

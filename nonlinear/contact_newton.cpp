@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <set>
 #include <utility>
 
+#include "constraints/active_set_tracker.hpp"
 #include "core/stopwatch.hpp"
 #include "nonlinear/active_set_system.hpp"
 #include "nonlinear/held_friction.hpp"
@@ -41,7 +41,7 @@ class ConstrainedStep {
       : system_(system), contact_(contact), strategy_(strategy), in_(in), u_(in.u_free),
         previous_(in.memory), force_by_slot_(contact.num_slots(), 0.0) {
     previous_.resize(contact.num_slots(), 0);
-    seen_.insert(previous_);
+    sets_.record(previous_);
     // Small strain: the rows' gaps come from absolute coordinates. Finite strain: from positions
     // relative to a node of the row, with the displacement kept apart (gap_linearisation.hpp),
     // so their round-off is that of the local lengths.
@@ -153,8 +153,14 @@ class ConstrainedStep {
       fail(s.status, where_ + strategy_.name() + ": " + s.message);
       return false;
     }
-    const bool same_set = outer > 1 && next == previous_;
-    if (outer > 1 && !same_set && !seen_.insert(next).second) {
+    // The first iteration's set is the predictor's, at the step's start: it may come back.
+    ActiveSetTracker::Change change;
+    if (outer == 1)
+      sets_.follow(next);
+    else
+      change = sets_.record(next);
+    const bool same_set = change.unchanged;
+    if (change.repeated) {
       out_.iterations.push_back(it);
       fail(SolveStatus::kCycling, where_ + "the active set returned to an earlier set within the step");
       return false;
@@ -515,7 +521,7 @@ class ConstrainedStep {
   const ContactStepInput& in_;
   VecX u_;
   ContactMemory previous_;
-  std::set<ContactMemory> seen_;
+  ActiveSetTracker sets_;  ///< the sets by slot of the outer iterations (cycle detection)
   std::vector<double> force_by_slot_;  ///< the last solve's row forces
   VecX tangent_by_slot_;               ///< friction: the held state's friction forces
   /// Friction: per slot open at the step's start, its slip (from the last step) at the state

@@ -18,7 +18,7 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
   const double tol = penetration_tolerance(options_, p);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
   std::vector<char> active = initially_closed(p);
-  PenalizedSolver solver(p);
+  PenalizedSolver solver(p, set_rule());
   // With friction, one solver over the raises: its condensed K stays, a raise changes the
   // surface block only.
   std::unique_ptr<FrictionalSolver> frictional;
@@ -30,7 +30,7 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
     const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
     PenalizedSolver::Outcome outcome;
     if (p.has_friction()) {
-      FrictionalOptions o = penalised_friction(p, k_gap, zero_gap, k_eq, zero_eq);
+      FrictionalOptions o = penalised_friction(set_rule(), p, k_gap, zero_gap, k_eq, zero_eq);
       o.max_iterations = options_.max_iterations;
       o.first_iteration = first;
       frictional->solve(o, s);

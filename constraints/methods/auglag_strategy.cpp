@@ -13,13 +13,14 @@ namespace {
 /// Alart and Curnier's augmented Lagrangian with friction: each round solves the penalised
 /// frictional problem for the multiplier estimates (the return map of both rows, Coulomb's
 /// bound from the trial normal force), then sets them to the forces found (Uzawa).
-ConstraintSolution solve_with_friction(const ConstrainedProblem& p, const StrategyOptions& opt,
-                                       const VecX& k_gap, const VecX& k_eq) {
+ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedProblem& p,
+                                       const StrategyOptions& opt, const VecX& k_gap,
+                                       const VecX& k_eq) {
   ConstraintSolution s;
   const double tol = penetration_tolerance(opt, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
   if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
-  FrictionalOptions o = penalised_friction(p, k_gap, lambda, k_eq, mu);
+  FrictionalOptions o = penalised_friction(rule, p, k_gap, lambda, k_eq, mu);
   o.max_iterations = opt.max_iterations;
   s.status = SolveStatus::kMaxIterations;
   std::string why = "penetration above tolerance or multipliers still changing after " +
@@ -69,12 +70,12 @@ ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
   VecX k_gap, k_eq;
   default_penalties(p, 0.0, options_.augmentation_factor, k_gap, k_eq);
-  if (p.has_friction()) return solve_with_friction(p, options_, k_gap, k_eq);
+  if (p.has_friction()) return solve_with_friction(set_rule(), p, options_, k_gap, k_eq);
   const double tol = penetration_tolerance(options_, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
   if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
   std::vector<char> active = initially_closed(p);
-  PenalizedSolver solver(p);
+  PenalizedSolver solver(p, set_rule());
   s.status = SolveStatus::kMaxIterations;
   s.message = "penetration above tolerance or multipliers still changing after " +
               std::to_string(options_.max_iterations) + " multiplier updates";

@@ -82,8 +82,9 @@ constexpr int kCrossoverIterations = 4;
 /// settle. Returns whether the sets were confirmed (then s holds the exact solution); otherwise
 /// s keeps Ipopt's solution and `why` says what the exact solves found.
 bool crossover(const ConstrainedProblem& p, ConstraintSolution& s, std::string& why) {
+  const PrimalDualRule rule;  // the crossover confirms sets as the primal-dual rule has them
   FrictionalOptions o;
-  o.rule = FrictionalOptions::Rule::kPrimalDual;
+  o.rule = &rule;
   o.max_iterations = kCrossoverIterations;
   o.start = &s;
   ConstraintSolution exact;

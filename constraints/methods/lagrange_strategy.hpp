@@ -11,9 +11,13 @@ namespace c2d::constraints {
 class LagrangeStrategy final : public ExactStrategy {
  public:
   using ExactStrategy::ExactStrategy;
+  const SetRule& set_rule() const override { return rule_; }
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
+
+ private:
+  PrimalDualRule rule_;
 };
 
 }  // namespace c2d::constraints

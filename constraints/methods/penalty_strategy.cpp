@@ -42,10 +42,11 @@ void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& 
   s.eq_penalty = k_eq;
 }
 
-FrictionalOptions penalised_friction(const ConstrainedProblem& p, const VecX& k_gap,
-                                     const VecX& lambda, const VecX& k_eq, const VecX& mu) {
+FrictionalOptions penalised_friction(const SetRule& rule, const ConstrainedProblem& p,
+                                     const VecX& k_gap, const VecX& lambda, const VecX& k_eq,
+                                     const VecX& mu) {
   FrictionalOptions o;
-  o.rule = FrictionalOptions::Rule::kPenalised;
+  o.rule = &rule;
   o.k_gap = k_gap;
   o.k_tangent = tangent_penalties(p, k_gap);
   o.k_eq = k_eq;
@@ -78,12 +79,12 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   default_penalties(p, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
   if (p.has_friction()) {
-    FrictionalOptions o = penalised_friction(p, k_gap, zero_gap, k_eq, zero_eq);
+    FrictionalOptions o = penalised_friction(set_rule(), p, k_gap, zero_gap, k_eq, zero_eq);
     o.max_iterations = options_.max_iterations;
     solve_frictional(p, o, s);
   } else {
     std::vector<char> active = initially_closed(p);
-    PenalizedSolver solver(p);
+    PenalizedSolver solver(p, set_rule());
     const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
                                       active, s.u, s.history, 1);
     s.status = outcome.status;

@@ -28,7 +28,8 @@ void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& 
 /// The frictional solve of a penalised problem (friction_solver.hpp) with these stiffnesses and
 /// multiplier estimates; k_t = the rows' tangential ratio × k, λ̂_t = the problem's
 /// tangent_force0 (the last converged state's friction force; 0 without one).
-FrictionalOptions penalised_friction(const ConstrainedProblem& p, const VecX& k_gap,
+FrictionalOptions penalised_friction(const SetRule& rule, const ConstrainedProblem& p,
+                                     const VecX& k_gap,
                                      const VecX& lambda, const VecX& k_eq, const VecX& mu);
 
 }  // namespace c2d::constraints

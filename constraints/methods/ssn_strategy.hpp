@@ -14,9 +14,13 @@ namespace c2d::constraints {
 class SsnStrategy final : public ExactStrategy {
  public:
   using ExactStrategy::ExactStrategy;
+  const SetRule& set_rule() const override { return rule_; }
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
+
+ private:
+  SemiSmoothRule rule_;
 };
 
 }  // namespace c2d::constraints
