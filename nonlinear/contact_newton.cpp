@@ -41,7 +41,10 @@ class ConstrainedStep {
       : system_(system), contact_(contact), strategy_(strategy), in_(in), u_(in.u_free),
         previous_(in.memory), force_by_slot_(contact.num_slots(), 0.0) {
     previous_.resize(contact.num_slots(), 0);
-    sets_.record(previous_);
+    // The step's starting set belongs to the last converged state, not to this step: a set
+    // that returns to it (the predictor closed a row that the corrected state opens again) is
+    // no cycle. A cycle is a set that returns among this step's own outer iterations.
+    sets_.follow(previous_);
     // Small strain: the rows' gaps come from absolute coordinates. Finite strain: from positions
     // relative to a node of the row, with the displacement kept apart (gap_linearisation.hpp),
     // so their round-off is that of the local lengths.

@@ -203,8 +203,16 @@ class LoadStepper {
       last_contact_.penetration_tolerance = cstep.penetration_tolerance;
       rec.contact_state = last_contact_;
     }
-    // After a cutback, grow back toward the nominal increment once a step comes easily.
-    if (cutbacks_ > 0 && rec.newton.iterations <= 4) increment_ = std::min(nominal_, 2.0 * increment_);
+    // Below the nominal increment, grow back toward it: at once after a cutback when the step
+    // came easily, and after every two easy steps in a row (one growth per cutback kept a run
+    // that had been cut back once at its small increment for the rest of the load: a drag
+    // with friction took 1,616 steps for 30).
+    const bool easy = rec.newton.iterations <= 4;
+    easy_in_a_row_ = easy ? easy_in_a_row_ + 1 : 0;
+    if (increment_ < nominal_ && easy && (cutbacks_ > 0 || easy_in_a_row_ >= 2)) {
+      increment_ = std::min(nominal_, 2.0 * increment_);
+      easy_in_a_row_ = 0;
+    }
     cutbacks_ = 0;
   }
 
@@ -340,6 +348,7 @@ class LoadStepper {
   double increment_;
   long attempts_ = 0;
   int converged_steps_ = 0, cutbacks_ = 0;
+  int easy_in_a_row_ = 0;  ///< converged steps in a row that took at most 4 Newton iterations
 };
 
 }  // namespace

@@ -10,18 +10,33 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
+#include <limits>
+#include <string>
 
+#include "core/errors.hpp"
 #include "core/interrupt.hpp"
 
 namespace c2d::nonlinear {
 
 namespace {
 
+/// Newton makes no progress when this many iterations in a row leave the residual above
+/// kProgress × its least value so far: a 2-cycle (a node flipping between two master edges at
+/// a free end) or a plateau. Such an attempt stops there instead of running to the iteration
+/// limit (it cost the load stepper 25 factorisations per cutback on a block dragged off its
+/// master's end). One or two rising iterations, as on slender structures before the residual
+/// collapses, are within the window.
+constexpr int kNoProgressIterations = 5;
+constexpr double kProgress = 0.9;
+
 struct Bridge {
   NewtonSystem* system = nullptr;
   std::vector<double>* history = nullptr;
   int factorizations = 0;  ///< successful factorize_jacobian calls
   std::string error;  ///< KINSOL's last error message
+  double least = std::numeric_limits<double>::infinity();  ///< least residual norm so far
+  int since_least = 0;       ///< iterations since it was set
+  bool no_progress = false;  ///< stopped for that
 };
 
 Eigen::Map<VecX> view(N_Vector v) {
@@ -46,7 +61,15 @@ int jacobian_callback(N_Vector u, N_Vector fu, SUNMatrix, void* data, N_Vector, 
   auto* b = static_cast<Bridge*>(data);
   if (core::interrupt_requested()) return -1;  // unwound below, after KINSOL has returned
   try {
-    b->history->push_back(view(fu).cwiseAbs().maxCoeff());
+    const double norm = view(fu).cwiseAbs().maxCoeff();
+    b->history->push_back(norm);
+    if (norm < kProgress * b->least || !std::isfinite(b->least)) {
+      b->least = norm;
+      b->since_least = 0;
+    } else if (++b->since_least >= kNoProgressIterations) {
+      b->no_progress = true;
+      return -1;
+    }
     if (!b->system->factorize_jacobian(view(u))) return 1;
     ++b->factorizations;
     return 0;
@@ -192,9 +215,16 @@ NewtonReport solve_newton(NewtonSystem& system, VecX& u, const NewtonOptions& o)
     report.factorizations = bridge.factorizations;
     report.last_step = step;
     report.status = map_flag(flag, report.message);
-    if (!bridge.error.empty() && report.status != SolveStatus::kConverged)
-      report.message += ": " + bridge.error;
-    name_evaluation_failure(flag, system, report);
+    if (bridge.no_progress) {
+      report.status = SolveStatus::kStalled;
+      report.message = "no progress: the residual stayed above " + number_text(kProgress) +
+                       " of its least value for " + std::to_string(kNoProgressIterations) +
+                       " Newton iterations";
+    } else {
+      if (!bridge.error.empty() && report.status != SolveStatus::kConverged)
+        report.message += ": " + bridge.error;
+      name_evaluation_failure(flag, system, report);
+    }
     u = view(x);
     VecX r;
     const bool evaluated = system.residual(u, r) && r.allFinite();
