@@ -85,6 +85,59 @@ void scene_to_summary_targets(std::ostringstream& md, const std::vector<BenchRow
      << " |\n";
 }
 
+/// Issue 33's load-stepped targets: factorisations per step ≤ Newton iterations per step ≤ 4
+/// (the exact methods, then every method), Cattaneo–Mindlin with lagrange and ssn within 4 of
+/// each, and lagrange's factorisation on the slender beam within 1.5× of penalty's.
+void stepped_targets(std::ostringstream& md, const std::vector<BenchRow>& rows) {
+  for (const bool exact_only : {true, false}) {
+    bool any = false, met = true;
+    std::ostringstream failing;
+    for (const auto& r : rows) {
+      if (!r.done || !r.stepped() || r.c.scene == "cattaneo_mindlin.toml") continue;
+      if (exact_only && r.c.method != "lagrange" && r.c.method != "ssn") continue;
+      any = true;
+      const bool ok = r.converged() && r.factorizations_per_step <= r.newton_per_step + 1e-9 &&
+                      r.newton_per_step <= 4.0;
+      if (ok) continue;
+      met = false;
+      failing << r.c.scene << " " << r.c.nominal << " " << r.c.method << ": "
+              << (r.converged() ? rounded(r.newton_per_step) + " / " +
+                                      rounded(r.factorizations_per_step)
+                                : r.status.substr(0, 40))
+              << "; ";
+    }
+    md << "| load-stepped contact, " << (exact_only ? "lagrange and ssn" : "every method")
+       << " (two cantilevers, drag, slender beam): factorisations per step ≤ Newton iterations "
+          "per step ≤ 4 | every run | "
+       << (!any ? "–" : met ? "every run" : "not met by (Newton / factorisations per step) " +
+                                               failing.str() + "table below")
+       << " | " << verdict(any, met) << " |\n";
+  }
+  for (const char* m : {"lagrange", "ssn"}) {
+    const BenchRow* r = find_row(rows, "stepped", "T6", "as shipped", "cattaneo_mindlin.toml", m);
+    const bool ok = r && r->converged();
+    md << "| Cattaneo–Mindlin example, " << m << ": Newton iterations and factorisations per "
+          "load step | ≤ 4 and ≤ 4 | "
+       << (ok ? rounded(r->newton_per_step) + " and " + rounded(r->factorizations_per_step) +
+                    ", stick zone " + percent_text(r->accuracy)
+              : std::string(r ? r->status : "–"))
+       << " | "
+       << verdict(r != nullptr, ok && r->newton_per_step <= 4 && r->factorizations_per_step <= 4)
+       << " |\n";
+  }
+  const BenchRow* l = find_row(rows, "stepped", "T6", "as shipped", "slender_floor.toml", "lagrange");
+  const BenchRow* p = find_row(rows, "stepped", "T6", "as shipped", "slender_floor.toml", "penalty");
+  const auto per_factor = [](const BenchRow* r) {
+    return r && r->factorizations > 0 ? r->t_numeric / r->factorizations : NAN;
+  };
+  const double ratio = per_factor(l) / per_factor(p);
+  md << "| slender beam on a floor: lagrange's numeric factorisation against penalty's | ≤ 1.5× | "
+     << (std::isfinite(ratio) ? rounded(ratio) + "× (" + rounded(1e3 * per_factor(l)) + " ms / " +
+                                    rounded(1e3 * per_factor(p)) + " ms)"
+                              : std::string("–"))
+     << " | " << verdict(std::isfinite(ratio), ratio <= 1.5) << " |\n";
+}
+
 }  // namespace
 
 std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, bool quick,
@@ -119,6 +172,7 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
        << " |\n";
   }
   scene_to_summary_targets(md, rows, quick);
+  stepped_targets(md, rows);
   // Contact overhead: every Hertz ladder run and every method of the panel.
   // Issue 19's target: at every ladder rung (10k to 1M DOFs, T3 and T6, rigid and elastic
   // master), lagrange and ssn within 1.5 linear solves.
@@ -203,7 +257,7 @@ std::string ladder_md(const std::vector<BenchRow>& rows) {
         "accuracy | overhead |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
-    if (!r.done || r.c.family == "methods") continue;
+    if (!r.done || r.c.family == "methods" || r.c.family == "stepped") continue;
     md << "| " << r.c.family << " | " << r.c.element << " | " << r.c.nominal << " | "
        << bench_cell(r.dofs) << " | " << r.status << " | " << fmt_s(r.t_mesh) << " | "
        << fmt_s(r.t_assemble) << " | " << fmt_s(r.t_symbolic) << " | " << fmt_s(r.t_numeric)
@@ -233,6 +287,26 @@ std::string methods_md(const std::vector<BenchRow>& rows) {
   return md.str();
 }
 
+std::string stepped_md(const std::vector<BenchRow>& rows) {
+  std::ostringstream md;
+  md << "| scene | mesh | method | DOFs | status | steps | Newton per step | factorisations per "
+        "step | numeric per factorisation | solve | process | accuracy |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    if (!r.done || !r.stepped()) continue;
+    const double per_factor = r.factorizations > 0 ? r.t_numeric / r.factorizations : NAN;
+    md << "| " << r.c.scene << " | " << r.c.nominal << " | " << r.c.method << " | "
+       << bench_cell(r.dofs) << " | " << r.status << " | " << bench_cell(r.steps) << " | "
+       << (std::isfinite(r.newton_per_step) ? rounded(r.newton_per_step) : "–") << " | "
+       << (std::isfinite(r.factorizations_per_step) ? rounded(r.factorizations_per_step) : "–")
+       << " | " << (std::isfinite(per_factor) ? rounded(1e3 * per_factor) + " ms" : "–")
+       << " | " << fmt_s(r.t_solve) << " | " << fmt_s(r.wall) << " | "
+       << (r.accuracy_measure.empty() ? "–" : r.accuracy_measure + " " + percent_text(r.accuracy))
+       << " |\n";
+  }
+  return md.str();
+}
+
 std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows,
                        std::vector<ReportChart>& charts) {
   std::ostringstream data, left, right;
@@ -250,7 +324,8 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
   };
   std::map<std::string, std::vector<std::pair<double, double>>> families;
   for (const auto& r : rows)
-    if (r.converged() && r.c.family != "methods" && std::isfinite(r.dofs))
+    if (r.converged() && r.c.family != "methods" && r.c.family != "stepped" &&
+        std::isfinite(r.dofs))
       families[r.c.family + " " + r.c.element].emplace_back(r.dofs, r.excluding_mesh());
   for (const auto& [name, pts] : families) series(left, name + ", run without mesh", pts);
   // The elastic T6 ladder's phases (the whole run is on the left; it has no contact).

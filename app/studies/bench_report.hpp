@@ -23,6 +23,10 @@ struct BenchRow : RunFigures {
   std::string accuracy_measure;
   double accuracy = NAN, overhead = NAN;
   double one_linear_solve = NAN;  ///< symbolic + one numeric factorisation of this run
+  /// Load steps converged, and Newton iterations and factorisations per converged step.
+  double steps = NAN, newton_per_step = NAN, factorizations_per_step = NAN;
+  /// Whether the run is a load-stepped contact run (its own table and targets).
+  bool stepped() const { return c.family == "stepped" || c.family == "two_cantilevers"; }
   double excluding_mesh() const { return t_total - t_mesh; }
 };
 
@@ -50,6 +54,9 @@ std::string ladder_md(const std::vector<BenchRow>& rows);
 
 /// Every method on the time-to-accuracy scenes.
 std::string methods_md(const std::vector<BenchRow>& rows);
+
+/// The load-stepped contact runs: steps, Newton iterations and factorisations per step.
+std::string stepped_md(const std::vector<BenchRow>& rows);
 
 /// Time against DOFs, log-log: left, the whole run without meshing per family; right, the
 /// phases of the linear elastic T6 ladder. Each line's title carries its fitted slope. Adds the
