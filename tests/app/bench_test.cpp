@@ -98,7 +98,9 @@ TEST(Bench, QuickLadderWritesAValidTableWhoseAccuracyImprovesWithDofs) {
   md << md_in.rdbuf();
   for (const char* target : {"refill assembly, T3", "refill assembly, T6", "1M-DOF linear elastic solve",
                              "peak memory", "contact overhead", "Hertz rigid flat, time to accuracy",
-                             "Hertz elastic block, time to accuracy", "contact detection at 1M DOFs"})
+                             "Hertz elastic block, time to accuracy", "contact detection at 1M DOFs",
+                             "load-stepped contact, lagrange and ssn", "Cattaneo–Mindlin example",
+                             "slender beam on a floor"})
     EXPECT_NE(md.str().find(target), std::string::npos) << target;
   for (const char* chart : {"time_vs_dofs.png", "time_vs_dofs.svg", "accuracy_vs_time.png", "accuracy_vs_time.svg"})
     EXPECT_TRUE(fs::exists(out / chart)) << chart;
