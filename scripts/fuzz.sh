@@ -5,7 +5,8 @@
 # files and the inputs kept for it, and runs it for SECONDS (json: study.json and summary.json;
 # vtu: the VTU reader of plot). An input that crashes or hangs is written to
 # tests/fuzz/regressions/<reader>/, which the fuzz_regression_tests replay in CTest: fix the
-# reader, keep the input. Prints each reader's executions and coverage.
+# reader, keep the input. Prints each reader's executions and coverage. C2D_FUZZ_JOBS sets the
+# build's parallel jobs (default 2).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:?usage: scripts/fuzz.sh SECONDS [scene|msh|dat|json|vtu ...]}
@@ -20,7 +21,7 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
 fi
 targets=()
 for r in "${readers[@]}"; do targets+=("fuzz_$r"); done
-cmake --build "$build" -j2 --target "${targets[@]}" > "$build.build.log" 2>&1 ||
+cmake --build "$build" -j"${C2D_FUZZ_JOBS:-2}" --target "${targets[@]}" > "$build.build.log" 2>&1 ||
   { echo "fuzz: build failed, see $build.build.log" >&2; exit 1; }
 declare -A extension=([scene]=toml [msh]=msh [dat]=dat [json]=json [vtu]=vtu)
 status=0
