@@ -2,7 +2,9 @@
 // this process, as `contact2d run` solves it, returned as the run's summary (a dict, the same
 // as summary.json) with its fields as NumPy arrays. The GIL is released while the scene is
 // meshed and solved; bad input raises contact2d.InputError with the command line's located
-// message. The pure-Python part (contact2d/__init__.py) adds compare and sweep.
+// message; a file of `out` that cannot be written (a full disk) raises OSError with its errno,
+// naming the output folder, and leaves no folder (the command line's exit 3). The pure-Python part
+// (contact2d/__init__.py) adds compare and sweep.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -24,6 +26,7 @@
 #include "core/errors.hpp"
 #include "core/interrupt.hpp"
 #include "core/scene.hpp"
+#include "core/writers.hpp"
 
 namespace py = pybind11;
 using namespace c2d;
@@ -225,14 +228,19 @@ std::string solve(const core::Scene& scene, const std::string& method,
   const auto t0 = app::RunOutput::Clock::now();
   if (out) {  // the files of `contact2d run --out OUT`, written the same way
     app::RunOutput output(scene, *out);
-    solved = app::solve_scene(scene, method, {},
-                              [&](const nonlinear::StepRecord& s, const core::Model& m,
-                                  const core::Results& r) { output.write_step(s, m, r); });
-    output.write_results(*solved, t0);
-    std::string text = output.write_summary(*solved, nullptr).dump();
-    core::check_interrupt();  // the last chance: an interrupted run leaves nothing
-    output.commit();
-    return text;
+    try {
+      solved = app::solve_scene(scene, method, {},
+                                [&](const nonlinear::StepRecord& s, const core::Model& m,
+                                    const core::Results& r) { output.write_step(s, m, r); });
+      output.write_results(*solved, t0);
+      std::string text = output.write_summary(*solved, nullptr).dump();
+      core::check_interrupt();  // the last chance: an interrupted run leaves nothing
+      output.commit();
+      return text;
+    } catch (const core::WriteError& e) {
+      // Named as the user named the folder: the work folder goes with `output`.
+      throw output.in_output_folder(e);
+    }
   }
   solved = app::solve_scene(scene, method, {});
   solved->results.time.total =
@@ -276,6 +284,17 @@ py::dict run(const py::object& scene_in, const std::string& method,
 PYBIND11_MODULE(_contact2d, m) {
   m.doc() = "contact2d's solver, in process (see the contact2d package)";
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  // A write failure is the machine's, not the input's: OSError(errno, message), which Python
+  // turns into its subclass for that errno (PermissionError for EACCES, ...).
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const core::WriteError& e) {
+      const py::object error =
+          py::reinterpret_borrow<py::object>(PyExc_OSError)(e.error_number(), e.what());
+      PyErr_SetObject(reinterpret_cast<PyObject*>(Py_TYPE(error.ptr())), error.ptr());
+    }
+  });
   m.def("run", &run, py::arg("scene"), py::arg("method") = "",
         py::arg("set") = std::vector<std::string>{}, py::arg("out") = std::nullopt,
         "Solves a scene (a path or a dict) and returns its summary with the fields.");

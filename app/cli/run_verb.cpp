@@ -66,18 +66,6 @@ std::string cycle_line(const AdaptCycle& c) {
   return line;
 }
 
-/// A file of the run that could not be written, as the user sees it: the output folder they
-/// named (not the work folder beside it, which is gone once this propagates), the file, and the
-/// system's reason.
-core::WriteError in_output_folder(const core::WriteError& e, const RunOutput& output) {
-  const std::string work = output.work_dir() + "/";
-  const std::string name =
-      e.path().rfind(work, 0) == 0 ? e.path().substr(work.size()) : e.path();
-  return core::WriteError(e.path(), e.error_number(),
-                          output.dir() + ": cannot write the run's " + name + ": " + e.reason() +
-                              " (nothing of this run was kept)");
-}
-
 /// The run once its output folder is set up: solve, write, commit.
 int run_into(const Options& o, const core::Scene& scene, RunOutput& output, Reporter& rep,
              RunOutput::Clock::time_point t0) {
@@ -124,7 +112,7 @@ int cmd_run(const Options& o) {
   try {
     return run_into(o, scene, output, rep, t0);
   } catch (const core::WriteError& e) {
-    throw in_output_folder(e, output);
+    throw output.in_output_folder(e);
   }
 }
 

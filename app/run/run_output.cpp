@@ -182,6 +182,14 @@ RunOutput::~RunOutput() {
   }
 }
 
+core::WriteError RunOutput::in_output_folder(const core::WriteError& e) const {
+  const std::string work = dir_ + "/";
+  const std::string name = e.path().rfind(work, 0) == 0 ? e.path().substr(work.size()) : e.path();
+  return core::WriteError(e.path(), e.error_number(),
+                          target_ + ": cannot write the run's " + name + ": " + e.reason() +
+                              " (nothing of this run was kept)");
+}
+
 void RunOutput::commit() {
   namespace fs = std::filesystem;
   const InterruptsHeld held;  // an interrupt now waits until the folder is in place

@@ -14,6 +14,7 @@
 #include "app/run/adapt.hpp"
 #include "app/run/solve_scene.hpp"
 #include "core/scene.hpp"
+#include "core/writers.hpp"
 
 namespace c2d::app {
 
@@ -66,6 +67,11 @@ class RunOutput {
   /// summary.json of the run (after write_results, whose times it reports); `adapt` for
   /// adaptive runs. Returns what it wrote.
   nlohmann::json write_summary(const SceneRun& run, const AdaptRun* adapt);
+
+  /// A file of this run that could not be written, as the user sees it: the output folder they
+  /// named (not the work folder beside it, which is gone once the run ends), the file, and the
+  /// system's reason; the path and errno are kept.
+  core::WriteError in_output_folder(const core::WriteError& e) const;
 
   /// Appends to run.log as the run goes.
   void log(const std::string& text);

@@ -1,8 +1,10 @@
 """The Python module leaves its host process alone and refuses hostile input with located
 errors (issue 32, items 1 and 2): Ctrl-C still raises KeyboardInterrupt after a run with `out`,
 a run interrupted midway raises it without finishing (no output or work folder left), deep or
-oversized scene values and a one-string `set` are InputErrors naming their place.
+oversized scene values and a one-string `set` are InputErrors naming their place; a file of `out`
+that cannot be written raises OSError naming the output folder (the command line's exit 3).
 """
+import errno
 import os
 import subprocess
 import sys
@@ -119,3 +121,27 @@ def test_one_string_set_is_one_override():
     with pytest.raises(contact2d.InputError) as e:
         contact2d.run(bar(), set=[1])
     assert "set[0]" in str(e.value)
+
+
+def test_write_failure_raises_oserror_naming_the_output_folder(tmp_path):
+    # A full disk, made so that it fails for root too: files may not grow beyond 4 kB
+    # (RLIMIT_FSIZE, SIGXFSZ ignored so write() fails with EFBIG). The run's first VTU is larger.
+    # Before: RuntimeError "<tmp>/run.part.PID/step_0001.vtu: cannot write: File too large".
+    p = python("""
+        import errno, resource, signal, contact2d
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (4096, 4096))
+        try:
+            contact2d.run(%r, out="run")
+            print("no error")
+        except OSError as e:
+            print(type(e).__name__, e.errno == errno.EFBIG)
+            print(e.strerror)
+        """ % HERTZ, tmp_path)
+    assert p.returncode == 0, p.stderr
+    kind, message = p.stdout.strip().split("\n")
+    assert kind == "OSError True"
+    assert message.startswith("run: cannot write the run's ")
+    assert message.endswith(": " + os.strerror(errno.EFBIG) + " (nothing of this run was kept)")
+    assert ".part" not in message
+    assert os.listdir(tmp_path) == []  # neither run/ nor run.part.PID
