@@ -364,6 +364,15 @@ std::string RunFigures::csv_status() const {
   return '"' + s + '"';
 }
 
+std::string no_summary_status(int exit_code) {
+  // The run's documented exit codes (contact2d help): 2 bad input and 3 write failure end before
+  // a summary.json exists; anything else without one (a signal, 128 + N) is a crash.
+  const std::string why = " (exit " + std::to_string(exit_code) + ", no summary.json)";
+  if (exit_code == 2) return "bad_input" + why;
+  if (exit_code == 3) return "write_failed" + why;
+  return "crashed" + why;
+}
+
 bool RunFigures::read(const CaseOutcome& c) {
   done = true;
   exit_code = c.exit_code;
@@ -384,7 +393,7 @@ bool RunFigures::read(const CaseOutcome& c) {
     return false;
   }
   if (!c.has_summary) {
-    status = "crashed (exit " + std::to_string(c.exit_code) + ", no summary.json)";
+    status = no_summary_status(c.exit_code);
     return false;
   }
   has_summary = true;

@@ -116,7 +116,8 @@ struct RunFigures {
   bool converged() const { return status == "converged"; }
   /// Stopped at the study's per-case time limit.
   bool timed_out() const { return done && status == "timeout"; }
-  /// Ran, but left no summary.json (the process died, not at the time limit).
+  /// Ran, but left no summary.json (refused its input, could not write, or died; not at the
+  /// time limit): the status says which (no_summary_status).
   bool crashed() const { return done && !has_summary && !timed_out(); }
 
   /// Fills the figures from a finished case; false when it left no summary (a crash) or a
@@ -168,6 +169,11 @@ std::string timed_out_cases_text(const std::vector<StudyCase>& cases,
 /// Whether a case crashed or timed out: what makes a study's exit code 1 (a case that ran and
 /// did not converge is a row with its status, not a failure of the study).
 bool any_case_failed(const std::vector<const RunFigures*>& rows);
+
+/// The status of a case that ended with `exit_code` and left no summary.json:
+/// "bad_input (exit 2, no summary.json)", "write_failed (exit 3, ...)", else "crashed (exit N,
+/// ...)" (a signal N - 128, or a code the run does not document).
+std::string no_summary_status(int exit_code);
 
 /// A number as a CSV cell with `digits` significant digits; empty when not finite.
 std::string csv_number(double v, int digits = 8);

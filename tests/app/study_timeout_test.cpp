@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/process.hpp"
+#include "app/studies/study.hpp"
 
 namespace fs = std::filesystem;
 
@@ -237,4 +238,32 @@ TEST(StudyTimeout, TheOptionIsCheckedAndReachesTheJobList) {
             0)
       << output;
   EXPECT_EQ(read_text(none / "slurm.sh").find("#SBATCH --time"), std::string::npos);
+}
+
+// A case that left no summary.json is listed by the exit code the run documents (issue 32, a
+// full disk): 3 is a write failure, 2 bad input, a signal (128 + N) or anything else a crash.
+// Before, every one of them read "crashed (exit N, no summary.json)". Each is a failed case: the
+// study exits 1 (any_case_failed), a converged case alone does not.
+TEST(StudyStatus, ACaseWithoutSummaryNamesItsExitCode) {
+  const std::map<int, std::string> expected{{3, "write_failed (exit 3, no summary.json)"},
+                                            {2, "bad_input (exit 2, no summary.json)"},
+                                            {128 + SIGSEGV, "crashed (exit 139, no summary.json)"},
+                                            {1, "crashed (exit 1, no summary.json)"}};
+  for (const auto& [code, status] : expected) {
+    c2d::app::CaseOutcome outcome;
+    outcome.exit_code = code;
+    c2d::app::RunFigures row;
+    EXPECT_FALSE(row.read(outcome)) << code;
+    EXPECT_EQ(row.status, status);
+    EXPECT_TRUE(row.crashed()) << code;
+    EXPECT_FALSE(row.timed_out()) << code;
+    EXPECT_TRUE(c2d::app::any_case_failed({&row})) << code;
+  }
+  c2d::app::CaseOutcome converged;
+  converged.exit_code = 0;
+  converged.has_summary = true;
+  converged.summary = {{"status", "converged"}};
+  c2d::app::RunFigures row;
+  EXPECT_TRUE(row.read(converged));
+  EXPECT_FALSE(c2d::app::any_case_failed({&row}));
 }
