@@ -337,6 +337,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     r.nodes.push_back(cn);
   }
   std::vector<double> mortar_weight(r.nodes.size(), 0.0);
+  std::vector<Vec2> contact_normal(r.nodes.size(), Vec2::Zero());  // of an active row
   for (size_t i = 0; i < rows.size(); ++i) {
     const int at = slot[rows[i].slave];
     ContactNodeResult& cn = r.nodes[at];
@@ -344,6 +345,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     cn.gap = std::min(cn.gap, s.gap.size() > k ? s.gap[k] : rows[i].gap);
     cn.force += s.contact_force.size() > k ? s.contact_force[k] : 0.0;
     cn.penalty = std::max(cn.penalty, s.penalty.size() > k ? s.penalty[k] : 0.0);
+    if (static_cast<int>(s.active.size()) > k && s.active[k]) contact_normal[at] = rows[i].normal;
     cn.active = cn.active || (static_cast<int>(s.active.size()) > k && s.active[k]);
     mortar_weight[at] += rows[i].weight;
     if (s.tangent_force.size() > k) cn.tangent_force -= s.tangent_force[k];
@@ -356,7 +358,8 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     const MasterEdge& e = slave_edges_[k];
     mortar_edge[k] = mortar_weight[slot[e.nodes[0]]] > 0 || mortar_weight[slot[e.nodes[1]]] > 0;
   }
-  assign_pressure(slot, mortar_weight, mortar_edge, r);
+  const std::vector<char> side = side_edges(slot, contact_normal, r.nodes);
+  assign_pressure(slot, mortar_weight, mortar_edge, side, r);
   r.has_surface = !slave_edges_.empty();
   r.equalities.clear();
   r.equality_names.clear();
@@ -389,7 +392,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     r.total_force += cn.force;
     r.p_max = std::max(r.p_max, cn.pressure);
   }
-  r.length = contact_length(slot, mortar_edge, r.nodes);
+  r.length = contact_length(slot, mortar_edge, side, r.nodes);
   if (r.friction) {  // the stick zone, measured as the contact zone is
     std::vector<ContactNodeResult> sticking = r.nodes;
     for (ContactNodeResult& cn : sticking) cn.active = cn.state == FrictionState::kStick;
@@ -399,20 +402,50 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
         sticking[slot.at(slave_edges_[k].nodes[2])].active =
             sticking[slot.at(slave_edges_[k].nodes[0])].active ||
             sticking[slot.at(slave_edges_[k].nodes[1])].active;
-    r.stick_length = contact_length(slot, mortar_edge, sticking);
+    r.stick_length = contact_length(slot, mortar_edge, side, sticking);
   }
   r.max_penetration = s.max_penetration;
   r.rows = static_cast<int>(rows.size());
 }
 
+std::vector<char> ContactSet::side_edges(const std::map<int, int>& slot,
+                                         const std::vector<Vec2>& contact_normal,
+                                         const std::vector<ContactNodeResult>& nodes) const {
+  // A slave surface selected by a region (a box over a block's lower part) also holds edges of
+  // the body's sides. Where the contact zone reaches such a corner, the recovery would spread
+  // the corner's force over the side edge as if the zone went on round the corner, and its
+  // length would count half of it: block on a rigid floor, p_max 114 where the bottom edge alone
+  // gives the exact 100. An edge with one active end whose outward normal is turned more than
+  // 45 degrees from facing the master there (the row's normal, master toward slave) is such a
+  // side; an edge with both ends active is in the contact zone whatever its direction. Normals
+  // of the reference configuration, as the recovery's lengths (45 degrees leaves room for the
+  // rotations a contact surface goes through).
+  constexpr double kFacing = 0.70710678118654752;  // cos 45°
+  const core::Mesh& mesh = model_.mesh;
+  std::vector<char> side(slave_edges_.size(), 0);
+  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    const MasterEdge& e = slave_edges_[k];
+    const int a = slot.at(e.nodes[0]), b = slot.at(e.nodes[1]);
+    if (nodes[a].active == nodes[b].active) continue;
+    const Vec2 n = contact_normal[nodes[a].active ? a : b];
+    const Vec2 t = mesh.nodes[e.nodes[1]] - mesh.nodes[e.nodes[0]];
+    if (n.squaredNorm() == 0.0 || t.squaredNorm() == 0.0) continue;
+    const Vec2 outward = Vec2(t.y(), -t.x()).normalized();  // the body lies left of its edges
+    side[k] = outward.dot(n.normalized()) > -kFacing;
+  }
+  return side;
+}
+
 void ContactSet::assign_pressure(const std::map<int, int>& slot,
                                  const std::vector<double>& mortar_weight,
-                                 const std::vector<char>& mortar_edge, ContactReport& r) const {
+                                 const std::vector<char>& mortar_edge,
+                                 const std::vector<char>& side_edge, ContactReport& r) const {
   // Node-based rows: a pressure recovered from the nodal forces on the edges they load.
   std::vector<MasterEdge> edges;
   std::vector<double> thickness;
   for (size_t k = 0; k < slave_edges_.size(); ++k)
-    if (!mortar_edge[k]) edges.push_back(slave_edges_[k]), thickness.push_back(slave_edge_thickness_[k]);
+    if (!mortar_edge[k] && !side_edge[k])
+      edges.push_back(slave_edges_[k]), thickness.push_back(slave_edge_thickness_[k]);
   const int n = static_cast<int>(r.nodes.size());
   VecX force(n), tangent(n);
   std::vector<char> active(r.nodes.size(), 0);
@@ -450,6 +483,7 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
 
 double ContactSet::contact_length(const std::map<int, int>& slot,
                                   const std::vector<char>& mortar_edge,
+                                  const std::vector<char>& side_edge,
                                   const std::vector<ContactNodeResult>& nodes) const {
   // Contact length: every slave node owns the part of its edges nearer to it than to the
   // edge's other nodes (T3 edges split at the middle; T6 at the quarter points), and the length
@@ -462,6 +496,7 @@ double ContactSet::contact_length(const std::map<int, int>& slot,
   const core::Mesh& mesh = model_.mesh;
   double length = 0.0;
   for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    if (side_edge[k]) continue;  // a side of the body beside the zone (side_edges)
     const MasterEdge& e = slave_edges_[k];
     auto point = [&](double s) {
       if (e.count == 2) return Vec2((1 - s) * mesh.nodes[e.nodes[0]] + s * mesh.nodes[e.nodes[1]]);

@@ -165,10 +165,19 @@ class ContactSet {
   void add_gap_elements(const core::ExplicitModel& legacy);
   /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
   /// from the nodal forces elsewhere.
+  /// Edges of `side_edge` are left out (side_edges).
   void assign_pressure(const std::map<int, int>& slot, const std::vector<double>& mortar_weight,
-                       const std::vector<char>& mortar_edge, ContactReport& r) const;
-  /// Arc length of the slave surface owned by active nodes.
+                       const std::vector<char>& mortar_edge, const std::vector<char>& side_edge,
+                       ContactReport& r) const;
+  /// Per slave edge: whether it is a side of the body beside the contact zone, not part of the
+  /// contact surface (one end active, its outward normal turned more than 45 degrees from facing
+  /// the master there); `contact_normal` per report node, the active row's normal (else zero).
+  std::vector<char> side_edges(const std::map<int, int>& slot,
+                               const std::vector<Vec2>& contact_normal,
+                               const std::vector<ContactNodeResult>& nodes) const;
+  /// Arc length of the slave surface owned by active nodes (side edges left out).
   double contact_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
+                        const std::vector<char>& side_edge,
                         const std::vector<ContactNodeResult>& nodes) const;
 
   const core::Model& model_;
