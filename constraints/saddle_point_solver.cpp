@@ -33,6 +33,9 @@ struct AtExit {
   F f;
   ~AtExit() { f(); }
 };
+// Spelled out: clang before 17 deduces no template arguments for an aggregate (P1816).
+template <class F>
+AtExit(F) -> AtExit<F>;
 const char* kDependentRows =
     "saddle-point matrix is singular: linearly dependent constraint rows or an unsupported body";
 }  // namespace
