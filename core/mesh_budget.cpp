@@ -72,11 +72,42 @@ double shape_diagonal(const ShapeSpec& s) {
   return 2.0 * s.radius;
 }
 
+double boundary_segments(const ShapeSpec& s, double size) {
+  auto pieces = [size](double length) { return std::max(1.0, std::ceil(length / size)); };
+  double n = 0.0;
+  if (s.type == "rectangle") {
+    const Vec2 d = s.max - s.min;
+    n = 2.0 * (pieces(std::abs(d.x())) + pieces(std::abs(d.y())));
+  } else if (s.type == "polygon") {
+    for (size_t i = 0; i < s.points.size(); ++i)
+      n += pieces((s.points[(i + 1) % s.points.size()] - s.points[i]).norm());
+  } else if (s.type == "disk") {
+    n = std::max(3.0, pieces(2.0 * std::numbers::pi * s.radius));
+  } else if (s.type == "disk_segment") {
+    n = pieces(s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0) +
+        2.0 * pieces(s.radius);
+  }
+  return n;
+}
+
+namespace {
+
+/// Triangles of a uniform mesh of size `size`: the area over an equilateral triangle's, or, for
+/// a shape thinner than the size (a strip with one layer of triangles, which the area counts
+/// as a fraction of one), the B − 2 triangles of a triangulation whose B vertices all lie on
+/// the boundary.
+double uniform_elements(const ShapeSpec& s, double area, double size) {
+  constexpr double kTriangle = 0.433;  // area of an equilateral triangle of unit side
+  return std::max(area / (kTriangle * size * size), boundary_segments(s, size) - 2.0);
+}
+
+}  // namespace
+
 double estimate_elements(const BodySpec& b) {
   constexpr double kTriangle = 0.433;  // area of an equilateral triangle of unit side
   const double area = shape_area(b.shape), h = b.mesh_size;
   if (!(area > 0) || !(h > 0)) return 0.0;
-  double n = area / (kTriangle * h * h);
+  double n = uniform_elements(b.shape, area, h);
   for (const auto& r : b.refine) {
     if (!(r.size < h)) continue;
     const double s = r.size, g = std::max(r.growth, 1.0 + 1e-3);
@@ -92,7 +123,7 @@ double estimate_elements(const BodySpec& b) {
   }
   double smallest = h;
   for (const auto& r : b.refine) smallest = std::min(smallest, r.size);
-  return std::min(n, area / (kTriangle * smallest * smallest));
+  return std::min(n, uniform_elements(b.shape, area, smallest));
 }
 
 double default_max_elements() {

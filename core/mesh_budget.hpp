@@ -22,7 +22,12 @@ double signed_area(const std::vector<Vec2>& polygon);
 double shape_area(const ShapeSpec& s);
 double shape_diagonal(const ShapeSpec& s);
 
-/// About how many triangles gmsh makes for a body: its area over the uniform size, plus each
+/// How many edges of length at most `size` the shape's boundary curves are cut into (at least
+/// one per curve): a shape's triangles number at least this less two.
+double boundary_segments(const ShapeSpec& s, double size);
+
+/// About how many triangles gmsh makes for a body: its area over the uniform size (at least
+/// the boundary's segments less two, the one layer of a strip thinner than the size), plus each
 /// refinement's core disc (or strip) at its size and the graded zone where sizes grow by
 /// `growth` per element back to the body's size. An estimate (within a factor of about 2),
 /// for refusing requests far beyond the limit, not a prediction.
