@@ -9,7 +9,8 @@
 
 A scene is a path to a .toml (or the seed's .dat) file, or a dict with the same tables
 (docs/scene.md). `set` overrides keys as `contact2d run --set` does. Bad input raises
-contact2d.InputError (a ValueError) with the command line's located message; a run that does
+contact2d.InputError (a ValueError) with the command line's located message; a file of `out`
+that cannot be written raises OSError (errno set, the output folder named); a run that does
 not converge returns its summary with that status. compare() and sweep() run the command
 line's studies (one `contact2d run` process per case) and return their tables.
 """
