@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "constraints/active_set_tracker.hpp"
+#include "constraints/strategy_common.hpp"
 #include "core/stopwatch.hpp"
 #include "nonlinear/active_set_system.hpp"
 #include "nonlinear/held_friction.hpp"
@@ -368,6 +369,7 @@ class ConstrainedStep {
     // that does not halve the residual is finished by Newton with the set held (KINSOL, line
     // search), the globalisation.
     double norm = 0.0;
+    bool satisfied_now = false;  // x satisfies the equations with the set held
     if (same_set && satisfied(sys, x, newton, it, norm)) {
       out_.status = SolveStatus::kConverged;
     } else if (system_.is_linear()) {
@@ -387,6 +389,7 @@ class ConstrainedStep {
       // Finite strain: the held rows are detected again at x, so a state that satisfies them
       // with the set the method kept at u is converged.
       const bool reached = satisfied(sys, x, newton, it, norm);
+      satisfied_now = reached;
       if (reached && same_set) out_.status = SolveStatus::kConverged;
       // A method whose solve costs more than a Newton iteration or two (ipopt's interior
       // point, a penalty raised or augmented many times) is not asked again for a step
@@ -402,12 +405,45 @@ class ConstrainedStep {
         add_newton(it);
       } else if (!newton_with_set_held(sys, x, newton, it)) {
         return false;
+      } else {
+        satisfied_now = true;
       }
     }
     last_norm_ = it.newton.final_residual;
     u_ = x.head(u_.size());
     keep_state(sys, x, s0, it, friction ? friction->stick : std::vector<int>());
+    // A state that satisfies the equations with its set held, where the method's rule keeps
+    // that set, ends the step: asking the method again would factorise only to confirm.
+    if (satisfied_now && out_.status != SolveStatus::kConverged && settled(qp0))
+      out_.status = SolveStatus::kConverged;
     out_.iterations.push_back(it);
+    return true;
+  }
+
+  /// Whether the method's rule keeps, at the state just kept, the set it was solved with: the
+  /// rows detected afresh there, each held slot still a row that the rule holds (compressive),
+  /// every other row one it leaves open (not penetrating). Exact frictionless methods only: a
+  /// regularised method's forces follow from estimates this step does not keep, and friction's
+  /// states from slips the next linearisation measures.
+  bool settled(const ConstrainedProblem& qp) const {
+    if (!strategy_.exact() || qp.has_friction() || system_.is_linear()) return false;
+    const int slots = contact_.num_slots();
+    std::vector<char> held(slots, 0), found(slots, 0);
+    for (size_t i = 0; i < rows_.size() && i < state_.active.size(); ++i)
+      held[rows_[i].slot] = state_.active[i] != 0;
+    double scale = 0.0;
+    for (const double f : force_by_slot_) scale = std::max(scale, std::abs(f));
+    const RuleScales scales = rule_scales(qp, scale, saddle_point_scale(qp));
+    for (const GapRow& r : contact_.detect(system_.full(u_), false)) {
+      found[r.slot] = 1;
+      RowSolution row;
+      row.held = held[r.slot] != 0;
+      row.force = row.held ? force_by_slot_[r.slot] : 0.0;
+      row.gap = r.gap;
+      if (strategy_.set_rule().normal(row, scales).held != row.held) return false;
+    }
+    for (int k = 0; k < slots; ++k)
+      if (held[k] && !found[k]) return false;
     return true;
   }
 
