@@ -256,6 +256,12 @@ VtuData read_vtu(const std::string& path) {
       case Section::kCellData: {
         const bool cell = sections.at(pos) == Section::kCellData;
         check_count(path, a, cell ? num_cells : num_points, cell ? "cells" : "points");
+        // One components entry per name: a second array of the name (point data beside cell
+        // data of other components) would leave the first one's values with its count.
+        if (v.components.count(a.name))
+          throw InputError(path + ": DataArray " + quoted_found(a.name) +
+                           ": expected one array of that name in the point and cell data, "
+                           "found a second");
         v.components[a.name] = a.components;
         (cell ? v.cell_data : v.point_data)[a.name] = std::move(a.values);
         break;
