@@ -175,17 +175,8 @@ py::dict fields(const app::SceneRun& run) {
       return py::array(py::cast(v));
     };
     py::dict steps;
-    steps["step"] = column([](const app::StepRow& r) { return r.step; });
-    steps["load_factor"] = column([](const app::StepRow& r) { return r.load_factor; });
-    steps["newton_iterations"] = column([](const app::StepRow& r) { return r.newton_iterations; });
-    steps["factorizations"] = column([](const app::StepRow& r) { return r.factorizations; });
-    steps["reaction_x"] = column([](const app::StepRow& r) { return r.reaction_x; });
-    steps["reaction_y"] = column([](const app::StepRow& r) { return r.reaction_y; });
-    if (run.contact) {
-      steps["contact_active_nodes"] = column([](const app::StepRow& r) { return r.active_nodes; });
-      steps["contact_normal_force"] = column([](const app::StepRow& r) { return r.contact_force; });
-      steps["contact_tangential_force"] = column([](const app::StepRow& r) { return r.tangential_force; });
-    }
+    for (const app::StepColumn& c : app::step_columns())
+      if (run.contact || !c.contact) steps[c.name] = column(c.value);
     py::dict probes;
     if (!rows.empty())
       for (const auto& [name, value] : rows[0].probes)

@@ -13,7 +13,6 @@
 #include <filesystem>
 #include <iomanip>
 #include <map>
-#include <set>
 #include <sstream>
 #include <system_error>
 #include <vector>
@@ -243,20 +242,23 @@ namespace {
 /// steps.csv: one row per converged step (StepRow), the probes as the last columns.
 std::string steps_csv(const SceneRun& run) {
   std::ostringstream os;
-  os << std::setprecision(12)
-     << "step,load_factor,newton_iterations,factorizations,reaction_x,reaction_y";
-  static const std::set<std::string> kFixed = {
-      "step", "load_factor", "newton_iterations", "factorizations", "reaction_x", "reaction_y",
-      "contact_active_nodes", "contact_normal_force", "contact_tangential_force"};
-  if (run.contact) os << ",contact_active_nodes,contact_normal_force,contact_tangential_force";
+  os << std::setprecision(12);
+  std::vector<const StepColumn*> columns;
+  for (const StepColumn& c : step_columns())
+    if (run.contact || !c.contact) columns.push_back(&c);
+  const char* separator = "";
+  for (const StepColumn* c : columns) os << separator << c->name, separator = ",";
   const auto& first = run.step_rows.empty() ? std::map<std::string, double>() : run.step_rows[0].probes;
   // A probe named as a fixed column keeps its name behind "probe_".
-  for (const auto& [name, value] : first) os << ',' << (kFixed.count(name) ? "probe_" : "") << name;
+  for (const auto& [name, value] : first) {
+    const bool clash = std::any_of(step_columns().begin(), step_columns().end(),
+                                   [&](const StepColumn& c) { return name == c.name; });
+    os << ',' << (clash ? "probe_" : "") << name;
+  }
   os << '\n';
   for (const StepRow& r : run.step_rows) {
-    os << r.step << ',' << r.load_factor << ',' << r.newton_iterations << ',' << r.factorizations
-       << ',' << r.reaction_x << ',' << r.reaction_y;
-    if (run.contact) os << ',' << r.active_nodes << ',' << r.contact_force << ',' << r.tangential_force;
+    separator = "";
+    for (const StepColumn* c : columns) os << separator << c->value(r), separator = ",";
     for (const auto& [name, value] : r.probes) os << ',' << value;
     os << '\n';
   }

@@ -83,4 +83,19 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
   return run;
 }
 
+const std::vector<StepColumn>& step_columns() {
+  static const std::vector<StepColumn> columns = {
+      {"step", [](const StepRow& r) -> double { return r.step; }, false},
+      {"load_factor", [](const StepRow& r) { return r.load_factor; }, false},
+      {"newton_iterations", [](const StepRow& r) -> double { return r.newton_iterations; }, false},
+      {"factorizations", [](const StepRow& r) -> double { return r.factorizations; }, false},
+      {"reaction_x", [](const StepRow& r) { return r.reaction_x; }, false},
+      {"reaction_y", [](const StepRow& r) { return r.reaction_y; }, false},
+      {"contact_active_nodes", [](const StepRow& r) -> double { return r.active_nodes; }, true},
+      {"contact_normal_force", [](const StepRow& r) { return r.contact_force; }, true},
+      {"contact_tangential_force", [](const StepRow& r) { return r.tangential_force; }, true},
+  };
+  return columns;
+}
+
 }  // namespace c2d::app

@@ -29,6 +29,17 @@ struct StepRow {
   std::map<std::string, double> probes;
 };
 
+/// A fixed column of steps.csv and of Python's fields["steps"]: its name, its value in a row,
+/// and whether only a run with contact has it.
+struct StepColumn {
+  const char* name;
+  double (*value)(const StepRow&);
+  bool contact;
+};
+
+/// The fixed columns in steps.csv's order; the probes follow them.
+const std::vector<StepColumn>& step_columns();
+
 struct SceneRun {
   core::Model model;
   std::unique_ptr<constraints::ContactSet> contact;  ///< refers to `model`; null without contact
