@@ -92,19 +92,19 @@ double boundary_segments(const ShapeSpec& s, double size) {
 
 namespace {
 
+constexpr double kTriangle = 0.433;  // area of an equilateral triangle of unit side
+
 /// Triangles of a uniform mesh of size `size`: the area over an equilateral triangle's, or, for
 /// a shape thinner than the size (a strip with one layer of triangles, which the area counts
 /// as a fraction of one), the B − 2 triangles of a triangulation whose B vertices all lie on
 /// the boundary.
 double uniform_elements(const ShapeSpec& s, double area, double size) {
-  constexpr double kTriangle = 0.433;  // area of an equilateral triangle of unit side
   return std::max(area / (kTriangle * size * size), boundary_segments(s, size) - 2.0);
 }
 
 }  // namespace
 
 double estimate_elements(const BodySpec& b) {
-  constexpr double kTriangle = 0.433;  // area of an equilateral triangle of unit side
   const double area = shape_area(b.shape), h = b.mesh_size;
   if (!(area > 0) || !(h > 0)) return 0.0;
   double n = uniform_elements(b.shape, area, h);

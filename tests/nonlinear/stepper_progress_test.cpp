@@ -82,13 +82,10 @@ TEST(StepperProgress, GrowsBackToTheNominalIncrementAfterCutbacks) {
   const core::Results r =
       nonlinear::solve_geometric_nonlinear(model, sc.analysis, o, &trace, &contact, &report);
   ASSERT_EQ(r.status, SolveStatus::kConverged) << r.message;
-  int converged = 0, attempts = 0;
-  for (const nonlinear::StepRecord& s : trace) {
-    converged += s.newton.status == SolveStatus::kConverged;
-    ++attempts;
-  }
+  int converged = 0;
+  for (const nonlinear::StepRecord& s : trace) converged += s.newton.status == SolveStatus::kConverged;
   EXPECT_LE(converged, 36);
-  EXPECT_LE(attempts, 48);
+  EXPECT_LE(trace.size(), 48u);  // attempts
   EXPECT_NEAR(report.total_force, 5.0, 2e-4 * 5.0);
   EXPECT_NEAR(std::abs(report.tangent_force), 1.5, 2e-4 * 1.5);
 }
