@@ -310,23 +310,14 @@ class FrictionalSolve {
     for (int i = 0; i < m_; ++i) put(me_ + i, gap_rows_[i]), put(me_ + m_ + i, slip_rows_[i]);
     SpMat ct(n_, me_ + 2 * m_);
     ct.setFromTriplets(t.begin(), t.end());
-    auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), p_.ordering);
-    if (!surface->fits()) return false;
-    std::vector<int> order(m_);
+    std::vector<int> order(m_), eq(me_);
     for (int i = 0; i < m_; ++i) order[i] = i;
+    for (int j = 0; j < me_; ++j) eq[j] = j;
     std::sort(order.begin(), order.end(), [&](int a, int b) { return p_.gap0[a] < p_.gap0[b]; });
-    for (const int nearest : {8, m_}) {
-      std::vector<int> reg;
-      for (int j = 0; j < me_; ++j) reg.push_back(j);
-      for (int k = 0; k < std::min(nearest, m_); ++k)
-        reg.push_back(me_ + order[k]), reg.push_back(me_ + m_ + order[k]);
-      if (surface->factorize(p_.stiffness, reg)) {
-        surface_ = std::move(surface);
-        return true;
-      }
-      if (nearest >= m_) break;
-    }
-    return false;
+    std::vector<std::vector<int>> nearest;
+    for (const int i : order) nearest.push_back({me_ + i, me_ + m_ + i});
+    surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq, nearest);
+    return surface_ != nullptr;
   }
 
   /// The sets' system on the rows, in forces w = s z: a held row's saddle-point equation

@@ -4,12 +4,14 @@
 
 #include <functional>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "constraints/active_set_tracker.hpp"
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/set_rules.hpp"
+#include "constraints/surface_condensation.hpp"
 #include "core/spd_solver.hpp"
 
 namespace c2d::constraints {
@@ -108,13 +110,19 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
 /// Minimises ½uᵀKu − fᵀu + Σ_i (1/2k_i) max(0, λ_i − k_i g_i(u))² − μᵀh(u) + ½ Σ_j k_j h_j(u)²
 /// (h = A u − b) for fixed λ, μ: with λ = μ = 0 the pure penalty method, otherwise one
 /// augmented-Lagrangian subproblem. The max() makes it semi-smooth; an active-set loop solves it
-/// exactly once the set settles; when it cycles or stops settling, dual_active_set() finishes. The
-/// matrix K + Gᵀ diag(k·active) G + Aᵀ diag(k_eq) A keeps one pattern, so CHOLMOD's symbolic
-/// analysis is reused across iterations and calls.
+/// exactly once the set settles; when it cycles or stops settling, dual_active_set() finishes.
+/// Each set's system K u = f + Gᵀ w + Aᵀ w_eq, with w = λ − k g on the closed rows and
+/// w_eq = μ − k_eq h, is solved on K condensed onto the rows (SurfaceCondensation: K, regularised
+/// where a body is held only by its rows, factorised once for the solver's lifetime; each set,
+/// penalty and multiplier estimate then costs dense work on the rows, the rows' compliances 1/k
+/// on the diagonal). When the rows do not fit a dense block, or that path fails, the assembled
+/// K + Gᵀ diag(k·active) G + Aᵀ diag(k_eq) A is factorised instead (one pattern, so CHOLMOD's
+/// symbolic analysis is reused across iterations and calls).
 class PenalizedSolver {
  public:
-  /// `rule` chooses each iteration's set (the method's return map).
-  PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule);
+  /// `rule` chooses each iteration's set (the method's return map); `condense` false keeps to
+  /// the assembled K + Gᵀ k G.
+  PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule, bool condense = true);
 
   struct Outcome {
     SolveStatus status = SolveStatus::kFailed;
@@ -127,22 +135,49 @@ class PenalizedSolver {
                 int max_iterations, std::vector<char>& active, VecX& u,
                 std::vector<IterationRecord>& history, int first_iteration);
 
-  const core::SpdSolveReport& linear_report() const { return solver_.report(); }
-  /// The solution's factorisation counts and times, and the last factor's pivot ratio.
-  void report_counts(ConstraintSolution& s) const {
-    copy_solver_figures(solver_.report(), s);
-    s.pivot_ratio = solver_.report().pivot_ratio;
-  }
+  /// The solution's factorisation counts and times (both paths'), and the pivot ratio of the
+  /// last factor used: K_ρ's on the condensed path, K + Gᵀ k G's on the assembled one.
+  void report_counts(ConstraintSolution& s) const;
+  /// The forces of the state the last solve() returned into s (contact_force, active,
+  /// eq_multiplier, penalty, eq_penalty): a condensed solve's own forces w (exact to the dense
+  /// block's precision), else λ = max(0, λ̂ − k g) and μ = μ̂ − k h from s.u, which carry the
+  /// gaps' round-off times k.
+  void forces(const VecX& k_gap, const VecX& lambda, const VecX& k_eq, const VecX& mu,
+              ConstraintSolution& s) const;
+  /// Whether the last solve took the condensed path (its forces then owe nothing to the
+  /// penalty's conditioning).
+  bool condensed() const { return surface_last_; }
 
  private:
-  /// Factorises and solves the penalised system with the rows of `set` closed: K + Gᵀ k G over
-  /// the set (+ Aᵀ k A), right-hand side f + Gᵀ(λ̂ − k g0) over the set (+ the equalities').
+  /// Solves the penalised system with the rows of `set` closed: K + Gᵀ k G over the set
+  /// (+ Aᵀ k A), right-hand side f + Gᵀ(λ̂ − k g0) over the set (+ the equalities'). With
+  /// `tail_only` a condensed solve leaves u on the unknowns the rows touch (all the set
+  /// decisions read); complete() then gives the whole.
   SolveStatus solve_set(const std::vector<char>& set, const VecX& k_gap, const VecX& lambda,
-                        const VecX& k_eq, const VecX& rhs_eq, VecX& u);
+                        const VecX& k_eq, const VecX& mu, const VecX& rhs_eq, VecX& u,
+                        bool tail_only);
+  /// The condensed path: K_ρ factorised on first use; false when the rows do not fit it.
+  bool surface_ready();
+  SolveStatus solve_condensed(const std::vector<char>& set, const VecX& k_gap,
+                              const VecX& lambda, const VecX& k_eq, const VecX& mu, VecX& u,
+                              bool tail_only);
+  /// The whole u of the last solve (a condensed one's tail only until then), refined with the
+  /// same factors while the penalised equations' residual exceeds 1e-12 of the forces (a
+  /// slender body's K_ρ loses digits; at most three steps, each kept only when it gains).
+  void complete(VecX& u);
+  /// The penalised equations' residual at (u, w): K u − f − Cᵀ w, and per held row
+  /// k (target − c·u) − w (a force); returns its largest entry over the force scale.
+  double residual(const VecX& u, const VecX& w, VecX& r_u, VecX& r_rows) const;
 
   const ConstrainedProblem& p_;
   const SetRule& rule_;
   SpMat gt_, at_;  ///< Gᵀ and Aᵀ
+  std::unique_ptr<SurfaceCondensation> surface_;  ///< the condensed path (null: assembled)
+  bool surface_tried_ = false;  ///< (set from the start when not condensing)
+  bool surface_last_ = false;  ///< the last solve took the condensed path
+  VecX last_w_;                ///< its row forces (equalities first, then gaps)
+  SurfaceCondensation::RowStates last_states_;  ///< and its rows' states
+  VecX kept_w_;                ///< the forces of the state solve() returned (empty: from u)
   core::SpdSolver solver_;
   /// The factorised matrix and what it was built from: a solve whose set and stiffnesses repeat
   /// them (an augmented Lagrangian's multiplier update) needs a new right-hand side only.

@@ -34,6 +34,22 @@ SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<i
   return k + SpMat(scaled.transpose() * scaled);
 }
 
+std::unique_ptr<SurfaceCondensation> condense_onto_rows(
+    SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
+    const std::vector<int>& always, const std::vector<std::vector<int>>& nearest) {
+  auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), std::move(ordering));
+  if (!surface->fits()) return nullptr;
+  const int groups = static_cast<int>(nearest.size());
+  for (const int first : {8, groups}) {
+    std::vector<int> reg = always;
+    for (int g = 0; g < std::min(first, groups); ++g)
+      reg.insert(reg.end(), nearest[g].begin(), nearest[g].end());
+    if (surface->factorize(k, reg)) return surface;
+    if (first >= groups) break;
+  }
+  return nullptr;
+}
+
 SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering)
     : ct_(std::move(ct)), slot_(ct_.cols(), -1) {
   ct_.makeCompressed();
@@ -209,6 +225,7 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
   for (const auto& [c, v] : w0) b -= v * s_ej.col(c);
   VecX x = VecX::Zero(nx);
   rcond = 1.0;
+  relative_residual_ = 0.0;
   if (nx > 0) {
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
     const VecX d = lu.matrixLU().diagonal().cwiseAbs();
@@ -222,7 +239,8 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
     }
     x = lu.solve(b);
     const double bn = b.norm();
-    if (!x.allFinite() || (a * x - b).norm() > 1e-8 * (bn > 0 ? bn : 1.0)) {
+    relative_residual_ = (a * x - b).norm() / (bn > 0 ? bn : 1.0);
+    if (!x.allFinite() || !(relative_residual_ <= 1e-8)) {
       dense_seconds_ += clock.elapsed();
       message_ = "the rows' condensed block solves to no precision";
       return SolveStatus::kIllConditioned;

@@ -34,6 +34,17 @@ namespace c2d::constraints {
 SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<int>& rows,
                             VecX& rho);
 
+class SurfaceCondensation;
+
+/// K condensed onto the rows of `ct` (n × rows) and factorised, with R = `always` and the rows
+/// of the first eight groups of `nearest` (groups of rows, nearest to closing first: a normal
+/// row with its tangential row), or of every group when those leave a rigid mode (a body held
+/// only by its constraints). Null when the rows do not fit a dense surface block or K_ρ is not
+/// definite even with every group.
+std::unique_ptr<SurfaceCondensation> condense_onto_rows(
+    SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
+    const std::vector<int>& always, const std::vector<std::vector<int>>& nearest);
+
 class SurfaceCondensation {
  public:
   /// Largest tail (unknowns the rows touch) and number of rows the condensation takes: L₂₂ and
@@ -92,6 +103,8 @@ class SurfaceCondensation {
   /// K_ρ's factorisations, symbolic analyses and times (TailCholesky's), and the dense work.
   const core::SpdSolveReport& report() const { return tail_.report(); }
   double dense_seconds() const { return dense_seconds_; }
+  /// The last solve's dense block residual, ‖a x − b‖ / ‖b‖.
+  double relative_residual() const { return relative_residual_; }
   const std::string& message() const { return message_; }
 
  private:
@@ -113,6 +126,7 @@ class SurfaceCondensation {
   std::vector<int> last_cols_;     ///< the last solve's rows with a force (with ζ folded in)
   VecX last_w_;                    ///< and those forces
   double dense_seconds_ = 0.0;
+  double relative_residual_ = 0.0;
   std::string message_;
 };
 

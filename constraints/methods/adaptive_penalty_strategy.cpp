@@ -76,7 +76,7 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
   if (p.has_friction())
     s.eq_penalty = k_eq;
   else if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kMaxIterations)
-    penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
+    solver.forces(k_gap, zero_gap, k_eq, zero_eq, s);
   s.penalty = k_gap;
   return s;
 }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "constraints/friction_solver.hpp"
 #include "constraints/strategy_common.hpp"
@@ -23,25 +24,6 @@ void default_penalties(const ConstrainedProblem& p, double absolute_k, double fa
   for (int j = 0; j < p.num_equalities(); ++j) k_eq[j] = pick(local_eq, j);
 }
 
-void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& lambda,
-                    const VecX& k_eq, const VecX& mu, ConstraintSolution& s) {
-  const int m = p.num_gaps();
-  s.contact_force = VecX::Zero(m);
-  s.active.assign(m, 0);
-  if (m > 0) {
-    const VecX g = p.gap0 + p.gap_jacobian * s.u;
-    for (int i = 0; i < m; ++i) {
-      s.contact_force[i] = std::max(0.0, lambda[i] - k_gap[i] * g[i]);
-      s.active[i] = s.contact_force[i] > 0;
-    }
-  }
-  s.eq_multiplier = p.num_equalities() > 0
-                        ? VecX(mu - k_eq.cwiseProduct(p.eq_jacobian * s.u - p.eq_rhs))
-                        : VecX();
-  s.penalty = k_gap;
-  s.eq_penalty = k_eq;
-}
-
 FrictionalOptions penalised_friction(const SetRule& rule, const ConstrainedProblem& p,
                                      const VecX& k_gap, const VecX& lambda, const VecX& k_eq,
                                      const VecX& mu) {
@@ -59,6 +41,10 @@ FrictionalOptions penalised_friction(const SetRule& rule, const ConstrainedProbl
 }
 
 namespace {
+/// The largest share of a force its round-off may take before the penalty is reported
+/// ill-conditioned: three significant digits.
+constexpr double kForceDigits = 1e-3;
+
 // Largest ratio of a row's penalty to its local stiffness: how many digits the penalty costs.
 // Rows whose local stiffness is not positive (a tangent that lost definiteness around a
 // collapsing element) have no such measure and are left out: their trouble is not the penalty.
@@ -78,40 +64,68 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   VecX k_gap, k_eq;
   default_penalties(p, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
+  bool assembled = true;  // whether the solve factorised K + Gᵀ k G itself
+  PenalizedSolver solver(p, set_rule());
   if (p.has_friction()) {
     FrictionalOptions o = penalised_friction(set_rule(), p, k_gap, zero_gap, k_eq, zero_eq);
     o.max_iterations = options_.max_iterations;
     solve_frictional(p, o, s);
   } else {
     std::vector<char> active = initially_closed(p);
-    PenalizedSolver solver(p, set_rule());
     const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
                                       active, s.u, s.history, 1);
     s.status = outcome.status;
     s.message = outcome.message;
     solver.report_counts(s);
+    assembled = !solver.condensed();
   }
-  // A penalty many orders above the element stiffness leaves the factorization nothing but
-  // round-off: say so instead of returning what it produced.
-  const double ratio = penalty_ratio(p, k_gap, k_eq);
-  const double pivot = s.pivot_ratio;
-  if (ratio > 1e6 && (s.status == SolveStatus::kSingular || pivot < 1e-12)) {
-    char buf[200];
-    std::snprintf(buf, sizeof buf,
-                  "penalty k is %.3g x the local element stiffness; the factor's pivot ratio "
-                  "%.3g leaves no significant digits (lower k or use an exact method)",
-                  ratio, pivot);
-    s.status = SolveStatus::kIllConditioned;
-    s.message = buf;
-  }
-  if (p.has_friction()) {
+  const bool solved = s.status == SolveStatus::kConverged ||
+                      s.status == SolveStatus::kCycling || s.status == SolveStatus::kMaxIterations;
+  if (p.has_friction())
     s.eq_penalty = k_eq;  // the frictional solve reports the forces of its sets
-  } else if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kCycling ||
-             s.status == SolveStatus::kMaxIterations) {
-    penalty_forces(p, k_gap, zero_gap, k_eq, zero_eq, s);
+  else if (solved)
+    solver.forces(k_gap, zero_gap, k_eq, zero_eq, s);
+  // A penalty many orders above the element stiffness: say so instead of returning what it
+  // produced when its digits are gone. Assembled, K + Gᵀ k G's factor keeps none (its pivot
+  // ratio); on any path the forces k·g carry the gaps' round-off, ε × the model's size, times
+  // k, and a penetration below that round-off leaves the set decisions reading noise.
+  const double ratio = penalty_ratio(p, k_gap, k_eq);
+  if (ratio > 1e6) {
+    double force = 0.0, k_max = 0.0;
+    if (solved) {
+      if (s.contact_force.size()) force = s.contact_force.cwiseAbs().maxCoeff();
+      if (s.eq_multiplier.size()) force = std::max(force, s.eq_multiplier.cwiseAbs().maxCoeff());
+    }
+    if (k_gap.size()) k_max = k_gap.maxCoeff();
+    if (k_eq.size()) k_max = std::max(k_max, k_eq.maxCoeff());
+    const double round_off = k_max * std::numeric_limits<double>::epsilon() * p.model_size;
+    const bool factor_lost =
+        assembled && (s.status == SolveStatus::kSingular || s.pivot_ratio < 1e-12);
+    const bool forces_lost = force > 0 && round_off > kForceDigits * force;
+    if (factor_lost || forces_lost) {
+      char buf[320];
+      if (factor_lost)
+        std::snprintf(buf, sizeof buf,
+                      "penalty k is %.3g x the local element stiffness; the factor's pivot ratio "
+                      "%.3g leaves no significant digits (lower k or use an exact method)",
+                      ratio, s.pivot_ratio);
+      else
+        std::snprintf(buf, sizeof buf,
+                      "penalty k is %.3g x the local element stiffness; its forces k*g carry the "
+                      "gaps' round-off times k, %.3g against the largest force %.3g (lower k or "
+                      "use an exact method)",
+                      ratio, round_off, force);
+      s.status = SolveStatus::kIllConditioned;
+      s.message = buf;
+    }
   }
-  else
-    s.u = VecX::Zero(p.num_unknowns());
+  if (!p.has_friction() && s.status != SolveStatus::kConverged &&
+      s.status != SolveStatus::kCycling && s.status != SolveStatus::kMaxIterations) {
+    s.u = VecX::Zero(p.num_unknowns());  // nothing of a failed solve is returned as a state
+    s.contact_force = VecX();
+    s.eq_multiplier = VecX();
+    s.active.clear();
+  }
   s.penalty = k_gap;
   return s;
 }

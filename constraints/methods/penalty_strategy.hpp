@@ -21,10 +21,6 @@ class PenaltyStrategy final : public RegularisedStrategy {
 void default_penalties(const ConstrainedProblem& p, double absolute_k, double factor, VecX& k_gap,
                        VecX& k_eq);
 
-/// Contact forces and multipliers of a penalised solution: λ = max(0, λ0 − k g), μ = μ0 − k h.
-void penalty_forces(const ConstrainedProblem& p, const VecX& k_gap, const VecX& lambda,
-                    const VecX& k_eq, const VecX& mu, ConstraintSolution& s);
-
 /// The frictional solve of a penalised problem (friction_solver.hpp) with these stiffnesses and
 /// multiplier estimates; k_t = the rows' tangential ratio × k, λ̂_t = the problem's
 /// tangent_force0 (the last converged state's friction force; 0 without one).

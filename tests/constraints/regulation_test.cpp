@@ -59,6 +59,16 @@ ConstrainedProblem spring_chain() {
   return p;
 }
 
+// The chain with a stop u7 <= 0.1 (gap 0.1 − u7 >= 0): free u7 would be 0.14, so it closes.
+ConstrainedProblem chain_against_stop() {
+  ConstrainedProblem p = spring_chain();
+  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(1, 7);
+  g(0, 6) = -1;
+  p.gap_jacobian = sparse(g);
+  p.gap0 = VecX::Constant(1, 0.1);
+  return p;
+}
+
 // Options under which every method must reach the seed's 5 significant digits: the penalty-type
 // methods get a tolerance or stiffness fine enough for that (their error is O(1/k)).
 StrategyOptions options_for(const std::string& method) {
@@ -97,13 +107,10 @@ TEST_P(EveryMethod, SpringChainDisplacementsAndMultipliers) {
 }
 
 TEST_P(EveryMethod, ChainAgainstAStopIsExactWithTheKnownActiveSet) {
-  // Add a stop u7 <= 0.1 (gap 0.1 - u7 >= 0): free u7 would be 0.14, so the stop closes and
-  // the solution is the equality solution with u7 = 0.1 added, solved here densely.
-  ConstrainedProblem p = spring_chain();
-  Eigen::MatrixXd g = Eigen::MatrixXd::Zero(1, 7);
-  g(0, 6) = -1;
-  p.gap_jacobian = sparse(g);
-  p.gap0 = VecX::Constant(1, 0.1);
+  // The stop closes: the solution is the equality solution with u7 = 0.1 added, solved here
+  // densely.
+  ConstrainedProblem p = chain_against_stop();
+  const Eigen::MatrixXd g(p.gap_jacobian);
   Eigen::MatrixXd kkt = Eigen::MatrixXd::Zero(10, 10);
   kkt.topLeftCorner(7, 7) = Eigen::MatrixXd(p.stiffness);
   Eigen::MatrixXd rows(3, 7);
@@ -192,6 +199,46 @@ TEST(MethodRegistry, DocsSceneMdHoldsTheRegistrysMethodTable) {
   doc << in.rdbuf();
   EXPECT_NE(doc.str().find(method_table_markdown()), std::string::npos)
       << "docs/scene.md must contain the method table, exactly:\n" << method_table_markdown();
+}
+
+TEST(Penalty, PenaltyMethodsSolveOnTheCondensedSurfaceWithOneFactorisation) {
+  // The chain against the stop: K is factorised once (condensed onto the rows' unknowns) for a
+  // method's whole solve, whatever its set iterations, stiffness raises or multiplier updates;
+  // each then costs dense work on the rows only. The penalty solution must still be the
+  // assembled one, (K + k GᵀG + k_eq AᵀA) u = f − k Gᵀ g0 + k_eq Aᵀ b, solved densely here,
+  // u and its forces w = −k g, μ = −k_eq (A u − b) to 1e-9 relative (the dense reference
+  // itself loses digits as k grows).
+  ConstrainedProblem p = chain_against_stop();
+  const Eigen::MatrixXd g(p.gap_jacobian);
+  for (const std::string method : {"penalty", "adaptive_penalty", "auglag"}) {
+    StrategyOptions o;
+    o.method = method;
+    o.penalty_factor = 1e3;
+    const ConstraintSolution s = ConstraintStrategy::create(o)->solve(p);
+    ASSERT_EQ(s.status, SolveStatus::kConverged) << method << ": " << s.message;
+    EXPECT_EQ(s.factorizations, 1) << method;
+    EXPECT_EQ(s.active[0], 1) << method;
+    if (method == "adaptive_penalty") {
+      EXPECT_GT(s.penalty_history.size(), 1u);
+    }
+    if (method == "auglag") {
+      EXPECT_GT(s.history.size(), 2u);  // several multiplier rounds on the one factor
+      continue;
+    }
+    const Eigen::MatrixXd a(p.eq_jacobian), k(p.stiffness);
+    const double kg = s.penalty[0];
+    const VecX ke = s.eq_penalty;
+    const Eigen::MatrixXd lhs = k + kg * g.transpose() * g + a.transpose() * ke.asDiagonal() * a;
+    const VecX rhs = p.load - kg * g.transpose() * p.gap0 +
+                     a.transpose() * ke.asDiagonal() * p.eq_rhs;
+    const VecX ref = lhs.fullPivLu().solve(rhs);
+    EXPECT_LT((s.u - ref).cwiseAbs().maxCoeff(), 1e-9 * ref.cwiseAbs().maxCoeff()) << method;
+    const double w = -kg * (p.gap0[0] + (g * ref)(0, 0));
+    EXPECT_NEAR(s.contact_force[0], w, 1e-9 * w) << method;
+    const VecX mu = -(ke.asDiagonal() * (a * ref - p.eq_rhs));
+    EXPECT_LT((s.eq_multiplier - mu).cwiseAbs().maxCoeff(), 1e-9 * mu.cwiseAbs().maxCoeff())
+        << method;
+  }
 }
 
 TEST(Penalty, ErrorDecreasesLikeOneOverK) {
