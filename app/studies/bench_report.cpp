@@ -181,7 +181,7 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
   bool any = false;
   for (const auto& r : rows)
     if (std::isfinite(r.overhead) && (r.c.method == "lagrange" || r.c.method == "ssn") &&
-        r.c.family != "methods" && r.c.family != "two_cantilevers") {
+        r.c.family != "methods" && r.c.family != "two_cantilevers" && r.c.family != "stepped") {
       any = true;
       worst = std::max(worst, r.overhead);
       list << r.c.family << " " << r.c.element << " " << r.c.nominal << " " << r.c.method << ": "
@@ -190,6 +190,17 @@ std::string targets_md(const std::vector<BenchRow>& rows, const Throughput& t, b
   md << "| contact overhead, lagrange and ssn (contact solve / one linear solve) | ≤ 1.5 | worst "
      << rounded(worst) << " (ladder: " << list.str() << "every method: table below) | "
      << verdict(any, worst <= 1.5) << " |\n";
+  // Issue 33's: every method on the time-to-accuracy scenes within two linear solves.
+  double worst_method = 0;
+  std::string which;
+  for (const auto& r : rows)
+    if (r.c.family == "methods" && std::isfinite(r.overhead) && r.overhead >= worst_method) {
+      worst_method = r.overhead;
+      which = r.c.method + " on " + r.c.scene + " " + r.c.nominal;
+    }
+  md << "| contact overhead, every method on the time-to-accuracy scenes | ≤ 2 | worst "
+     << rounded(worst_method) << " (" << which << ") | "
+     << verdict(!which.empty(), worst_method <= 2) << " |\n";
   for (const auto& [scene, limit, goal] : {std::tuple{"hertz_rigid_fast.toml", 0.1, 0.005},
                                            std::tuple{"hertz_block_fast.toml", 1.0, 0.01}}) {
     const BenchRow* r = find_row(rows, "methods", "T6", "as shipped", scene, "lagrange");
