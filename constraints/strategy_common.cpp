@@ -227,9 +227,8 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
   return SolveStatus::kMaxIterations;
 }
 
-PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule, bool condense)
-    : p_(p), rule_(rule), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()),
-      surface_tried_(!condense) {
+PenalizedSolver::PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule)
+    : p_(p), rule_(rule), gt_(p.gap_jacobian.transpose()), at_(p.eq_jacobian.transpose()) {
   if (p.ordering) solver_.set_ordering(p.ordering, "corner_amd");
 }
 

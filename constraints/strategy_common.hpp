@@ -120,9 +120,8 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
 /// symbolic analysis is reused across iterations and calls).
 class PenalizedSolver {
  public:
-  /// `rule` chooses each iteration's set (the method's return map); `condense` false keeps to
-  /// the assembled K + Gᵀ k G.
-  PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule, bool condense = true);
+  /// `rule` chooses each iteration's set (the method's return map).
+  PenalizedSolver(const ConstrainedProblem& p, const SetRule& rule);
 
   struct Outcome {
     SolveStatus status = SolveStatus::kFailed;
@@ -173,7 +172,7 @@ class PenalizedSolver {
   const SetRule& rule_;
   SpMat gt_, at_;  ///< Gᵀ and Aᵀ
   std::unique_ptr<SurfaceCondensation> surface_;  ///< the condensed path (null: assembled)
-  bool surface_tried_ = false;  ///< (set from the start when not condensing)
+  bool surface_tried_ = false;
   bool surface_last_ = false;  ///< the last solve took the condensed path
   VecX last_w_;                ///< its row forces (equalities first, then gaps)
   SurfaceCondensation::RowStates last_states_;  ///< and its rows' states

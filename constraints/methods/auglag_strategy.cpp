@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "constraints/methods/penalty_strategy.hpp"
 #include "constraints/strategy_common.hpp"
@@ -9,6 +10,17 @@
 namespace c2d::constraints {
 
 namespace {
+
+/// The round-off of a multiplier update: the update k·g carries the gaps' round-off, ε × the
+/// model's size, times k, so a change below it is noise. The rounds stop when the change is
+/// below 1e-9 of the largest force or this (a slender beam held by a rigid cap, its
+/// multipliers 1e-3, changed by 3e-11 from round to round at k ε L = 6.5e-11 and never met
+/// the 1e-9 test on the condensed path).
+double update_round_off(const ConstrainedProblem& p, const VecX& k_gap, const VecX& k_eq) {
+  double k_max = k_gap.size() ? k_gap.maxCoeff() : 0.0;
+  if (k_eq.size()) k_max = std::max(k_max, k_eq.maxCoeff());
+  return k_max * std::numeric_limits<double>::epsilon() * p.model_size;
+}
 
 /// Alart and Curnier's augmented Lagrangian with friction: each round solves the penalised
 /// frictional problem for the multiplier estimates (the return map of both rows, Coulomb's
@@ -25,6 +37,8 @@ ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedPro
   s.status = SolveStatus::kMaxIterations;
   std::string why = "penetration above tolerance or multipliers still changing after " +
                     std::to_string(opt.max_iterations) + " multiplier updates";
+  double floor = update_round_off(p, k_gap, k_eq);
+  if (o.k_tangent.size()) floor = std::max(floor, update_round_off(p, o.k_tangent, VecX()));
   ConstraintSolution previous;  // each round starts from the last round's sets
   FrictionalSolver solver(p);   // and reuses its factor while they hold
   for (int round = 0; round < opt.max_iterations; ++round) {
@@ -51,7 +65,8 @@ ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedPro
     const double scale = std::max({s.contact_force.lpNorm<Eigen::Infinity>(),
                                    s.tangent_force.lpNorm<Eigen::Infinity>(),
                                    s.eq_multiplier.lpNorm<Eigen::Infinity>()});
-    if (max_penetration(g) <= tol && violation <= tol && change <= 1e-9 * scale) {
+    if (max_penetration(g) <= tol && violation <= tol &&
+        change <= std::max(1e-9 * scale, floor)) {
       s.status = SolveStatus::kConverged;
       s.message.clear();
       break;
@@ -67,39 +82,19 @@ ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedPro
 }  // namespace
 
 ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
+  ConstraintSolution s;
   VecX k_gap, k_eq;
   default_penalties(p, 0.0, options_.augmentation_factor, k_gap, k_eq);
   if (p.has_friction()) return solve_with_friction(set_rule(), p, options_, k_gap, k_eq);
   const double tol = penetration_tolerance(options_, p);
-  // The rounds on K condensed onto the rows (one factorisation); when they do not converge
-  // there, once more from the start on the assembled K + Gᵀ k G. A slender beam held by a rigid
-  // cap under a prescribed rotation stalled its Uzawa updates on the condensed path, cause not
-  // yet found, where the assembled rounds converge.
-  bool condensed = false;
-  ConstraintSolution s = uzawa_rounds(p, tol, k_gap, k_eq, true, condensed);
-  if (s.status != SolveStatus::kConverged && condensed) {
-    const ConstraintSolution first = std::move(s);
-    s = uzawa_rounds(p, tol, k_gap, k_eq, false, condensed);
-    s.factorizations += first.factorizations;  // the condensed attempt's work counts too
-    s.symbolic_analyses += first.symbolic_analyses;
-    s.symbolic_seconds += first.symbolic_seconds;
-    s.numeric_seconds += first.numeric_seconds;
-    s.solve_seconds += first.solve_seconds;
-  }
-  return s;
-}
-
-ConstraintSolution AugLagStrategy::uzawa_rounds(const ConstrainedProblem& p, double tol,
-                                                 const VecX& k_gap, const VecX& k_eq,
-                                                 bool condense, bool& condensed) {
-  ConstraintSolution s;
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
   if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
   std::vector<char> active = initially_closed(p);
-  PenalizedSolver solver(p, set_rule(), condense);
+  PenalizedSolver solver(p, set_rule());
   s.status = SolveStatus::kMaxIterations;
   s.message = "penetration above tolerance or multipliers still changing after " +
               std::to_string(options_.max_iterations) + " multiplier updates";
+  const double floor = update_round_off(p, k_gap, k_eq);
   for (int round = 0; round < options_.max_iterations; ++round) {
     const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
     const auto outcome =
@@ -131,14 +126,13 @@ ConstraintSolution AugLagStrategy::uzawa_rounds(const ConstrainedProblem& p, dou
     // largest force.
     const double scale = std::max(lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0,
                                   mu.size() ? mu.cwiseAbs().maxCoeff() : 0.0);
-    if (penetration <= tol && violation <= tol && change <= 1e-9 * scale) {
+    if (penetration <= tol && violation <= tol && change <= std::max(1e-9 * scale, floor)) {
       s.status = SolveStatus::kConverged;
       s.message.clear();
       break;
     }
   }
   solver.report_counts(s);
-  condensed = solver.condensed();
   s.contact_force = lambda;
   s.eq_multiplier = mu;
   s.active.assign(p.num_gaps(), 0);

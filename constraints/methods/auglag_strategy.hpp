@@ -13,12 +13,6 @@ class AugLagStrategy final : public RegularisedStrategy {
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
-
- private:
-  /// The Uzawa rounds on one PenalizedSolver (`condense`: on K condensed onto the rows when
-  /// they fit; `condensed` says whether its last solve was).
-  ConstraintSolution uzawa_rounds(const ConstrainedProblem& p, double tol, const VecX& k_gap,
-                                  const VecX& k_eq, bool condense, bool& condensed);
 };
 
 }  // namespace c2d::constraints
