@@ -275,6 +275,36 @@ SolveStatus PenalizedSolver::solve_condensed(const std::vector<char>& set, const
   return st;
 }
 
+double PenalizedSolver::force_round_off(const VecX& k_gap, const VecX& lambda, const VecX& k_eq,
+                                        const VecX& mu, const VecX& u) const {
+  const int m = p_.num_gaps(), me = p_.num_equalities();
+  if (kept_w_.size() != me + m) return 0.0;
+  const VecX g = p_.gap0 + p_.gap_jacobian * u, h = p_.eq_jacobian * u - p_.eq_rhs;
+  double largest = 0.0;
+  for (int j = 0; j < me; ++j)
+    largest = std::max(largest, std::abs(mu[j] - k_eq[j] * h[j] - kept_w_[j]));
+  for (int i = 0; i < m; ++i)
+    if (kept_w_[me + i] > 0)
+      largest = std::max(largest, std::abs(lambda[i] - k_gap[i] * g[i] - kept_w_[me + i]));
+  return largest;
+}
+
+double PenalizedSolver::unresolved_penetration(const VecX& w, const VecX& k_gap,
+                                               const VecX& u) const {
+  const int m = p_.num_gaps();
+  if (m == 0 || w.size() != m || u.size() != p_.num_unknowns()) return 0.0;
+  const double significant = 1e-6 * w.cwiseAbs().maxCoeff();
+  const VecX spread = p_.gap_jacobian.cwiseAbs() * u.cwiseAbs();
+  double worst = 0.0;
+  for (int i = 0; i < m; ++i) {
+    if (!(w[i] > significant)) continue;
+    const double round_off =
+        16 * std::numeric_limits<double>::epsilon() * (std::abs(p_.gap0[i]) + spread[i]);
+    worst = std::max(worst, round_off / (w[i] / k_gap[i]));
+  }
+  return worst;
+}
+
 void PenalizedSolver::forces(const VecX& k_gap, const VecX& lambda, const VecX& k_eq,
                              const VecX& mu, ConstraintSolution& s) const {
   const int m = p_.num_gaps(), me = p_.num_equalities();

@@ -143,6 +143,15 @@ class PenalizedSolver {
   /// gaps' round-off times k.
   void forces(const VecX& k_gap, const VecX& lambda, const VecX& k_eq, const VecX& mu,
               ConstraintSolution& s) const;
+  /// How far the forces that the penalty's equations give from u, λ̂ − k g and μ̂ − k h, stand
+  /// from the condensed solve's own forces at the state solve() returned: the measured
+  /// round-off that k lends them (largest over the held rows). 0 without a condensed state.
+  double force_round_off(const VecX& k_gap, const VecX& lambda, const VecX& k_eq,
+                         const VecX& mu, const VecX& u) const;
+  /// The largest ratio, over the rows carrying force w (above 1e-6 of the largest), of a gap's
+  /// round-off, 16 ε (|g0| + Σ|G_ij u_j|), to the penetration w/k that the penalty leaves it:
+  /// above 1 the penetration is below what the gaps resolve, so the set decisions read noise.
+  double unresolved_penetration(const VecX& force, const VecX& k_gap, const VecX& u) const;
   /// Whether the last solve took the condensed path (its forces then owe nothing to the
   /// penalty's conditioning).
   bool condensed() const { return surface_last_; }

@@ -87,21 +87,26 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
     solver.forces(k_gap, zero_gap, k_eq, zero_eq, s);
   // A penalty many orders above the element stiffness: say so instead of returning what it
   // produced when its digits are gone. Assembled, K + Gᵀ k G's factor keeps none (its pivot
-  // ratio); on any path the forces k·g carry the gaps' round-off, ε × the model's size, times
-  // k, and a penetration below that round-off leaves the set decisions reading noise.
+  // ratio). Condensed, the factor keeps its digits, but the forces k·g that the run's Newton
+  // and report take from the gaps carry the gaps' round-off times k: measured as their
+  // distance from the condensed solve's own forces.
   const double ratio = penalty_ratio(p, k_gap, k_eq);
   if (ratio > 1e6) {
-    double force = 0.0, k_max = 0.0;
+    double force = 0.0;
     if (solved) {
       if (s.contact_force.size()) force = s.contact_force.cwiseAbs().maxCoeff();
       if (s.eq_multiplier.size()) force = std::max(force, s.eq_multiplier.cwiseAbs().maxCoeff());
     }
-    if (k_gap.size()) k_max = k_gap.maxCoeff();
-    if (k_eq.size()) k_max = std::max(k_max, k_eq.maxCoeff());
-    const double round_off = k_max * std::numeric_limits<double>::epsilon() * p.model_size;
+    const double round_off =
+        solved && !p.has_friction() ? solver.force_round_off(k_gap, zero_gap, k_eq, zero_eq, s.u)
+                                    : 0.0;
     const bool factor_lost =
         assembled && (s.status == SolveStatus::kSingular || s.pivot_ratio < 1e-12);
-    const bool forces_lost = force > 0 && round_off > kForceDigits * force;
+    const double unresolved =
+        solved && !p.has_friction() ? solver.unresolved_penetration(s.contact_force, k_gap, s.u)
+                                    : 0.0;
+    const bool forces_lost =
+        force > 0 && (round_off > kForceDigits * force || unresolved > 1.0);
     if (factor_lost || forces_lost) {
       char buf[320];
       if (factor_lost)
@@ -109,11 +114,17 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
                       "penalty k is %.3g x the local element stiffness; the factor's pivot ratio "
                       "%.3g leaves no significant digits (lower k or use an exact method)",
                       ratio, s.pivot_ratio);
+      else if (unresolved > 1.0)
+        std::snprintf(buf, sizeof buf,
+                      "penalty k is %.3g x the local element stiffness; the penetration it leaves "
+                      "is %.3g times below the gaps' round-off, so its contact set reads noise "
+                      "(lower k or use an exact method)",
+                      ratio, unresolved);
       else
         std::snprintf(buf, sizeof buf,
-                      "penalty k is %.3g x the local element stiffness; its forces k*g carry the "
-                      "gaps' round-off times k, %.3g against the largest force %.3g (lower k or "
-                      "use an exact method)",
+                      "penalty k is %.3g x the local element stiffness; its forces k*g stand %.3g "
+                      "from the solve's own (the gaps' round-off times k) against the largest "
+                      "force %.3g (lower k or use an exact method)",
                       ratio, round_off, force);
       s.status = SolveStatus::kIllConditioned;
       s.message = buf;

@@ -36,6 +36,9 @@ for f in factors:
     s = contact2d.run(scene, method="penalty", set=[f"contact.penalty.factor={f:g}"])
     c = s["contact"]
     rows.append((f, s["status"], c["p_max"], c["max_penetration"], c["iterations"]))
+    if s["status"] != "converged":  # e.g. ill_conditioned: a failed run has no figures
+        print(f"factor {f:8.0e}: {s['status']}")
+        continue
     print(f"factor {f:8.0e}: {s['status']:>10}  p_max {c['p_max']:8.2f} MPa  "
           f"error {100 * (c['p_max'] / p_ref - 1):+7.3f} %  penetration {c['max_penetration']:.2e} mm")
 

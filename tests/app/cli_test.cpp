@@ -466,8 +466,9 @@ TEST(Studies, HertzProfileErrorOfTheExactProfileIsZero) {
 
 TEST(Cli, PenaltySweepShowsPenetrationFallingUntilIllConditioning) {
   // hertz_rigid (coarse: sizes × 8, grading as shipped) with penalty k = 1e2 ... 1e20: the penetration falls
-  // monotonically as long as the runs converge; from some k on the factorisation has no
-  // significant digits left and every run reports ill_conditioned. Above k = 1e6 (penetration
+  // monotonically as long as the runs converge; from some k on the penetration k leaves is
+  // below the gaps' round-off (the solve itself, on the condensed surface, keeps its digits:
+  // 1e17 still converges here) and every run reports ill_conditioned. Above k = 1e6 (penetration
   // below 1e-4 mm, small against the 0.4 mm contact elements, so the contact zone no longer
   // changes) the penetration is the force over k, 10-fold less per decade (20 % slack), and the
   // p_max error falls with it to the discretisation's own (1e-3 slack for round-off).
