@@ -30,7 +30,7 @@ const std::vector<MethodInfo>& method_registry() {
       entry<AdaptivePenaltyStrategy>("adaptive_penalty", "penalty whose k grows on rows that penetrate beyond the tolerance, up to a cap"),
       entry<LagrangeStrategy>("lagrange", "Lagrange multipliers with a primal active-set loop (tension releases, penetration closes)"),
       entry<AugLagStrategy>("auglag", "augmented Lagrangian: penalised solves with Uzawa multiplier updates until the penetration is within tolerance"),
-      entry<IpoptStrategy>("ipopt", "the quadratic programme with gap inequalities solved by Ipopt's interior point"),
+      entry<IpoptStrategy>("ipopt", "the quadratic programme with gap inequalities solved by Ipopt's interior point, as its dual on the contact surface (K factorised once; the set it finds then solved exactly), or whole where that does not apply"),
       entry<SsnStrategy>("ssn", "semi-smooth Newton on the complementarity function (primal-dual active sets)"),
   };
   return registry;

@@ -81,14 +81,14 @@ constexpr int kCrossoverIterations = 4;
 /// the next, so a load step's outer iterations, which ask for the same state twice, would not
 /// settle. Returns whether the sets were confirmed (then s holds the exact solution); otherwise
 /// s keeps Ipopt's solution and `why` says what the exact solves found.
-bool crossover(const ConstrainedProblem& p, ConstraintSolution& s, std::string& why) {
+bool crossover(FrictionalSolver& solver, ConstraintSolution& s, std::string& why) {
   const PrimalDualRule rule;  // the crossover confirms sets as the primal-dual rule has them
   FrictionalOptions o;
   o.rule = &rule;
   o.max_iterations = kCrossoverIterations;
   o.start = &s;
   ConstraintSolution exact;
-  solve_frictional(p, o, exact);
+  solver.solve(o, exact);
   s.factorizations += exact.factorizations;
   s.numeric_seconds += exact.numeric_seconds;
   s.symbolic_seconds += exact.symbolic_seconds;
@@ -124,19 +124,6 @@ void classify(const ConstrainedProblem& p, const StrategyOptions& o, const VecX&
                                 : FrictionState::kSlip;
 }
 
-/// Whether the sets of a QP's solution, classified against the bounds at its own normal forces,
-/// are the Coulomb problem's: the crossover confirms them (then s is its exact solution). This
-/// ends the fixed point as soon as a QP has found the sets, whether or not its bounds have
-/// settled to 1e-9 or the QP reached its own tolerance (a certificate, not a tolerance).
-bool certified(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
-               ConstraintSolution& s) {
-  // (Classifying in place is harmless when the crossover fails: the next QP overwrites the
-  // forces and the states, and finish_friction classifies again.)
-  classify(p, o, bound, s);
-  std::string why;
-  return crossover(p, s, why);
-}
-
 /// Each frictional row's bound at the given normal force (its law's).
 VecX friction_bounds(const ConstrainedProblem& p, const VecX& normal) {
   VecX b = VecX::Zero(p.num_gaps());
@@ -161,12 +148,16 @@ VecX touching_forces(const ConstrainedProblem& p, const StrategyOptions& o,
 }  // namespace
 
 std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const StrategyOptions& o,
-                                     const RowSet& base, ConstraintSolution& s,
-                                     int& total_iterations, VecX& bound, bool& exact) {
-  // Each problem is a QP (the friction cone's two faces as the linear inequalities p ≥ ±s, cost
-  // b p); a row's bound b (μ λ for Coulomb) comes from the normal force of the previous QP (the
-  // first sees the warm start's forces, or none), and the iteration ends when no bound changes
-  // by more than 1e-9 of the largest.
+                                     const RowSet& base, FrictionalSolver& solver,
+                                     bool try_surface, ConstraintSolution& s,
+                                     int& total_iterations, VecX& bound, bool& exact,
+                                     bool& on_surface) {
+  // Each problem is a QP whose friction forces a row's bound b (μ λ for Coulomb) limits; the
+  // bound comes from the normal force of the previous QP (the first sees the warm start's
+  // forces, or none), and the iteration ends when no bound changes by more than 1e-9 of the
+  // largest. On the surface (SurfaceDual) each problem is the dual with |w_t| ≤ b, K factorised
+  // once for all of them; otherwise the primal on the whole KKT system, the cone's two faces as
+  // the linear inequalities p ≥ ±s with cost b p.
   bound = friction_bounds(p, p.initial_force.size() == p.num_gaps()
                                  ? p.initial_force
                                  : VecX(VecX::Zero(p.num_gaps())));
@@ -175,25 +166,55 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
   total_iterations = 0;
   exact = false;
   s.status = SolveStatus::kMaxIterations;
+  const std::unique_ptr<SurfaceDual> dual =
+      try_surface ? SurfaceDual::build(p, base, true, s) : nullptr;
+  on_surface = dual != nullptr;
+  const std::vector<char> closed = initially_closed(p);
+  struct Report {  // the surface's factorisation into s on every way out
+    const SurfaceDual* dual;
+    ConstraintSolution& s;
+    ~Report() { if (dual) dual->report(s); }
+  } report{dual.get(), s};
   for (int round = 1; round <= o.max_iterations; ++round) {
-    RowSet rows = base;
-    std::vector<int> friction_sign;
-    const VecX cost = add_tresca_rows(p, bound, rows, friction_sign);
-    if (stick_first) add_stick_rows(p, rows, friction_sign);
     // A sticking row holds p = |s| = 0 with both faces active (degenerate): the barrier leaves
     // a slip of O(tol) there, which its tangential stiffness turns into force errors of 1e-4
     // at tol = 1e-10. The crossover after each problem makes the forces exact once its sets
     // are right. (Solving the problems to 1e-2 of the tolerance instead, as before, ended the
     // Cattaneo–Mindlin example's first QP with "search direction too small".)
-    const QpOutcome qp = run_ipopt(p, rows, cost, o, o.ipopt_tolerance);
+    QpOutcome qp;
+    if (dual) {
+      std::vector<char> stick(p.num_gaps(), 0);
+      for (int i = 0; i < p.num_gaps() && stick_first; ++i)
+        stick[i] = closed[i] && p.frictional(i);
+      qp = dual->solve(bound, stick, o, s);
+    } else {
+      RowSet rows = base;
+      std::vector<int> friction_sign;
+      const VecX cost = add_tresca_rows(p, bound, rows, friction_sign);
+      if (stick_first) add_stick_rows(p, rows, friction_sign);
+      qp = run_ipopt(p, rows, cost, o, o.ipopt_tolerance);
+      extract_forces(p, rows, friction_sign, qp, s);
+    }
     total_iterations += qp.iterations;
-    extract_forces(p, rows, friction_sign, qp, s);
     IterationRecord rec;
     rec.iteration = total_iterations;
     rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
     s.history.push_back(rec);
     const VecX next = friction_bounds(p, touching_forces(p, o, s));
-    if (certified(p, o, next, s)) {
+    // On the surface the dual's own indicators classify the rows first (force against gap,
+    // slip against the distance to the bound; no touch tolerance), then, as for the primal,
+    // touch and the bounds at the QP's own normal forces. A crossover is dense work only.
+    std::string why;
+    bool confirmed = false;
+    if (dual) {
+      dual->classify(s);
+      confirmed = crossover(solver, s, why);
+    }
+    if (!confirmed) {
+      classify(p, o, next, s);
+      confirmed = crossover(solver, s, why);
+    }
+    if (confirmed) {
       s.status = SolveStatus::kConverged;
       exact = true;
       return "";
@@ -220,17 +241,21 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
          " Tresca problems";
 }
 
-void finish_friction(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
-                     bool exact, ConstraintSolution& s) {
+bool finish_friction(const ConstrainedProblem& p, const StrategyOptions& o, const VecX& bound,
+                     bool exact, FrictionalSolver& solver, ConstraintSolution& s) {
   if (!exact) {
     classify(p, o, bound, s);
-    if (s.status != SolveStatus::kConverged) return;
+    if (s.status != SolveStatus::kConverged) return false;
     std::string why;
-    if (!crossover(p, s, why))
+    exact = crossover(solver, s, why);
+    if (!exact)
       s.message = "the exact solve of Ipopt's sets did not confirm them (" + why +
                   "): Ipopt's solution, to its tolerance";
   }
-  settle_active_set(p, o, s);
+  // An exact solution's sets were solved as a saddle point, which is singular when its rows
+  // leave a rigid motion free: only Ipopt's own solution needs the check.
+  settle_active_set(p, o, s, !exact);
+  return exact;
 }
 
 }  // namespace c2d::constraints::ipopt_detail

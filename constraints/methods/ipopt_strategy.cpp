@@ -69,9 +69,22 @@ RowSet prepare_rows(const ConstrainedProblem& p) {
   return out;
 }
 
+bool QpTnlp::intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number,
+                                   Number, Number, Number, Number, Index,
+                                   const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) {
+  return !core::interrupt_requested();  // Ipopt stops; the caller unwinds after it returns
+}
+
+void QpTnlp::finalize_solution(Ipopt::SolverReturn, Index n, const Number* xp, const Number*,
+                               const Number*, Index m, const Number*, const Number* lam, Number,
+                               const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) {
+  x = Eigen::Map<const VecX>(xp, n);
+  lambda = Eigen::Map<const VecX>(lam, m);
+}
+
 /// The QP over x = [u; p]: ½uᵀKu − fᵀu + cᵀp, where p are auxiliary variables with linear cost
 /// c (the Tresca problem's |s_i| ≤ p_i, cost b_i; none without friction).
-class ContactQp : public Ipopt::TNLP {
+class ContactQp : public QpTnlp {
  public:
   ContactQp(const ConstrainedProblem& p, const RowSet& rows, const VecX& cost)
       : p_(p), rows_(rows), cost_(cost) {
@@ -81,9 +94,6 @@ class ContactQp : public Ipopt::TNLP {
     for (size_t r = 0; r < rows.rows.size(); ++r)
       jac_nnz_ += static_cast<Index>(rows.rows[r].terms.size());
   }
-
-  VecX x, lambda;
-  Ipopt::SolverReturn status = Ipopt::INTERNAL_ERROR;
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac, Index& nnz_h,
                     IndexStyleEnum& style) override {
@@ -147,19 +157,6 @@ class ContactQp : public Ipopt::TNLP {
     }
     return true;
   }
-  bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number, Number,
-                             Number, Number, Number, Index, const Ipopt::IpoptData*,
-                             Ipopt::IpoptCalculatedQuantities*) override {
-    return !core::interrupt_requested();  // Ipopt stops; the caller unwinds after it returns
-  }
-  void finalize_solution(Ipopt::SolverReturn st, Index n, const Number* xp, const Number*,
-                         const Number*, Index m, const Number*, const Number* lam, Number,
-                         const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) override {
-    status = st;
-    x = Eigen::Map<const VecX>(xp, n);
-    lambda = Eigen::Map<const VecX>(lam, m);
-  }
-
  private:
   const ConstrainedProblem& p_;
   const RowSet& rows_;
@@ -257,11 +254,8 @@ void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
 }
 
 
-/// Ipopt on the QP of `rows` with auxiliary costs `cost`.
-QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX& cost,
-                    const StrategyOptions& o, double tolerance) {
+QpOutcome optimise(Ipopt::SmartPtr<QpTnlp> qp, const StrategyOptions& o, double tolerance) {
   QpOutcome out;
-  Ipopt::SmartPtr<ContactQp> qp = new ContactQp(p, rows, cost);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   auto opt = app->Options();
   opt->SetStringValue("sb", "yes");
@@ -272,7 +266,7 @@ QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX&
   opt->SetStringValue("jac_c_constant", "yes");
   opt->SetStringValue("jac_d_constant", "yes");
   opt->SetStringValue("mu_strategy", "adaptive");
-  // Exact enforcement: no relaxation of the gap bounds.
+  // Exact enforcement: no relaxation of the bounds.
   opt->SetNumericValue("bound_relax_factor", 0.0);
   Ipopt::ApplicationReturnStatus st = app->Initialize();
   if (st != Ipopt::Solve_Succeeded) {
@@ -286,6 +280,11 @@ QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX&
   out.x = qp->x;
   out.lambda = qp->lambda;
   return out;
+}
+
+QpOutcome run_ipopt(const ConstrainedProblem& p, const RowSet& rows, const VecX& cost,
+                    const StrategyOptions& o, double tolerance) {
+  return optimise(new ContactQp(p, rows, cost), o, tolerance);
 }
 
 /// Forces from Ipopt's multipliers (its Lagrangian is f + gᵀλ: a row exerts −λ / |row|): the
@@ -317,6 +316,64 @@ void extract_forces(const ConstrainedProblem& p, const RowSet& rows,
 
 using namespace ipopt_detail;
 
+namespace {
+
+/// The linear solver's work of `from` into `to` (a first attempt's, kept when it is redone).
+void carry_work(const ConstraintSolution& from, ConstraintSolution& to) {
+  to.factorizations += from.factorizations;
+  to.symbolic_analyses += from.symbolic_analyses;
+  to.symbolic_seconds += from.symbolic_seconds;
+  to.numeric_seconds += from.numeric_seconds;
+  to.solve_seconds += from.solve_seconds;
+}
+
+/// Frictionless: on the surface when it condenses and its set is confirmed, else Ipopt on the
+/// whole KKT system (one factorisation per interior-point iteration). Returns the iterations.
+int solve_frictionless(const ConstrainedProblem& p, const RowSet& base, const StrategyOptions& o,
+                       const SetRule& rule, ConstraintSolution& s) {
+  ConstraintSolution surface;
+  const bool condensed = solve_condensed_dual(p, base, o, rule, surface);
+  if (condensed && surface.status == SolveStatus::kConverged) {
+    s = std::move(surface);
+    return s.iterations;
+  }
+  carry_work(surface, s);
+  const QpOutcome qp = run_ipopt(p, base, VecX(), o, o.ipopt_tolerance);
+  extract_forces(p, base, {}, qp, s);
+  s.status = qp.status;
+  s.message = qp.message;
+  s.factorizations += qp.iterations;
+  IterationRecord rec;
+  rec.iteration = qp.iterations;
+  rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
+  s.history.push_back(rec);
+  settle_active_set(p, o, s);
+  return qp.iterations;
+}
+
+/// Coulomb: the fixed point of Tresca problems, on the surface when the rows condense; when its
+/// sets are not confirmed there, again on the whole KKT system. Returns the iterations.
+int solve_with_friction(const ConstrainedProblem& p, const RowSet& base, const StrategyOptions& o,
+                        ConstraintSolution& s) {
+  FrictionalSolver crossover(p);  // one factor for every crossover of the fixed point
+  int iterations = 0;
+  for (const bool surface : {true, false}) {
+    ConstraintSolution attempt;
+    carry_work(s, attempt);
+    VecX bound;
+    bool exact = false, on_surface = false;
+    attempt.message = solve_tresca_fixed_point(p, o, base, crossover, surface, attempt,
+                                               iterations, bound, exact, on_surface);
+    exact = finish_friction(p, o, bound, exact, crossover, attempt);
+    if (!on_surface) attempt.factorizations += iterations;  // one per KKT iteration
+    s = std::move(attempt);
+    if (!on_surface || exact) break;
+  }
+  return iterations;
+}
+
+}  // namespace
+
 ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
   const RowSet base = prepare_rows(p);
@@ -326,32 +383,13 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
     return s;
   }
   const bool friction = p.has_friction();
-  int total_iterations = 0;
-  VecX bound;
-  bool exact = false;
-  std::string message;
-  if (friction) {
-    message = solve_tresca_fixed_point(p, options_, base, s, total_iterations, bound, exact);
-  } else {
-    const QpOutcome qp = run_ipopt(p, base, VecX(), options_, options_.ipopt_tolerance);
-    total_iterations = qp.iterations;
-    extract_forces(p, base, {}, qp, s);
-    s.status = qp.status;
-    message = qp.message;
-    IterationRecord rec;
-    rec.iteration = total_iterations;
-    rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
-    s.history.push_back(rec);
-  }
-  s.message = message;
+  const int iterations = friction ? solve_with_friction(p, base, options_, s)
+                                  : solve_frictionless(p, base, options_, rule_, s);
   if (base.dropped_zero + base.dropped_duplicate > 0)
     s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +
                  std::to_string(base.dropped_zero) + " zero and " +
                  std::to_string(base.dropped_duplicate) + " duplicate constraint rows";
-  if (friction)
-    finish_friction(p, options_, bound, exact, s);
-  else
-    settle_active_set(p, options_, s);
+  if (s.history.empty()) s.history.emplace_back();
   IterationRecord& last = s.history.back();
   last.active = count_active(s.active);
   last.entering = last.active;
@@ -359,8 +397,7 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
     last.stick += s.friction_state[i] == FrictionState::kStick;
     last.slip += s.friction_state[i] == FrictionState::kSlip;
   }
-  s.iterations = total_iterations;
-  s.factorizations = total_iterations;
+  s.iterations = iterations;
   return s;
 }
 
