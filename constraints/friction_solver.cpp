@@ -310,13 +310,13 @@ class FrictionalSolve {
     for (int i = 0; i < m_; ++i) put(me_ + i, gap_rows_[i]), put(me_ + m_ + i, slip_rows_[i]);
     SpMat ct(n_, me_ + 2 * m_);
     ct.setFromTriplets(t.begin(), t.end());
-    std::vector<int> order(m_), eq(me_);
-    for (int i = 0; i < m_; ++i) order[i] = i;
+    std::vector<int> eq(me_);
     for (int j = 0; j < me_; ++j) eq[j] = j;
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return p_.gap0[a] < p_.gap0[b]; });
-    std::vector<std::vector<int>> nearest;
-    for (const int i : order) nearest.push_back({me_ + i, me_ + m_ + i});
-    surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq, nearest);
+    std::vector<std::vector<int>> groups(m_);
+    for (int i = 0; i < m_; ++i) groups[i] = {me_ + i, me_ + m_ + i};
+    surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq,
+                                  std::move(groups),
+                                  std::vector<double>(p_.gap0.begin(), p_.gap0.end()));
     return surface_ != nullptr;
   }
 

@@ -36,16 +36,20 @@ SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<i
 
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
-    const std::vector<int>& always, const std::vector<std::vector<int>>& nearest) {
+    const std::vector<int>& always, std::vector<std::vector<int>> groups,
+    const std::vector<double>& gap) {
   auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), std::move(ordering));
   if (!surface->fits()) return nullptr;
-  const int groups = static_cast<int>(nearest.size());
-  for (const int first : {8, groups}) {
+  const int count = static_cast<int>(groups.size());
+  std::vector<int> order(count);
+  for (int g = 0; g < count; ++g) order[g] = g;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return gap[a] < gap[b]; });
+  for (const int first : {8, count}) {
     std::vector<int> reg = always;
-    for (int g = 0; g < std::min(first, groups); ++g)
-      reg.insert(reg.end(), nearest[g].begin(), nearest[g].end());
+    for (int g = 0; g < std::min(first, count); ++g)
+      reg.insert(reg.end(), groups[order[g]].begin(), groups[order[g]].end());
     if (surface->factorize(k, reg)) return surface;
-    if (first >= groups) break;
+    if (first >= count) break;
   }
   return nullptr;
 }

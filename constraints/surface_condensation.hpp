@@ -37,13 +37,14 @@ SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<i
 class SurfaceCondensation;
 
 /// K condensed onto the rows of `ct` (n × rows) and factorised, with R = `always` and the rows
-/// of the first eight groups of `nearest` (groups of rows, nearest to closing first: a normal
-/// row with its tangential row), or of every group when those leave a rigid mode (a body held
-/// only by its constraints). Null when the rows do not fit a dense surface block or K_ρ is not
-/// definite even with every group.
+/// of the eight `groups` nearest to closing (a group: a normal row with its tangential row; its
+/// gap in `gap`, the smallest nearest), or of every group when those leave a rigid mode (a body
+/// held only by its constraints). Null when the rows do not fit a dense surface block or K_ρ is
+/// not definite even with every group.
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
-    const std::vector<int>& always, const std::vector<std::vector<int>>& nearest);
+    const std::vector<int>& always, std::vector<std::vector<int>> groups,
+    const std::vector<double>& gap);
 
 class SurfaceCondensation {
  public:

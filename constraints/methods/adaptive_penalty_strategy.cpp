@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "constraints/methods/penalty_strategy.hpp"
-#include "constraints/strategy_common.hpp"
+#include "constraints/penalized_solver.hpp"
 #include "core/errors.hpp"
 
 namespace c2d::constraints {

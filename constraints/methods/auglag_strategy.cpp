@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "constraints/methods/penalty_strategy.hpp"
-#include "constraints/strategy_common.hpp"
+#include "constraints/penalized_solver.hpp"
 
 namespace c2d::constraints {
 

@@ -160,15 +160,20 @@ std::unique_ptr<SurfaceDual> SurfaceDual::build(const ConstrainedProblem& p, con
   ct.setFromTriplets(t.begin(), t.end());
   // Regularising rows: the equality rows, and the normal rows nearest to closing with their
   // tangential rows.
-  std::vector<int> always, gaps;
-  for (int r = 0; r < nb; ++r) (base.rows[r].equality ? always : gaps).push_back(r);
-  std::sort(gaps.begin(), gaps.end(), [&](int x, int y) { return d->b_[x] > d->b_[y]; });
-  std::vector<std::vector<int>> nearest;
-  for (const int r : gaps) {
-    nearest.push_back({r});
-    if (const int tr = d->tangential_of_[base.rows[r].source]; tr >= 0) nearest.back().push_back(tr);
+  std::vector<int> always;
+  std::vector<std::vector<int>> groups;
+  std::vector<double> gap;  // each group's −b: its gap over |G|
+  for (int r = 0; r < nb; ++r) {
+    if (base.rows[r].equality) {
+      always.push_back(r);
+      continue;
+    }
+    groups.push_back({r});
+    if (const int tr = d->tangential_of_[base.rows[r].source]; tr >= 0) groups.back().push_back(tr);
+    gap.push_back(-d->b_[r]);
   }
-  d->surface_ = condense_onto_rows(std::move(ct), p.stiffness, p.ordering, always, nearest);
+  d->surface_ = condense_onto_rows(std::move(ct), p.stiffness, p.ordering, always,
+                                   std::move(groups), gap);
   if (!d->surface_) return nullptr;
   if (!d->condense()) {
     d->report(work);

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "constraints/friction_solver.hpp"
-#include "constraints/strategy_common.hpp"
+#include "constraints/penalized_solver.hpp"
 
 namespace c2d::constraints {
 
