@@ -468,6 +468,37 @@ void FrictionalSolver::solve(const FrictionalOptions& options, ConstraintSolutio
   impl_->run(options, s);
 }
 
+bool confirm_exactly(FrictionalSolver& solver, int max_solves, ConstraintSolution& s,
+                     std::string& why) {
+  const PrimalDualRule rule;
+  FrictionalOptions o;
+  o.rule = &rule;
+  o.max_iterations = max_solves;
+  o.start = &s;
+  ConstraintSolution exact;
+  solver.solve(o, exact);
+  s.factorizations += exact.factorizations;
+  s.numeric_seconds += exact.numeric_seconds;
+  s.symbolic_seconds += exact.symbolic_seconds;
+  s.solve_seconds += exact.solve_seconds;
+  s.symbolic_analyses += exact.symbolic_analyses;
+  if (exact.status != SolveStatus::kConverged) {
+    why = exact.message;
+    return false;
+  }
+  for (IterationRecord r : exact.history) {
+    r.iteration = (s.history.empty() ? 0 : s.history.back().iteration) + 1;
+    s.history.push_back(r);
+  }
+  s.u = exact.u;
+  s.contact_force = exact.contact_force;
+  s.tangent_force = exact.tangent_force;
+  s.eq_multiplier = exact.eq_multiplier;
+  s.friction_state = exact.friction_state;
+  s.active = exact.active;
+  return true;
+}
+
 void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
                       ConstraintSolution& s) {
   FrictionalSolver(p).solve(options, s);

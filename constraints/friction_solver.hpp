@@ -25,6 +25,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "constraints/constrained_problem.hpp"
 
@@ -77,6 +78,16 @@ void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& opti
 /// The same for an exact rule (primal-dual, semi-smooth) from the problem's warm start.
 ConstraintSolution solve_frictional(const ConstrainedProblem& p, const SetRule& rule,
                                     int max_iterations);
+
+/// The crossover of a method whose own iteration identifies the sets (ipopt's interior point,
+/// auglag's multiplier rounds): the sets of `s` (its active rows, friction states, a slipping
+/// row's direction from the sign of its friction force) solved exactly on `solver`'s factor and
+/// confirmed by the primal-dual rule, whose exact solution must reproduce them (which checks
+/// every complementarity condition of the Coulomb problem), within `max_solves` solves. True
+/// with s the exact solution (the solves appended to its history, their work added); otherwise
+/// s keeps its own solution (the work still added) and `why` says what the exact solves found.
+bool confirm_exactly(FrictionalSolver& solver, int max_solves, ConstraintSolution& s,
+                     std::string& why);
 
 /// The tangential stiffness of penalty-type methods: k_t = ratio × k per row.
 VecX tangent_penalties(const ConstrainedProblem& p, const VecX& k_gap);

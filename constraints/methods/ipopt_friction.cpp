@@ -70,45 +70,15 @@ void add_stick_rows(const ConstrainedProblem& p, RowSet& rows, std::vector<int>&
 /// The largest number of exact solves in a crossover.
 constexpr int kCrossoverIterations = 4;
 
-/// The crossover of an interior point, as an LP barrier's crossover pivots to a basis: the sets
-/// Ipopt's solution identifies (closed rows, stick, slip and its direction) solved exactly and
-/// confirmed by the primal-dual rule, whose exact solution must reproduce them (which checks
-/// every complementarity condition of the Coulomb problem). An interior point stops a barrier
-/// parameter away from the solution, so a row at the edge of its cone can be classified on the
-/// wrong side of it; the rule may move such rows for up to kCrossoverIterations − 1 further
-/// solves (each one is counted in the history). Without the crossover, a sticking row's
-/// degenerate faces and the slip forces' bound keep O(tol) errors that move from one solve to
-/// the next, so a load step's outer iterations, which ask for the same state twice, would not
-/// settle. Returns whether the sets were confirmed (then s holds the exact solution); otherwise
-/// s keeps Ipopt's solution and `why` says what the exact solves found.
+/// The crossover of an interior point, as an LP barrier's crossover pivots to a basis
+/// (confirm_exactly, friction_solver.hpp). An interior point stops a barrier parameter away
+/// from the solution, so a row at the edge of its cone can be classified on the wrong side of
+/// it; the rule may move such rows for up to kCrossoverIterations − 1 further solves. Without
+/// the crossover, a sticking row's degenerate faces and the slip forces' bound keep O(tol)
+/// errors that move from one solve to the next, so a load step's outer iterations, which ask
+/// for the same state twice, would not settle.
 bool crossover(FrictionalSolver& solver, ConstraintSolution& s, std::string& why) {
-  const PrimalDualRule rule;  // the crossover confirms sets as the primal-dual rule has them
-  FrictionalOptions o;
-  o.rule = &rule;
-  o.max_iterations = kCrossoverIterations;
-  o.start = &s;
-  ConstraintSolution exact;
-  solver.solve(o, exact);
-  s.factorizations += exact.factorizations;
-  s.numeric_seconds += exact.numeric_seconds;
-  s.symbolic_seconds += exact.symbolic_seconds;
-  s.solve_seconds += exact.solve_seconds;
-  s.symbolic_analyses += exact.symbolic_analyses;
-  if (exact.status != SolveStatus::kConverged) {
-    why = exact.message;
-    return false;
-  }
-  for (IterationRecord r : exact.history) {
-    r.iteration = (s.history.empty() ? 0 : s.history.back().iteration) + 1;
-    s.history.push_back(r);
-  }
-  s.u = exact.u;
-  s.contact_force = exact.contact_force;
-  s.tangent_force = exact.tangent_force;
-  s.eq_multiplier = exact.eq_multiplier;
-  s.friction_state = exact.friction_state;
-  s.active = exact.active;
-  return true;
+  return confirm_exactly(solver, kCrossoverIterations, s, why);
 }
 
 /// The active rows of an Ipopt solution and each one's stick or slip: slip where its force

@@ -787,11 +787,11 @@ INSTANTIATE_TEST_SUITE_P(Methods, PinInHole, ::testing::ValuesIn(constraints::me
 // (ipopt ends `cycling` at λ = 0.7529: a named status, within the case's reference.)
 INSTANTIATE_TEST_SUITE_P(Methods, BeamCap, ::testing::ValuesIn(constraints::method_names()));
 // penalty and adaptive_penalty converge with friction forces up to 9e-5 of the largest normal
-// force (their regularisation: 2e-6 with a penalty factor of 1e5); auglag ends
-// `max_iterations` in its first step (its multiplier updates do not settle).
+// force (their regularisation: 2e-6 with a penalty factor of 1e5). auglag's multiplier rounds
+// approach the exact zero by under 1 % a round here (the stick rows nearly repeat the rollers);
+// once its sets repeat, the exact solve of them on its factor confirms the limit.
 INSTANTIATE_TEST_SUITE_P(Methods, DependentStickRows,
-                         ::testing::ValuesIn(methods_except({"penalty", "adaptive_penalty",
-                                                             "auglag"})));
+                         ::testing::ValuesIn(methods_except({"penalty", "adaptive_penalty"})));
 INSTANTIATE_TEST_SUITE_P(Methods, FlatPunch, ::testing::ValuesIn(constraints::method_names()));
 INSTANTIATE_TEST_SUITE_P(Methods, ShallowArch, ::testing::ValuesIn(constraints::method_names()));
 INSTANTIATE_TEST_SUITE_P(Methods, DiskTouching, ::testing::ValuesIn(constraints::method_names()));
