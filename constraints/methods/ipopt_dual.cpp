@@ -16,7 +16,7 @@
 // rigid motions α. Ipopt solves it on the surface's dense block; the sparse K_ρ is factorised
 // once for every problem of a solve (a Tresca fixed point changes only the bounds). Where K_T is
 // indefinite along a motion the rows hold (compressive stresses under geometric nonlinearity),
-// that motion keeps its equation with the term gap·α, iterated. The sets Ipopt finds are then
+// the dual holds that motion as if rigid, the nearest convex problem. The sets Ipopt finds are then
 // solved exactly with K (a crossover, confirmed by the method's rule): the dual proposes, the
 // exact solves decide, and a set they do not confirm sends the problem to the primal QP on the
 // whole KKT system (ipopt_strategy.cpp).
@@ -25,7 +25,6 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numeric>
 
 #include "constraints/active_set_tracker.hpp"
@@ -43,8 +42,6 @@ using Ipopt::Number;
 /// 1 − (eigenvalue of D S_RR D) below this: a rigid motion of the rows R (the eigenvalue is 1
 /// there to round-off of K_ρ's solves, whose pivot ratio the condensation keeps above 1e-11).
 constexpr double kRigidGap = 1e-9;
-/// The passes of the iteration on the gap terms of motions along which K_T is indefinite.
-constexpr int kSoftPasses = 8;
 
 class DenseQpTnlp : public QpTnlp {
  public:
@@ -224,14 +221,16 @@ bool SurfaceDual::condense() {
   for (int k = 0; k < nr; ++k) {
     const double gap = 1.0 - values[k];
     const VecX dv = d.cwiseProduct(vectors.col(k));
-    // A gap below 1 (M ≥ 0) is eliminated. At 0 the rows hold a rigid motion; beyond 1 (a
+    // A gap below 1 (M ≥ 0) is eliminated. At 0 the rows hold a rigid motion. Beyond 1 (a
     // negative gap) K_T is indefinite along a motion they hold (compressive stresses give a
-    // body's rotation a negative stiffness), where eliminating would make the dual
-    // non-convex (1/gap < 0 in its Hessian). Both stay as equations on the forces, E_kᵀ w =
-    // e_k + gap_k α_k, α_k the motion's amplitude, whose gap term the solve iterates. The
-    // dual only proposes the sets: the exact solves with K_T decide (the crossover).
+    // body's rotation a small negative stiffness), where eliminating would make the dual
+    // non-convex (1/gap < 0 in its Hessian): the dual takes it as a rigid motion too, so its
+    // set is that of the nearest convex problem. The dual only proposes the set; the exact
+    // solves with K_T decide (the crossover), and a set they do not confirm goes to the
+    // primal on the whole system. (Iterating the dropped term, gap·α, on the equations'
+    // right-hand side changed no set on any case measured, at up to 8 Ipopt solves a call.)
     if (gap > kRigidGap) m_plus_ += dv * dv.transpose() / gap;
-    else rigid.push_back(k), soft_gap_.push_back(std::min(gap, 0.0));
+    else rigid.push_back(k);
   }
   const int nz = static_cast<int>(rigid.size());
   null_.resize(nr, nz);
@@ -251,13 +250,12 @@ bool SurfaceDual::condense() {
   qp_.h = t.asDiagonal() * h * t.asDiagonal();
   qp_.q = t.cwiseProduct(q) / sigma_;
   qp_.a = (scale_.asDiagonal() * e).transpose();  // nz × nj
-  e_rhs_ = e_rhs;
   row_norm_ = VecX::Ones(nz);
   for (int k = 0; k < nz; ++k) {
     const double norm = qp_.a.row(k).norm();
     if (norm > 0) qp_.a.row(k) /= norm, row_norm_[k] = norm;
   }
-  qp_.rhs = e_rhs_.cwiseQuotient(row_norm_);
+  qp_.rhs = e_rhs.cwiseQuotient(row_norm_);
   qp_.lower = VecX::Zero(nj), qp_.upper = VecX::Constant(nj, 2e19);
   for (int r = 0; r < nj; ++r)
     if (equality_[r]) qp_.lower[r] = -2e19;
@@ -273,31 +271,13 @@ QpOutcome SurfaceDual::solve(const VecX& bound, const std::vector<char>& stick,
                                                                         : 0.0;
     qp_.lower[r] = -limit, qp_.upper[r] = limit;
   }
-  // The motions' equations E_kᵀ w = e_k + gap_k α_k: α from the previous pass's multipliers,
-  // until the gap terms stop changing (at once where every gap is 0, a rigid motion).
+  Ipopt::SmartPtr<DenseQpTnlp> tnlp = new DenseQpTnlp(qp_);
+  const QpOutcome out = optimise(tnlp, o, o.ipopt_tolerance);
   const int nj = static_cast<int>(b_.size()), nz = static_cast<int>(qp_.rhs.size());
-  const VecX gaps = Eigen::Map<const VecX>(soft_gap_.data(), nz);
-  VecX alpha = VecX::Zero(nz);
-  QpOutcome out;
-  bool have = false;
-  double last_change = std::numeric_limits<double>::infinity();
-  for (int pass = 0; pass < kSoftPasses; ++pass) {
-    qp_.rhs = (e_rhs_ + gaps.cwiseProduct(alpha)).cwiseQuotient(row_norm_);
-    Ipopt::SmartPtr<DenseQpTnlp> tnlp = new DenseQpTnlp(qp_);
-    const int before = out.iterations;
-    out = optimise(tnlp, o, o.ipopt_tolerance);
-    out.iterations += before;
-    have = out.x.size() == nj && out.lambda.size() == nz;
-    if (!have || out.status != SolveStatus::kConverged) break;
-    // α = σ² λ / |row| (Ipopt's multipliers of the scaled equations). Stop when the terms
-    // settle, or grow (a strongly indefinite K_T: the crossover then judges the sets this
-    // pass proposes).
-    const VecX next = sigma_ * sigma_ * out.lambda.cwiseQuotient(row_norm_);
-    const double change = gaps.cwiseProduct(next - alpha).norm();
-    alpha = next;
-    if (!(change > 1e-12 * std::max(e_rhs_.norm(), 1e-300)) || !(change < last_change)) break;
-    last_change = change;
-  }
+  const bool have = out.x.size() == nj && out.lambda.size() == nz;
+  // The motions' amplitudes α = σ² λ / |row| (Ipopt's multipliers of the scaled equations).
+  const VecX alpha =
+      have ? VecX(sigma_ * sigma_ * out.lambda.cwiseQuotient(row_norm_)) : VecX(VecX::Zero(nz));
   w_ = have ? VecX(scale_.cwiseProduct(out.x)) : VecX(VecX::Zero(nj));
   // Held rows: where the scaled force exceeds the scaled gap, the gradient of the dual (an
   // interior point's active-set indicator: of two complementary quantities one tends to zero).

@@ -116,8 +116,7 @@ class SurfaceDual {
   std::vector<std::pair<int, double>> tangential_;  ///< (gap row, |T_i|) per tangential row
   std::vector<int> all_, reg_;      ///< every dual row; the regularising ones
   Eigen::MatrixXd s_jr_, m_plus_, null_;
-  VecX y0_r_, scale_, row_norm_, e_rhs_;
-  std::vector<double> soft_gap_;    ///< per motion equation: its gap (0: a rigid motion)
+  VecX y0_r_, scale_, row_norm_;
   double sigma_ = 1.0;
   DenseQp qp_;
   VecX w_, last_x_, last_grad_;     ///< the last solve's forces; its scaled x and gradient
