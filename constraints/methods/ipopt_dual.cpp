@@ -62,12 +62,6 @@ class DenseQpTnlp : public QpTnlp {
     for (Index r = 0; r < m; ++r) gl[r] = gu[r] = d_.rhs[r];
     return true;
   }
-  bool get_starting_point(Index n, bool init_x, Number* x0, bool, Number*, Number*, Index,
-                          bool, Number*) override {
-    if (init_x)
-      for (Index i = 0; i < n; ++i) x0[i] = 0.0;
-    return true;
-  }
   bool eval_f(Index n, const Number* xp, bool, Number& obj) override {
     const Eigen::Map<const VecX> x(xp, n);
     obj = 0.5 * x.dot(d_.h * x) + d_.q.dot(x);

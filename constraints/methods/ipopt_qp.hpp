@@ -40,11 +40,14 @@ struct QpOutcome {
   int iterations = 0;
 };
 
-/// An Ipopt problem that keeps its solution (x and the constraints' multipliers) and stops when
-/// the run is interrupted.
+/// An Ipopt problem that starts at 0, keeps its solution (x and the constraints' multipliers)
+/// and stops when the run is interrupted.
 class QpTnlp : public Ipopt::TNLP {
  public:
   VecX x, lambda;
+  /// Every problem starts at x = 0 (Ipopt pushes it inside the bounds).
+  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x0, bool, Ipopt::Number*,
+                          Ipopt::Number*, Ipopt::Index, bool, Ipopt::Number*) override;
   bool intermediate_callback(Ipopt::AlgorithmMode, Ipopt::Index, Ipopt::Number, Ipopt::Number,
                              Ipopt::Number, Ipopt::Number, Ipopt::Number, Ipopt::Number,
                              Ipopt::Number, Ipopt::Number, Ipopt::Index, const Ipopt::IpoptData*,

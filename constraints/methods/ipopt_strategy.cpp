@@ -69,6 +69,13 @@ RowSet prepare_rows(const ConstrainedProblem& p) {
   return out;
 }
 
+bool QpTnlp::get_starting_point(Index n, bool init_x, Number* x0, bool, Number*, Number*, Index,
+                                bool, Number*) {
+  if (init_x)
+    for (Index i = 0; i < n; ++i) x0[i] = 0.0;
+  return true;
+}
+
 bool QpTnlp::intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number,
                                    Number, Number, Number, Number, Index,
                                    const Ipopt::IpoptData*, Ipopt::IpoptCalculatedQuantities*) {
@@ -108,12 +115,6 @@ class ContactQp : public QpTnlp {
                        Number* gu) override {
     for (Index i = 0; i < n; ++i) xl[i] = -2e19, xu[i] = 2e19;
     for (Index r = 0; r < m; ++r) gl[r] = rows_.rows[r].lower, gu[r] = rows_.rows[r].upper;
-    return true;
-  }
-  bool get_starting_point(Index n, bool init_x, Number* x0, bool, Number*, Number*, Index,
-                          bool, Number*) override {
-    if (init_x)
-      for (Index i = 0; i < n; ++i) x0[i] = 0.0;
     return true;
   }
   bool eval_f(Index, const Number* xp, bool, Number& obj) override {
