@@ -376,7 +376,8 @@ class ConstrainedStep {
       // Small strain: the strategy's solution solves the rows it was given, linear about the
       // detection state; Newton only where the state does not satisfy them (the next outer
       // iteration detects again and confirms).
-      if (!satisfied(sys, x, newton, it, norm) && !newton_with_set_held(sys, x, newton, it))
+      if (!satisfied(sys, x, newton, it, norm) &&
+          !newton_with_set_held(sys, x, newton, it, !same_set))
         return false;
     } else {
       if (same_set) {
@@ -403,7 +404,7 @@ class ConstrainedStep {
         it.newton.residual_norms = {norm};
         it.newton.last_step = inf_norm(s.u);
         add_newton(it);
-      } else if (!newton_with_set_held(sys, x, newton, it)) {
+      } else if (!newton_with_set_held(sys, x, newton, it, true)) {
         return false;
       } else {
         satisfied_now = true;
@@ -467,6 +468,7 @@ class ConstrainedStep {
   /// An iterate's Newton work (its factorisations, iterations, norms) into the step's.
   void add_newton(ContactIteration& it) {
     out_.newton.iterations += it.newton.iterations;
+    out_.newton.method_steps += it.newton.method_steps;
     out_.newton.factorizations += it.newton.factorizations;
     it.factorizations += it.newton.factorizations;
     out_.newton.residual_norms.insert(out_.newton.residual_norms.end(),
@@ -476,15 +478,16 @@ class ConstrainedStep {
     out_.newton.last_step = it.newton.last_step;
   }
 
-  /// KINSOL with the set held from x; false when it failed (out_ says why).
   /// The residual's round-off floor with the set held: a gap's round-off, ε·|x|, times the
   /// stiffest row.
   double round_off_floor(const ActiveSetSystem& sys) const {
     return 16.0 * std::numeric_limits<double>::epsilon() * coordinate_scale_ * sys.row_stiffness();
   }
 
+  /// KINSOL with the set held from x; false when it failed (out_ says why). With
+  /// `from_method_step`, x is the method's step, counted as that Newton's first iteration.
   bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& options,
-                            ContactIteration& it) {
+                            ContactIteration& it, bool from_method_step) {
     // KINSOL's test is relative to the scale: never below what the rows' round-off allows (a
     // stiff penalty on an obstacle row otherwise leaves Newton stuck a decade above its test,
     // ending on a zero step).
@@ -493,6 +496,10 @@ class ConstrainedStep {
       newton.residual_tolerance =
           std::max(newton.residual_tolerance, round_off_floor(sys) / newton.residual_scale);
     it.newton = solve_newton_with_fallback(sys, x, newton);
+    if (from_method_step) {  // x is the method's step: Newton's first iteration
+      ++it.newton.iterations;
+      ++it.newton.method_steps;
+    }
     add_newton(it);
     if (it.newton.status == SolveStatus::kConverged) return true;
     out_.iterations.push_back(it);

@@ -207,7 +207,9 @@ class LoadStepper {
     // came easily, and after every two easy steps in a row (one growth per cutback kept a run
     // that had been cut back once at its small increment for the rest of the load: a drag
     // with friction took 1,616 steps for 30).
-    const bool easy = rec.newton.iterations <= 4;
+    // (Easy as Newton with the set held measures it: the method's steps it continued from,
+    // counted among the step's iterations, are not its own.)
+    const bool easy = rec.newton.iterations - rec.newton.method_steps <= 4;
     easy_in_a_row_ = easy ? easy_in_a_row_ + 1 : 0;
     if (increment_ < nominal_ && easy && (cutbacks_ > 0 || easy_in_a_row_ >= 2)) {
       increment_ = std::min(nominal_, 2.0 * increment_);

@@ -39,6 +39,9 @@ struct NewtonReport {
   std::string message;
   int iterations = 0;
   int factorizations = 0;              ///< Jacobians factorised (one per Newton iteration)
+  /// Of `iterations`, the contact method's steps that Newton with the set held continued from
+  /// (each a linearised solve with the sets updated, the first iteration of that Newton).
+  int method_steps = 0;
   std::vector<double> residual_norms;  ///< ‖R‖_∞ at each Jacobian evaluation, then the final one
   double final_residual = 0.0;         ///< ‖R‖_∞ at the returned u
   double last_step = 0.0;              ///< scaled length of the last Newton step
