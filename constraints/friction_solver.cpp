@@ -477,11 +477,7 @@ bool confirm_exactly(FrictionalSolver& solver, int max_solves, ConstraintSolutio
   o.start = &s;
   ConstraintSolution exact;
   solver.solve(o, exact);
-  s.factorizations += exact.factorizations;
-  s.numeric_seconds += exact.numeric_seconds;
-  s.symbolic_seconds += exact.symbolic_seconds;
-  s.solve_seconds += exact.solve_seconds;
-  s.symbolic_analyses += exact.symbolic_analyses;
+  add_solution_work(exact, s);
   if (exact.status != SolveStatus::kConverged) {
     why = exact.message;
     return false;

@@ -227,6 +227,14 @@ SolveStatus dual_active_set(const ConstrainedProblem& p, const SetSolve& solve_s
   return SolveStatus::kMaxIterations;
 }
 
+void add_solution_work(const ConstraintSolution& from, ConstraintSolution& to) {
+  to.factorizations += from.factorizations;
+  to.symbolic_analyses += from.symbolic_analyses;
+  to.symbolic_seconds += from.symbolic_seconds;
+  to.numeric_seconds += from.numeric_seconds;
+  to.solve_seconds += from.solve_seconds;
+}
+
 double saddle_point_scale(const ConstrainedProblem& p) {
   const VecX d = p.stiffness.diagonal().cwiseAbs();
   const double s = d.size() > 0 ? d.mean() : 1.0;

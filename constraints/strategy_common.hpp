@@ -77,6 +77,11 @@ void copy_solver_figures(const Report& r, ConstraintSolution& s) {
   s.factor = r;
 }
 
+/// Adds the linear-solver work one solution recorded (factorisations, symbolic analyses and
+/// the seconds of each phase) to another's: a first attempt's or a crossover's, kept with the
+/// solution that is returned.
+void add_solution_work(const ConstraintSolution& from, ConstraintSolution& to);
+
 /// Adds a solver's work between two of its reports (`before`, then `now`) to s's figures: a
 /// method that calls a kept solver repeatedly sums each call's share.
 template <class Report>

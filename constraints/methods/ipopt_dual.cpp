@@ -272,7 +272,7 @@ QpOutcome SurfaceDual::solve(const VecX& bound, const std::vector<char>& stick,
   // The motions' amplitudes α = σ² λ / |row| (Ipopt's multipliers of the scaled equations).
   const VecX alpha =
       have ? VecX(sigma_ * sigma_ * out.lambda.cwiseQuotient(row_norm_)) : VecX(VecX::Zero(nz));
-  w_ = have ? VecX(scale_.cwiseProduct(out.x)) : VecX(VecX::Zero(nj));
+  const VecX w = have ? VecX(scale_.cwiseProduct(out.x)) : VecX(VecX::Zero(nj));
   // Held rows: where the scaled force exceeds the scaled gap, the gradient of the dual (an
   // interior point's active-set indicator: of two complementary quantities one tends to zero).
   held_.assign(nj, 0);
@@ -283,14 +283,14 @@ QpOutcome SurfaceDual::solve(const VecX& bound, const std::vector<char>& stick,
     for (int r = 0; r < nj; ++r) held_[r] = !equality_[r] && last_x_[r] > last_grad_[r];
   }
   // u of the interior point: ζ = M⁺ (y0_R + S_RJ w) + N α.
-  const VecX zeta = m_plus_ * (y0_r_ + s_jr_.transpose() * w_) + null_ * alpha;
+  const VecX zeta = m_plus_ * (y0_r_ + s_jr_.transpose() * w) + null_ * alpha;
   std::vector<int> cols = all_;
   cols.insert(cols.end(), reg_.begin(), reg_.end());
-  VecX weights(w_.size() + zeta.size());
-  weights << w_, zeta;
+  VecX weights(w.size() + zeta.size());
+  weights << w, zeta;
   if (surface_->displacement(p_.load, cols, weights, s.u, false) != SolveStatus::kConverged)
     s.u = VecX::Zero(p_.num_unknowns());
-  forces(w_, s);
+  forces(w, s);
   return out;
 }
 

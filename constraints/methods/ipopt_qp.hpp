@@ -122,7 +122,7 @@ class SurfaceDual {
   VecX y0_r_, scale_, row_norm_;
   double sigma_ = 1.0;
   DenseQp qp_;
-  VecX w_, last_x_, last_grad_;     ///< the last solve's forces; its scaled x and gradient
+  VecX last_x_, last_grad_;         ///< the last solve's scaled x and gradient
   std::vector<char> held_;
   SolveStatus solved_ = SolveStatus::kFailed;
 };

@@ -319,15 +319,6 @@ using namespace ipopt_detail;
 
 namespace {
 
-/// The linear solver's work of `from` into `to` (a first attempt's, kept when it is redone).
-void carry_work(const ConstraintSolution& from, ConstraintSolution& to) {
-  to.factorizations += from.factorizations;
-  to.symbolic_analyses += from.symbolic_analyses;
-  to.symbolic_seconds += from.symbolic_seconds;
-  to.numeric_seconds += from.numeric_seconds;
-  to.solve_seconds += from.solve_seconds;
-}
-
 /// Frictionless: on the surface when it condenses and its set is confirmed, else Ipopt on the
 /// whole KKT system (one factorisation per interior-point iteration). Returns the iterations.
 int solve_frictionless(const ConstrainedProblem& p, const RowSet& base, const StrategyOptions& o,
@@ -338,7 +329,7 @@ int solve_frictionless(const ConstrainedProblem& p, const RowSet& base, const St
     s = std::move(surface);
     return s.iterations;
   }
-  carry_work(surface, s);
+  add_solution_work(surface, s);
   const QpOutcome qp = run_ipopt(p, base, VecX(), o, o.ipopt_tolerance);
   extract_forces(p, base, {}, qp, s);
   s.status = qp.status;
@@ -360,7 +351,7 @@ int solve_with_friction(const ConstrainedProblem& p, const RowSet& base, const S
   int iterations = 0;
   for (const bool surface : {true, false}) {
     ConstraintSolution attempt;
-    carry_work(s, attempt);
+    add_solution_work(s, attempt);
     VecX bound;
     bool exact = false, on_surface = false;
     attempt.message = solve_tresca_fixed_point(p, o, base, crossover, surface, attempt,
