@@ -37,9 +37,10 @@ SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<i
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
     const std::vector<int>& always, std::vector<std::vector<int>> groups,
-    const std::vector<double>& gap) {
+    const std::vector<double>& gap, bool anchor) {
   auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), std::move(ordering));
   if (!surface->fits()) return nullptr;
+  if (anchor && surface->factorize(k, always, true)) return surface;
   const int count = static_cast<int>(groups.size());
   std::vector<int> order(count);
   for (int g = 0; g < count; ++g) order[g] = g;
@@ -54,15 +55,95 @@ std::unique_ptr<SurfaceCondensation> condense_onto_rows(
   return nullptr;
 }
 
+namespace {
+
+/// Connected parts of the unknowns: joined by K's entries and by each of the rows `rows` of ct.
+class Parts {
+ public:
+  Parts(const SpMat& k, const SpMat& ct, const std::vector<int>& rows) : up_(k.rows()) {
+    for (int d = 0; d < k.rows(); ++d) up_[d] = d;
+    for (int c = 0; c < k.outerSize(); ++c)
+      for (SpMat::InnerIterator it(k, c); it; ++it) join(static_cast<int>(it.row()), c);
+    for (int r : rows) {
+      int first = -1;
+      for (SpMat::InnerIterator it(ct, r); it; ++it)
+        first < 0 ? void(first = static_cast<int>(it.row())) : join(first, static_cast<int>(it.row()));
+    }
+  }
+  int of(int d) {
+    while (up_[d] != d) d = up_[d] = up_[up_[d]];
+    return d;
+  }
+
+ private:
+  void join(int a, int b) {
+    a = of(a), b = of(b);
+    if (a != b) up_[std::max(a, b)] = std::min(a, b);
+  }
+  std::vector<int> up_;
+};
+
+}  // namespace
+
 SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering)
-    : ct_(std::move(ct)), slot_(ct_.cols(), -1) {
+    : user_ct_(std::move(ct)), rows_(static_cast<int>(user_ct_.cols())), ct_(user_ct_) {
+  user_ct_.makeCompressed();
   ct_.makeCompressed();
+  slot_.assign(ct_.cols(), -1);
   std::vector<char> touched(ct_.rows(), 0);
   for (int c = 0; c < ct_.outerSize(); ++c)
     for (SpMat::InnerIterator it(ct_, c); it; ++it) touched[it.row()] = 1;
   for (int d = 0; d < ct_.rows(); ++d)
     if (touched[d]) tail_dofs_.push_back(d);
+  block_start_ = {0, static_cast<int>(tail_dofs_.size())};
   if (ordering) tail_.set_ordering(std::move(ordering));
+}
+
+std::vector<int> SurfaceCondensation::set_anchors(const SpMat& k, const std::vector<int>& regularise,
+                                                  bool anchor) {
+  ct_ = user_ct_;
+  std::vector<int> reg = regularise;
+  if (!anchor) return reg;
+  // Per part: the tail unknowns of its first and last tail node (node = unknown / 2), enough for
+  // its rigid motions when both displacements are there, or the in-plane turn and translation
+  // of a surface whose rows touch one component (a flat's gaps: u_y only).
+  Parts parts(k, user_ct_, regularise);
+  std::vector<int> first(ct_.rows(), -1), last(ct_.rows(), -1);
+  for (int d : tail_dofs_) {
+    const int part = parts.of(d);
+    if (first[part] < 0) first[part] = d / 2;
+    last[part] = d / 2;
+  }
+  std::vector<Triplet> t;
+  for (int c = 0; c < user_ct_.outerSize(); ++c)
+    for (SpMat::InnerIterator it(user_ct_, c); it; ++it) t.emplace_back(it.row(), c, it.value());
+  int col = rows_;
+  for (int d : tail_dofs_) {
+    const int part = parts.of(d);
+    if (d / 2 != first[part] && d / 2 != last[part]) continue;
+    t.emplace_back(d, col, 1.0);
+    reg.push_back(col++);
+  }
+  ct_.resize(user_ct_.rows(), col);
+  ct_.setFromTriplets(t.begin(), t.end());
+  return reg;
+}
+
+void SurfaceCondensation::order_tail(const SpMat& k, const std::vector<int>& regularise) {
+  Parts parts(k, ct_, regularise);
+  tail_part_.resize(tail_dofs_.size());
+  for (size_t i = 0; i < tail_dofs_.size(); ++i) tail_part_[i] = parts.of(tail_dofs_[i]);
+}
+
+void SurfaceCondensation::find_blocks() {
+  // The factor's tail is grouped by part (TailCholesky): a block starts where the part changes.
+  const auto& pos = tail_.tail_position();
+  std::vector<int> part_at(tail_dofs_.size());
+  for (size_t i = 0; i < tail_dofs_.size(); ++i) part_at[pos[tail_dofs_[i]]] = tail_part_[i];
+  block_start_ = {0};
+  for (size_t i = 1; i < part_at.size(); ++i)
+    if (part_at[i] != part_at[i - 1]) block_start_.push_back(static_cast<int>(i));
+  block_start_.push_back(static_cast<int>(part_at.size()));
 }
 
 SurfaceCondensation::~SurfaceCondensation() = default;
@@ -72,10 +153,10 @@ bool SurfaceCondensation::fits() const {
   return kt > 0 && kt <= kMaxTail && kt < ct_.rows() && ct_.cols() <= kMaxRows;
 }
 
-bool SurfaceCondensation::factorize(const SpMat& k, const std::vector<int>& regularise) {
+bool SurfaceCondensation::factorize(const SpMat& k, const std::vector<int>& regularise,
+                                    bool anchor) {
   factored_ = false;
   known_.clear();
-  std::fill(slot_.begin(), slot_.end(), -1);
   v_.resize(0, 0);
   s_.resize(0, 0);
   cached_f_.resize(0);
@@ -83,19 +164,25 @@ bool SurfaceCondensation::factorize(const SpMat& k, const std::vector<int>& regu
     message_ = "the rows touch too many unknowns for a dense surface block";
     return false;
   }
-  k_rho_ = regularised_stiffness(k, ct_, regularise, rho_);
-  if (tail_.factorize(k_rho_, tail_dofs_) != SolveStatus::kConverged ||
+  const std::vector<int> reg = set_anchors(k, regularise, anchor);
+  slot_.assign(ct_.cols(), -1);
+  order_tail(k, reg);
+  k_rho_ = regularised_stiffness(k, ct_, reg, rho_);
+  if (tail_.factorize(k_rho_, tail_dofs_, tail_part_) != SolveStatus::kConverged ||
       !(tail_.report().pivot_ratio > kMinPivotRatio)) {
     message_ = tail_.report().message.empty() ? "K_ρ is singular to working precision"
                                               : tail_.report().message;
     return false;
   }
+  find_blocks();
   message_.clear();
   factored_ = true;
   return true;
 }
 
 void SurfaceCondensation::prepare(const std::vector<int>& rows) {
+  const auto& pos = tail_.tail_position();
+  const int kt = tail_.tail_size();
   std::vector<int> fresh;
   for (int r : rows)
     if (slot_[r] < 0) {
@@ -104,22 +191,66 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
     }
   if (fresh.empty()) return;
   const core::Stopwatch clock;
-  const int kt = tail_.tail_size(), old = static_cast<int>(known_.size());
+  const int old = static_cast<int>(known_.size());
   const int nf = static_cast<int>(fresh.size()), all = old + nf;
-  const auto& pos = tail_.tail_position();
   Eigen::MatrixXd block = Eigen::MatrixXd::Zero(kt, nf);
   for (int c = 0; c < nf; ++c)
     for (SpMat::InnerIterator it(ct_, fresh[c]); it; ++it) block(pos[it.row()], c) = it.value();
-  tail_.tail_factor().triangularView<Eigen::Lower>().solveInPlace(block);
+  known_.insert(known_.end(), fresh.begin(), fresh.end());
+  // Per diagonal block [b0, b1) of L₂₂ (a part of the tail), the new columns that reach it, by
+  // where they start in it, in chunks: a chunk starting at p needs L₂₂[p:b1, p:b1] only, and
+  // its S entries sum over the rows p..b1 (V is zero above a column's start, D₂⁻¹ diagonal).
+  struct Chunk {
+    int p;
+    std::vector<int> cols;
+  };
+  std::vector<Chunk> chunks;
+  for (size_t b = 0; b + 1 < block_start_.size(); ++b) {
+    const int b0 = block_start_[b], b1 = block_start_[b + 1];
+    std::vector<std::pair<int, int>> reach;  // (start, column)
+    for (int c = 0; c < nf; ++c) {
+      int start = b1;
+      for (SpMat::InnerIterator it(ct_, fresh[c]); it; ++it) {
+        const int at = pos[it.row()];
+        if (at >= b0 && at < b1) start = std::min(start, at);
+      }
+      if (start < b1) reach.emplace_back(start, c);
+    }
+    std::sort(reach.begin(), reach.end());
+    const int count = static_cast<int>(reach.size()), pieces = std::min(count, 8);
+    for (int q = 0; q < pieces; ++q) {
+      Chunk chunk{reach[q * count / pieces].first, {}};
+      for (int i = q * count / pieces; i < (q + 1) * count / pieces; ++i)
+        chunk.cols.push_back(reach[i].second);
+      const int h = b1 - chunk.p, w = static_cast<int>(chunk.cols.size());
+      Eigen::MatrixXd part(h, w);
+      for (int j = 0; j < w; ++j) part.col(j) = block.col(chunk.cols[j]).segment(chunk.p, h);
+      tail_.tail_factor().block(chunk.p, chunk.p, h, h).triangularView<Eigen::Lower>().solveInPlace(part);
+      for (int j = 0; j < w; ++j) block.col(chunk.cols[j]).segment(chunk.p, h) = part.col(j);
+      chunks.push_back(std::move(chunk));
+    }
+  }
   v_.conservativeResize(kt, all);
   v_.rightCols(nf) = block;
-  known_.insert(known_.end(), fresh.begin(), fresh.end());
-  // S's new columns against every known row (D₂⁻¹ folded into the new block), mirrored.
-  const Eigen::MatrixXd scaled = tail_.tail_pivots().cwiseInverse().asDiagonal() * block;
-  const Eigen::MatrixXd cols = v_.transpose() * scaled;  // all × nf
   s_.conservativeResize(all, all);
-  s_.rightCols(nf) = cols;
-  s_.bottomLeftCorner(nf, old) = cols.topRows(old).transpose();
+  s_.rightCols(nf).setZero();
+  const VecX inverse_pivots = tail_.tail_pivots().cwiseInverse();
+  for (const Chunk& chunk : chunks) {
+    const int p = chunk.p, w = static_cast<int>(chunk.cols.size());
+    int b1 = kt;
+    for (int start : block_start_)
+      if (start > p) {
+        b1 = start;
+        break;
+      }
+    const int h = b1 - p;
+    Eigen::MatrixXd scaled(h, w);
+    for (int j = 0; j < w; ++j)
+      scaled.col(j) = inverse_pivots.segment(p, h).cwiseProduct(block.col(chunk.cols[j]).segment(p, h));
+    const Eigen::MatrixXd add = v_.middleRows(p, h).transpose() * scaled;  // all × w
+    for (int j = 0; j < w; ++j) s_.col(old + chunk.cols[j]) += add.col(j);
+  }
+  s_.bottomLeftCorner(nf, old) = s_.topRightCorner(old, nf).transpose();
   dense_seconds_ += clock.elapsed();
 }
 
@@ -170,8 +301,13 @@ SolveStatus SurfaceCondensation::displacement(const VecX& f, const std::vector<i
   VecX forward = forward_;
   forward.tail(kt) += pushed.cwiseQuotient(tail_.tail_pivots());
   if (tail_only) {
-    const VecX ut =
-        tail_.tail_factor().triangularView<Eigen::Lower>().transpose().solve(forward.tail(kt));
+    VecX ut = forward.tail(kt);
+    for (size_t b = 0; b + 1 < block_start_.size(); ++b) {
+      const int b0 = block_start_[b], h = block_start_[b + 1] - b0;
+      auto segment = ut.segment(b0, h);
+      tail_.tail_factor().block(b0, b0, h, h).triangularView<Eigen::Lower>().transpose().solveInPlace(
+          segment);
+    }
     u = VecX::Zero(ct_.rows());
     for (int d : tail_dofs_) u[d] = ut[tail_.tail_position()[d]];
     dense_seconds_ += clock.elapsed();
@@ -254,7 +390,7 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
   for (const Entry& e : b_map) last_w_[e.col] += e.v * x[e.x];
   for (const auto& [c, v] : w0) last_w_[c] += v;
   last_cols_ = cols;
-  force = VecX::Zero(rows);
+  force = VecX::Zero(rows_);
   for (int h = 0; h < nh; ++h) force[states.held[h]] = x[h];
   for (size_t k = 0; k < states.following.size(); ++k) {
     const int lead = states.leader[k];

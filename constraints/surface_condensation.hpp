@@ -14,6 +14,16 @@
 // and the whole u with one back substitution. A change of the rows' states then costs dense
 // work on the rows in play, never another sparse factorisation: the frictional surface block
 // (non-symmetric through its slip rows) is a small dense LU.
+//
+// Bodies apart. K couples no two bodies; only the rows do (contact rows join slave and master).
+// So R is first the caller's rows that must regularise (equalities) plus *anchor rows* of the
+// condensation's own: the two displacements of two tail nodes of each connected part of K
+// (a body, with what its equality rows tie to it), which remove its rigid motions without
+// joining it to another. The tail is ordered part by part, and L₂₂ is block diagonal: its
+// factorisation costs Σ k_b³ instead of (Σ k_b)³, each solve Σ k_b² (a cylinder on a block:
+// about a quarter and a half). Where that leaves K_ρ singular (a part with a mechanism), R takes
+// contact rows as before, which join the parts into one block. Anchor rows are never held;
+// their forces are the auxiliary ζ alone, so they change nothing in the solution.
 #pragma once
 
 #include <Eigen/Dense>
@@ -41,10 +51,12 @@ class SurfaceCondensation;
 /// gap in `gap`, the smallest nearest), or of every group when those leave a rigid mode (a body
 /// held only by its constraints). Null when the rows do not fit a dense surface block or K_ρ is
 /// not definite even with every group.
+/// With `anchor` (see above), first R = `always` and anchor rows. Without it (a caller that reads
+/// ρ and R itself: ipopt's dual), R never holds rows of the condensation's own.
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
     const std::vector<int>& always, std::vector<std::vector<int>> groups,
-    const std::vector<double>& gap);
+    const std::vector<double>& gap, bool anchor = true);
 
 class SurfaceCondensation {
  public:
@@ -65,8 +77,11 @@ class SurfaceCondensation {
   /// |c_q|², so that ρ_q c_q c_qᵀ is as stiff as K around it). False when K_ρ is not positive
   /// definite to working precision (pivot ratio 1e-11): R leaves a rigid mode, or K_σ made K
   /// indefinite. `k` is referenced until the next factorize.
-  bool factorize(const SpMat& k, const std::vector<int>& regularise);
-  /// ρ per row (0 outside R).
+  /// With `anchor`, R also holds anchor rows (rows() and beyond), two per tail node anchored.
+  bool factorize(const SpMat& k, const std::vector<int>& regularise, bool anchor = false);
+  /// The caller's rows (the columns of `ct`).
+  int rows() const { return rows_; }
+  /// ρ per row (0 outside R), anchor rows last.
   const VecX& rho() const { return rho_; }
 
   /// The rows' states for one solve, in terms of the row forces w (u = K⁻¹(f + Cᵀ w), K's
@@ -112,9 +127,20 @@ class SurfaceCondensation {
   /// v_r for every row of `rows` (new ones in one dense triangular solve) and S's new columns.
   void prepare(const std::vector<int>& rows);
   SolveStatus forward(const VecX& f);
+  /// The part of each tail unknown (connected parts of K and the rows of `regularise`, anchors
+  /// included) into tail_part_; the factor groups its tail by part.
+  void order_tail(const SpMat& k, const std::vector<int>& regularise);
+  /// block_start_ from the factor's tail.
+  void find_blocks();
+  /// ct_ = the caller's rows and, with `anchor`, the anchor rows of each part; their indices.
+  std::vector<int> set_anchors(const SpMat& k, const std::vector<int>& regularise, bool anchor);
 
-  SpMat ct_;
-  std::vector<int> tail_dofs_;
+  SpMat user_ct_;                  ///< the caller's rows
+  int rows_ = 0;
+  SpMat ct_;                       ///< the caller's rows, then the anchor rows
+  std::vector<int> tail_dofs_;     ///< the tail (ascending)
+  std::vector<int> tail_part_;     ///< each one's part
+  std::vector<int> block_start_;   ///< where each part starts in the factor's tail (and its end)
   core::TailCholesky tail_;
   SpMat k_rho_;                    ///< K_ρ, factorised in tail_
   VecX rho_;

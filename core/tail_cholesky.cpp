@@ -39,6 +39,7 @@ struct TailCholesky::Impl {
   cholmod_factor* factor = nullptr;
   Eigen::Index rows = -1, nnz = -1;  ///< the analysed pattern
   std::vector<int> tail;             ///< the analysed tail
+  std::vector<int> tail_part;        ///< and its parts (empty: one)
   SpMat compressed;                  ///< K's copy when K is not compressed
   std::shared_ptr<const FillOrder> fill;  ///< the caller's order, null for CAMD
 
@@ -95,6 +96,14 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   } else if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) {
     return false;
   }
+  if (!m.tail_part.empty()) {
+    // The tail grouped by part, each in the order above: a part's block is the tail's only
+    // coupling to it (L₂₂ block diagonal when the parts are K's unconnected pieces).
+    std::vector<int> part(n_, 0);
+    for (size_t i = 0; i < tail.size(); ++i) part[tail[i]] = m.tail_part[i];
+    std::stable_sort(perm.end() - static_cast<std::ptrdiff_t>(tail.size()), perm.end(),
+                     [&](int a, int b) { return part[a] < part[b]; });
+  }
   m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
   if (!m.factor) return false;
   m.rows = k.rows();
@@ -110,8 +119,10 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   return true;
 }
 
-SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail) {
+SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail,
+                                    const std::vector<int>& tail_part) {
   Impl& m = *impl_;
+  if (tail_part != m.tail_part) m.tail_part = tail_part, m.rows = -1;  // analyse again
   report_.message.clear();
   report_.backend = "cholmod";
   n_ = static_cast<int>(k.rows());

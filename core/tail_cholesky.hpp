@@ -36,7 +36,11 @@ class TailCholesky {
   /// Factorises K (symmetric; the lower triangle is used) with the unknowns `tail` ordered
   /// last. The ordering and symbolic analysis are kept while K's size, non-zero count and the
   /// tail are unchanged. Reports kSingular when K is not positive definite.
-  SolveStatus factorize(const SpMat& k, const std::vector<int>& tail);
+  /// `tail_part` (empty, or a part number per entry of `tail`) groups the tail by part, lowest
+  /// first, each part in the order the ordering gives it: L₂₂ is then block diagonal when no
+  /// entry of K joins two parts.
+  SolveStatus factorize(const SpMat& k, const std::vector<int>& tail,
+                        const std::vector<int>& tail_part = {});
   /// Orders matrices of its size by `fill`'s order (e.g. mesh_fill_order) with the tail
   /// moved last, both parts keeping their relative order, instead of CAMD on the matrix.
   void set_ordering(std::shared_ptr<const FillOrder> fill);

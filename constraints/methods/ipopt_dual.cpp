@@ -163,8 +163,9 @@ std::unique_ptr<SurfaceDual> SurfaceDual::build(const ConstrainedProblem& p, con
     if (const int tr = d->tangential_of_[base.rows[r].source]; tr >= 0) groups.back().push_back(tr);
     gap.push_back(-d->b_[r]);
   }
+  // (no anchor rows: the dual reads R from ρ and treats its rows as the caller's)
   d->surface_ = condense_onto_rows(std::move(ct), p.stiffness, p.ordering, always,
-                                   std::move(groups), gap);
+                                   std::move(groups), gap, false);
   if (!d->surface_) return nullptr;
   if (!d->condense()) {
     d->report(work);
