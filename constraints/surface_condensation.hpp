@@ -81,6 +81,8 @@ class SurfaceCondensation {
   bool factorize(const SpMat& k, const std::vector<int>& regularise, bool anchor = false);
   /// The caller's rows (the columns of `ct`).
   int rows() const { return rows_; }
+  /// The diagonal blocks of L₂₂ (the tail's parts) of the last factorisation.
+  int tail_blocks() const { return static_cast<int>(block_start_.size()) - 1; }
   /// ρ per row (0 outside R), anchor rows last.
   const VecX& rho() const { return rho_; }
 

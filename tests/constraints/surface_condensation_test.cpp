@@ -126,6 +126,53 @@ TEST(SurfaceCondensation, FloatingBodyIsSolvedExactlyThroughItsRegularisingRows)
   for (unsigned seed : {4u, 5u, 6u}) expect_matches(true, seed);
 }
 
+TEST(SurfaceCondensation, TwoFloatingBodiesAnchoredApartMatchTheAssembledSystem) {
+  // Two floating chains (bodies) joined only by rows 4..19 (contact-like: two entries on each);
+  // rows 0..3 (equality-like) on the first alone. With anchor rows each chain is its own block
+  // of L₂₂, and the solution is still the assembled system's (tolerance as above).
+  for (unsigned seed : {11u, 12u, 13u}) {
+    std::mt19937 rng(seed);
+    const int half = 100, n = 2 * half, rows = 20;
+    std::vector<Triplet> t;
+    for (const SpMat& c : {chain(half, true), chain(half, true)}) {
+      const int at = t.empty() ? 0 : half;
+      for (int j = 0; j < c.outerSize(); ++j)
+        for (SpMat::InnerIterator it(c, j); it; ++it) t.emplace_back(at + it.row(), at + j, it.value());
+    }
+    SpMat k(n, n);
+    k.setFromTriplets(t.begin(), t.end());
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::uniform_int_distribution<int> near(0, 29);
+    std::vector<Triplet> c;
+    for (int r = 0; r < rows; ++r) {
+      c.emplace_back(near(rng), r, u(rng));
+      c.emplace_back(near(rng), r, u(rng));
+      c.emplace_back(r < 4 ? near(rng) : half + near(rng), r, u(rng));
+      if (r >= 4) c.emplace_back(half + near(rng), r, u(rng));
+    }
+    SpMat ct(n, rows);
+    ct.setFromTriplets(c.begin(), c.end());
+    SurfaceCondensation sc(ct, nullptr);
+    ASSERT_TRUE(sc.factorize(k, {0, 1, 2, 3}, true)) << sc.message();
+    EXPECT_EQ(sc.tail_blocks(), 2);
+    EXPECT_EQ(sc.rows(), rows);
+    const VecX f = VecX::NullaryExpr(n, [&] { return u(rng); });
+    const States st = mixed_states(rng);
+    VecX w, u_tail, u_full, u_ref, w_ref;
+    double rcond = 0.0;
+    ASSERT_EQ(sc.solve(f, st, w, u_tail, rcond), SolveStatus::kConverged) << sc.message();
+    ASSERT_EQ(sc.complete(u_full), SolveStatus::kConverged);
+    dense_reference(k, ct, f, st, u_ref, w_ref);
+    const double scale = std::max(u_ref.cwiseAbs().maxCoeff(), w_ref.cwiseAbs().maxCoeff());
+    ASSERT_EQ(w.size(), rows);
+    EXPECT_LT((u_full - u_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
+    EXPECT_LT((w - w_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
+    for (int d = 0; d < n; ++d) {
+      if (u_tail[d] != 0.0) EXPECT_NEAR(u_tail[d], u_ref[d], 1e-9 * scale) << d;
+    }
+  }
+}
+
 TEST(SurfaceCondensation, RowsThatCannotHoldAFloatingBodyAreSingular) {
   // No row held: nothing holds the floating chain (the regularising rows cancel exactly).
   std::mt19937 rng(9);
