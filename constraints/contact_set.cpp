@@ -87,11 +87,11 @@ void ContactSet::add_gap_elements(const core::ExplicitModel& legacy) {
     pairs_.push_back(std::make_unique<NodeToNode>(std::move(gaps), static_cast<int>(spec_.pairs.size())));
 }
 
-std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain) const {
+std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain, bool curvature) const {
   const core::Mesh& mesh = model_.mesh;
   std::vector<Vec2> x(mesh.num_nodes());
   for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
-  const Configuration c{x, mesh.nodes, small_strain, &u};
+  const Configuration c{x, mesh.nodes, small_strain, &u, curvature};
   std::vector<GapRow> rows;
   for (size_t p = 0; p < pairs_.size(); ++p) pairs_[p]->detect(c, first_slot_[p], rows);
   return rows;

@@ -117,7 +117,9 @@ class ContactSet {
 
   /// Gap rows at the configuration X + u (u: full displacement vector); `small_strain` takes
   /// normals and measures from the reference configuration (see Configuration).
-  std::vector<GapRow> detect(const VecX& u_full, bool small_strain = false) const;
+  /// Without `curvature`, finite-strain rows carry their values and gradients only.
+  std::vector<GapRow> detect(const VecX& u_full, bool small_strain = false,
+                             bool curvature = true) const;
 
   /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
   /// configuration), with prescribed DOFs moved into g0.

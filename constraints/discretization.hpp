@@ -26,6 +26,9 @@ struct Configuration {
   const std::vector<Vec2>& reference;  ///< the mesh's node positions
   bool small_strain = false;
   const VecX* u = nullptr;  ///< the displacement (2 per node) x was formed from, when known
+  /// Finite strain: the rows' curvature (their Hessian, for the contact's geometric stiffness)
+  /// too, else their values and gradients only (a residual's needs; curvature left empty).
+  bool curvature = true;
 
   /// The positions for exact gap derivatives (displacement kept apart when known).
   Positions positions() const { return u ? Positions{reference, u} : Positions{x, nullptr}; }

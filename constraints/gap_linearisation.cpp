@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 namespace c2d::constraints {
 
@@ -25,9 +26,22 @@ struct Jets {
   using J2 = ceres::Jet<J1, kN>;
 };
 
+/// First-order Jets (value and gradient) for evaluations that need no Hessian.
+template <int kMaxNodes>
+using FirstOrder = ceres::Jet<double, 2 * kMaxNodes>;
+
 template <class J>
 J constant(double v) {
   return J(typename J::Scalar(v));
+}
+
+/// A Jet's value, first or second order.
+template <class J>
+double value_of(const J& j) {
+  if constexpr (std::is_same_v<typename J::Scalar, double>)
+    return j.a;
+  else
+    return j.a.a;
 }
 
 template <class J>
@@ -74,8 +88,12 @@ class Variables {
     nodes_.push_back(node);
     const Vec2 v = (x_.reference[node] - x_.reference[origin_]) +
                    (x_.displacement(node) - x_.displacement(origin_));
-    using J1 = typename J::Scalar;
-    pos_.push_back({J(J1(v.x(), 2 * k), 2 * k), J(J1(v.y(), 2 * k + 1), 2 * k + 1)});
+    if constexpr (std::is_same_v<typename J::Scalar, double>) {
+      pos_.push_back({J(v.x(), 2 * k), J(v.y(), 2 * k + 1)});
+    } else {
+      using J1 = typename J::Scalar;
+      pos_.push_back({J(J1(v.x(), 2 * k), 2 * k), J(J1(v.y(), 2 * k + 1), 2 * k + 1)});
+    }
     return pos_.back();
   }
   /// A fixed point (an obstacle's) relative to the origin.
@@ -87,11 +105,18 @@ class Variables {
     LocalGap out;
     out.nodes = nodes_;
     const int n = 2 * static_cast<int>(nodes_.size());
-    out.value = g.a.a;
-    out.gradient = g.a.v.head(n);
-    out.hessian.resize(n, n);
-    for (int i = 0; i < n; ++i) out.hessian.row(i) = g.v[i].v.head(n).transpose();
-    out.hessian = 0.5 * (out.hessian + out.hessian.transpose()).eval();
+    if constexpr (std::is_same_v<typename J::Scalar, double>) {  // no Hessian
+      out.value = g.a;
+      out.gradient = g.v.head(n);
+      return out;
+    }
+    out.value = value_of(g);
+    if constexpr (!std::is_same_v<typename J::Scalar, double>) {
+      out.gradient = g.a.v.head(n);
+      out.hessian.resize(n, n);
+      for (int i = 0; i < n; ++i) out.hessian.row(i) = g.v[i].v.head(n).transpose();
+      out.hessian = 0.5 * (out.hessian + out.hessian.transpose()).eval();
+    }
     return out;
   }
 
@@ -189,7 +214,7 @@ J vertex_value(const MasterSurfaceSearch& search, const SegmentProjection& q, Va
       const J band = constant<J>(0.1) * norm(v.at(e.nodes[1]) - v.at(e.nodes[0]));
       const P<J> out = normalized(v.at(e.nodes[end]) - v.at(e.nodes[1 - end]));
       const J past = dot(out, d);
-      return past.a.a > 0.0 ? dot(edge_n, d) + past * past / band : dot(edge_n, d);
+      return value_of(past) > 0.0 ? dot(edge_n, d) + past * past / band : dot(edge_n, d);
     }
     case SegmentProjection::Branch::kVertexOutside:
       return norm(d);
@@ -199,7 +224,7 @@ J vertex_value(const MasterSurfaceSearch& search, const SegmentProjection& q, Va
         const MasterEdge& a = search.edges()[id];
         mean = mean + outward(curve(a, v, constant<J>(a.nodes[0] == e.nodes[end] ? 0.0 : 1.0)).t);
       }
-      return dot(mean.x.a.a == 0.0 && mean.y.a.a == 0.0 ? edge_n : normalized(mean), d);
+      return dot(value_of(mean.x) == 0.0 && value_of(mean.y) == 0.0 ? edge_n : normalized(mean), d);
     }
   }
 }
@@ -243,21 +268,30 @@ void LocalGap::add(double scale, const LocalGap& other) {
 }
 
 LocalGap node_segment_gap(const MasterSurfaceSearch& search, const SegmentProjection& q,
-                          int slave, const Positions& x) {
+                          int slave, const Positions& x, bool hessian) {
   // On an edge's interior or its rounded end: the slave node and the edge (at most 4 nodes);
   // at a vertex: the edges that meet there too.
   const bool one_edge = q.branch == SegmentProjection::Branch::kEdge ||
                         q.branch == SegmentProjection::Branch::kRoundedEnd ||
                         q.branch == SegmentProjection::Branch::kVertexOutside;
-  if (one_edge) return node_segment<Jets<4>::J2>(search, q, slave, x);
-  return node_segment<Jets<8>::J2>(search, q, slave, x);
+  if (!hessian)
+    return one_edge ? node_segment<FirstOrder<4>>(search, q, slave, x)
+                    : node_segment<FirstOrder<8>>(search, q, slave, x);
+  return one_edge ? node_segment<Jets<4>::J2>(search, q, slave, x)
+                  : node_segment<Jets<8>::J2>(search, q, slave, x);
 }
 
-LocalGap obstacle_gap(const Obstacle& obstacle, int slave, const Positions& x) {
-  using J = Jets<1>::J2;
+namespace {
+template <class J>
+LocalGap obstacle(const Obstacle& obstacle, int slave, const Positions& x) {
   Variables<J> v(x);
   const P<J> p = v.at(slave);
   return v.result(obstacle_value(obstacle, v, p));
+}
+}  // namespace
+
+LocalGap obstacle_gap(const Obstacle& o, int slave, const Positions& x, bool hessian) {
+  return hessian ? obstacle<Jets<1>::J2>(o, slave, x) : obstacle<FirstOrder<1>>(o, slave, x);
 }
 
 void mortar_point(const MasterEdge& slave, SegmentEnd a, SegmentEnd b, double s,

@@ -48,7 +48,7 @@ bool ActiveSetSystem::residual(const VecX& x, VecX& r) {
 bool ActiveSetSystem::factorize_jacobian(const VecX& x) {
   if (!base_.assemble_tangent(base_.full(x.head(n_)))) return false;
   if (!moving_) return terms_->factorize(base_.matrix());
-  if (!evaluate(x)) return false;
+  if (!evaluate(x, true)) return false;
   terms_->update_rows(g_);
   // The geometric stiffness of the compressive row forces. Far from the solution a penalty
   // row's force k·g can be far off, tensile even, where the strategy's linearised step missed
@@ -69,10 +69,11 @@ std::string ActiveSetSystem::evaluation_failure() const {
   return lost_.empty() ? base_.evaluation_failure() : lost_;
 }
 
-bool ActiveSetSystem::evaluate(const VecX& x) {
-  if (evaluated_ && x.head(n_) == at_) return lost_.empty();
+bool ActiveSetSystem::evaluate(const VecX& x, bool curvature) {
+  if (evaluated_ && x.head(n_) == at_ && (curved_ || !curvature)) return lost_.empty();
   const VecX full = base_.full(x.head(n_));
-  const std::vector<GapRow> fresh = contact_.detect(full, false);
+  const std::vector<GapRow> fresh = contact_.detect(full, false, curvature);
+  curved_ = curvature;
   std::vector<int> by_slot(contact_.num_slots(), -1);
   for (size_t k = 0; k < fresh.size(); ++k) by_slot[fresh[k].slot] = static_cast<int>(k);
   const int m = num_gaps(), me = static_cast<int>(c_.size()) - m;

@@ -58,7 +58,9 @@ class ActiveSetSystem final : public NewtonSystem {
   /// Finite strain: the rows, G and the gaps at x (kept for the last x evaluated). A slot
   /// found no longer keeps its last row when it is open (it carries no force); an active one
   /// fails the evaluation.
-  bool evaluate(const VecX& x);
+  /// With `curvature`, the rows' Hessians too (the Jacobian's geometric stiffness); a residual
+  /// needs values and gradients only, a ninth of the cost.
+  bool evaluate(const VecX& x, bool curvature = false);
 
   StructuralSystem& base_;
   const constraints::ContactSet& contact_;
@@ -74,6 +76,7 @@ class ActiveSetSystem final : public NewtonSystem {
   VecX fixed_force_;
   // Finite strain: the rows at the last iterate evaluated.
   bool evaluated_ = false;
+  bool curved_ = false;  ///< the rows evaluated carry their curvature
   VecX at_, gap_now_;
   std::vector<constraints::GapRow> rows_now_;
   std::vector<constraints::EqualityRow> eq_now_;  ///< nonlinear equality rows at the iterate

@@ -435,7 +435,7 @@ class ConstrainedStep {
     double scale = 0.0;
     for (const double f : force_by_slot_) scale = std::max(scale, std::abs(f));
     const RuleScales scales = rule_scales(qp, scale, saddle_point_scale(qp));
-    for (const GapRow& r : contact_.detect(system_.full(u_), false)) {
+    for (const GapRow& r : contact_.detect(system_.full(u_), false, false)) {
       found[r.slot] = 1;
       RowSolution row;
       row.held = held[r.slot] != 0;
@@ -545,7 +545,8 @@ class ConstrainedStep {
   /// "converged" is checked on the final state: the rows detected afresh at the final
   /// positions may not penetrate beyond what the method reports. A failed step is measured too.
   void verify_final_state() {
-    const std::vector<GapRow> fresh = contact_.detect(system_.full(u_), system_.is_linear());
+    const std::vector<GapRow> fresh =
+        contact_.detect(system_.full(u_), system_.is_linear(), false);
     double measured = 0.0;
     for (const GapRow& r : fresh) measured = std::max(measured, -r.gap);
     out_.measured_penetration = measured;

@@ -40,7 +40,8 @@ void NodeToSegment::detect_obstacle(const Configuration& c, int first_slot,
     }
     if (g > search_) continue;
     GapRow r = node_row(s, n, g, {});
-    if (!c.small_strain) set_row_derivatives(obstacle_gap(*obstacle_, s, c.positions()), r);
+    if (!c.small_strain)
+      set_row_derivatives(obstacle_gap(*obstacle_, s, c.positions(), c.curvature), r);
     r.pair = index_;
     r.slot = first_slot + static_cast<int>(k);
     rows.push_back(r);
@@ -73,7 +74,8 @@ void NodeToSegment::detect(const Configuration& c, int first_slot,
     GapRow r = node_row(s, n, g, master);
     // Finite strain: the exact gradient of the gap (it differs from the rows of node_row at
     // vertices, where the normal depends on the master's nodes) and its Hessian.
-    if (!c.small_strain) set_row_derivatives(node_segment_gap(search, q, s, c.positions()), r);
+    if (!c.small_strain)
+      set_row_derivatives(node_segment_gap(search, q, s, c.positions(), c.curvature), r);
     r.pair = index_;
     r.slot = first_slot + static_cast<int>(k);
     rows.push_back(r);

@@ -111,8 +111,15 @@ RowsAt surface_rows(const Surface& s, int first_slave) {
       if (!q.found) continue;
       GapRow r;
       r.gap = q.gap;
-      set_row_derivatives(node_segment_gap(search, q, k, Positions{x}), r);
-      EXPECT_NEAR(r.gap, node_segment_gap(search, q, k, Positions{x}).value, 1e-13) << "node " << k;
+      const LocalGap full = node_segment_gap(search, q, k, Positions{x});
+      set_row_derivatives(full, r);
+      EXPECT_NEAR(r.gap, full.value, 1e-13) << "node " << k;
+      // Without the Hessian (a residual's evaluation): the same value and gradient, to 1e-13.
+      const LocalGap first = node_segment_gap(search, q, k, Positions{x}, false);
+      EXPECT_NEAR(first.value, full.value, 1e-13) << "node " << k;
+      EXPECT_EQ(first.nodes, full.nodes) << "node " << k;
+      EXPECT_LT((first.gradient - full.gradient).cwiseAbs().maxCoeff(), 1e-13) << "node " << k;
+      EXPECT_EQ(first.hessian.size(), 0) << "node " << k;
       out[k] = r;
     }
     return out;
