@@ -84,8 +84,34 @@ States mixed_states(std::mt19937& rng) {
   return st;
 }
 
-/// Tolerance: 1e-9 of the solution's largest entry (the chain's condition number is ~n² = 4e4
-/// grounded, a few times that floating).
+/// Solves a random load with mixed_states on `sc` (factorised) and compares u, the rows' forces
+/// and the tail-only u with the assembled system's. Tolerance: 1e-9 of the solution's largest
+/// entry (the chain's condition number is ~n² = 4e4 grounded, a few times that floating).
+void expect_assembled_solution(SurfaceCondensation& sc, const SpMat& k, const SpMat& ct,
+                               std::mt19937& rng) {
+  const int n = static_cast<int>(k.rows());
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const VecX f = VecX::NullaryExpr(n, [&] { return u(rng); });
+  const States st = mixed_states(rng);
+  VecX w, u_tail, u_full, u_ref, w_ref;
+  double rcond = 0.0;
+  ASSERT_EQ(sc.solve(f, st, w, u_tail, rcond), SolveStatus::kConverged) << sc.message();
+  ASSERT_EQ(sc.complete(u_full), SolveStatus::kConverged);
+  dense_reference(k, ct, f, st, u_ref, w_ref);
+  const double scale = std::max(u_ref.cwiseAbs().maxCoeff(), w_ref.cwiseAbs().maxCoeff());
+  ASSERT_EQ(w.size(), ct.cols());
+  EXPECT_LT((u_full - u_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  EXPECT_LT((w - w_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  // On the unknowns the rows touch (the tail) the tail-only u is the whole u's; zero elsewhere.
+  std::vector<char> touched(n, 0);
+  for (int c = 0; c < ct.outerSize(); ++c)
+    for (SpMat::InnerIterator it(ct, c); it; ++it) touched[it.row()] = 1;
+  for (int d = 0; d < n; ++d)
+    EXPECT_NEAR(u_tail[d], touched[d] ? u_ref[d] : 0.0, 1e-9 * scale) << d;
+  EXPECT_GT(rcond, 1e-13);
+}
+
+/// A chain with random rows, solved with mixed states (expect_assembled_solution).
 void expect_matches(bool floating, unsigned seed) {
   std::mt19937 rng(seed);
   const int n = 200, rows = 20;
@@ -96,24 +122,7 @@ void expect_matches(bool floating, unsigned seed) {
   // R: the four held rows and two normal rows with their tangential rows (enough for the
   // chain's one rigid mode when floating).
   ASSERT_TRUE(sc.factorize(k, {0, 1, 2, 3, 4, 5, 12, 13})) << sc.message();
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const VecX f = VecX::NullaryExpr(n, [&] { return u(rng); });
-  const States st = mixed_states(rng);
-  VecX w, u_tail, u_full, u_ref, w_ref;
-  double rcond = 0.0;
-  ASSERT_EQ(sc.solve(f, st, w, u_tail, rcond), SolveStatus::kConverged) << sc.message();
-  ASSERT_EQ(sc.complete(u_full), SolveStatus::kConverged);
-  dense_reference(k, ct, f, st, u_ref, w_ref);
-  const double scale = std::max(u_ref.cwiseAbs().maxCoeff(), w_ref.cwiseAbs().maxCoeff());
-  EXPECT_LT((u_full - u_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
-  EXPECT_LT((w - w_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
-  // On the unknowns the rows touch (the tail) the tail-only u is the whole u's; zero elsewhere.
-  std::vector<char> touched(n, 0);
-  for (int c = 0; c < ct.outerSize(); ++c)
-    for (SpMat::InnerIterator it(ct, c); it; ++it) touched[it.row()] = 1;
-  for (int d = 0; d < n; ++d)
-    EXPECT_NEAR(u_tail[d], touched[d] ? u_ref[d] : 0.0, 1e-9 * scale) << d;
-  EXPECT_GT(rcond, 1e-13);
+  expect_assembled_solution(sc, k, ct, rng);
 }
 
 }  // namespace
@@ -156,20 +165,7 @@ TEST(SurfaceCondensation, TwoFloatingBodiesAnchoredApartMatchTheAssembledSystem)
     ASSERT_TRUE(sc.factorize(k, {0, 1, 2, 3}, true)) << sc.message();
     EXPECT_EQ(sc.tail_blocks(), 2);
     EXPECT_EQ(sc.rows(), rows);
-    const VecX f = VecX::NullaryExpr(n, [&] { return u(rng); });
-    const States st = mixed_states(rng);
-    VecX w, u_tail, u_full, u_ref, w_ref;
-    double rcond = 0.0;
-    ASSERT_EQ(sc.solve(f, st, w, u_tail, rcond), SolveStatus::kConverged) << sc.message();
-    ASSERT_EQ(sc.complete(u_full), SolveStatus::kConverged);
-    dense_reference(k, ct, f, st, u_ref, w_ref);
-    const double scale = std::max(u_ref.cwiseAbs().maxCoeff(), w_ref.cwiseAbs().maxCoeff());
-    ASSERT_EQ(w.size(), rows);
-    EXPECT_LT((u_full - u_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
-    EXPECT_LT((w - w_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
-    // The tail-only u: the whole u's values where nonzero (on the tail).
-    for (int d = 0; d < n; ++d)
-      EXPECT_NEAR(u_tail[d], u_tail[d] != 0.0 ? u_ref[d] : 0.0, 1e-9 * scale) << d;
+    expect_assembled_solution(sc, k, ct, rng);
   }
 }
 
