@@ -105,13 +105,10 @@ class Variables {
     LocalGap out;
     out.nodes = nodes_;
     const int n = 2 * static_cast<int>(nodes_.size());
-    if constexpr (std::is_same_v<typename J::Scalar, double>) {  // no Hessian
-      out.value = g.a;
-      out.gradient = g.v.head(n);
-      return out;
-    }
     out.value = value_of(g);
-    if constexpr (!std::is_same_v<typename J::Scalar, double>) {
+    if constexpr (std::is_same_v<typename J::Scalar, double>) {  // first order: no Hessian
+      out.gradient = g.v.head(n);
+    } else {
       out.gradient = g.a.v.head(n);
       out.hessian.resize(n, n);
       for (int i = 0; i < n; ++i) out.hessian.row(i) = g.v[i].v.head(n).transpose();

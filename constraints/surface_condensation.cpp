@@ -99,27 +99,28 @@ SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::F
   if (ordering) tail_.set_ordering(std::move(ordering));
 }
 
-std::vector<int> SurfaceCondensation::set_anchors(const SpMat& k, const std::vector<int>& regularise,
-                                                  bool anchor) {
-  ct_ = user_ct_;
+std::vector<int> SurfaceCondensation::set_anchors(const std::vector<int>& regularise, bool anchor) {
   std::vector<int> reg = regularise;
-  if (!anchor) return reg;
+  if (!anchor) {
+    ct_ = user_ct_;
+    return reg;
+  }
   // Per part: the tail unknowns of its first and last tail node (node = unknown / 2), enough for
   // its rigid motions when both displacements are there, or the in-plane turn and translation
-  // of a surface whose rows touch one component (a flat's gaps: u_y only).
-  Parts parts(k, user_ct_, regularise);
-  std::vector<int> first(ct_.rows(), -1), last(ct_.rows(), -1);
-  for (int d : tail_dofs_) {
-    const int part = parts.of(d);
-    if (first[part] < 0) first[part] = d / 2;
-    last[part] = d / 2;
+  // of a surface whose rows touch one component (a flat's gaps: u_y only). Each anchor row is
+  // one unknown's: it joins no parts.
+  std::vector<int> first(user_ct_.rows(), -1), last(user_ct_.rows(), -1);
+  for (size_t i = 0; i < tail_dofs_.size(); ++i) {
+    const int part = tail_part_[i], node = tail_dofs_[i] / 2;
+    if (first[part] < 0) first[part] = node;
+    last[part] = node;
   }
   std::vector<Triplet> t;
   for (int c = 0; c < user_ct_.outerSize(); ++c)
     for (SpMat::InnerIterator it(user_ct_, c); it; ++it) t.emplace_back(it.row(), c, it.value());
   int col = rows_;
-  for (int d : tail_dofs_) {
-    const int part = parts.of(d);
+  for (size_t i = 0; i < tail_dofs_.size(); ++i) {
+    const int d = tail_dofs_[i], part = tail_part_[i];
     if (d / 2 != first[part] && d / 2 != last[part]) continue;
     t.emplace_back(d, col, 1.0);
     reg.push_back(col++);
@@ -127,12 +128,6 @@ std::vector<int> SurfaceCondensation::set_anchors(const SpMat& k, const std::vec
   ct_.resize(user_ct_.rows(), col);
   ct_.setFromTriplets(t.begin(), t.end());
   return reg;
-}
-
-void SurfaceCondensation::order_tail(const SpMat& k, const std::vector<int>& regularise) {
-  Parts parts(k, ct_, regularise);
-  tail_part_.resize(tail_dofs_.size());
-  for (size_t i = 0; i < tail_dofs_.size(); ++i) tail_part_[i] = parts.of(tail_dofs_[i]);
 }
 
 void SurfaceCondensation::find_blocks() {
@@ -164,9 +159,13 @@ bool SurfaceCondensation::factorize(const SpMat& k, const std::vector<int>& regu
     message_ = "the rows touch too many unknowns for a dense surface block";
     return false;
   }
-  const std::vector<int> reg = set_anchors(k, regularise, anchor);
+  // The parts K and the caller's regularising rows join (anchor rows join none): the factor's
+  // tail is grouped by them.
+  Parts parts(k, user_ct_, regularise);
+  tail_part_.resize(tail_dofs_.size());
+  for (size_t i = 0; i < tail_dofs_.size(); ++i) tail_part_[i] = parts.of(tail_dofs_[i]);
+  const std::vector<int> reg = set_anchors(regularise, anchor);
   slot_.assign(ct_.cols(), -1);
-  order_tail(k, reg);
   k_rho_ = regularised_stiffness(k, ct_, reg, rho_);
   if (tail_.factorize(k_rho_, tail_dofs_, tail_part_) != SolveStatus::kConverged ||
       !(tail_.report().pivot_ratio > kMinPivotRatio)) {
@@ -201,7 +200,7 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
   // where they start in it, in chunks: a chunk starting at p needs L₂₂[p:b1, p:b1] only, and
   // its S entries sum over the rows p..b1 (V is zero above a column's start, D₂⁻¹ diagonal).
   struct Chunk {
-    int p;
+    int p, end;  ///< its rows p..end of its block
     std::vector<int> cols;
   };
   std::vector<Chunk> chunks;
@@ -219,7 +218,7 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
     std::sort(reach.begin(), reach.end());
     const int count = static_cast<int>(reach.size()), pieces = std::min(count, 8);
     for (int q = 0; q < pieces; ++q) {
-      Chunk chunk{reach[q * count / pieces].first, {}};
+      Chunk chunk{reach[q * count / pieces].first, b1, {}};
       for (int i = q * count / pieces; i < (q + 1) * count / pieces; ++i)
         chunk.cols.push_back(reach[i].second);
       const int h = b1 - chunk.p, w = static_cast<int>(chunk.cols.size());
@@ -236,14 +235,7 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
   s_.rightCols(nf).setZero();
   const VecX inverse_pivots = tail_.tail_pivots().cwiseInverse();
   for (const Chunk& chunk : chunks) {
-    const int p = chunk.p, w = static_cast<int>(chunk.cols.size());
-    int b1 = kt;
-    for (int start : block_start_)
-      if (start > p) {
-        b1 = start;
-        break;
-      }
-    const int h = b1 - p;
+    const int p = chunk.p, h = chunk.end - p, w = static_cast<int>(chunk.cols.size());
     Eigen::MatrixXd scaled(h, w);
     for (int j = 0; j < w; ++j)
       scaled.col(j) = inverse_pivots.segment(p, h).cwiseProduct(block.col(chunk.cols[j]).segment(p, h));

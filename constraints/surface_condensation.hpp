@@ -129,19 +129,17 @@ class SurfaceCondensation {
   /// v_r for every row of `rows` (new ones in one dense triangular solve) and S's new columns.
   void prepare(const std::vector<int>& rows);
   SolveStatus forward(const VecX& f);
-  /// The part of each tail unknown (connected parts of K and the rows of `regularise`, anchors
-  /// included) into tail_part_; the factor groups its tail by part.
-  void order_tail(const SpMat& k, const std::vector<int>& regularise);
   /// block_start_ from the factor's tail.
   void find_blocks();
-  /// ct_ = the caller's rows and, with `anchor`, the anchor rows of each part; their indices.
-  std::vector<int> set_anchors(const SpMat& k, const std::vector<int>& regularise, bool anchor);
+  /// ct_ = the caller's rows and, with `anchor`, the anchor rows of each part (tail_part_);
+  /// returns R: `regularise` and the anchor rows' indices.
+  std::vector<int> set_anchors(const std::vector<int>& regularise, bool anchor);
 
   SpMat user_ct_;                  ///< the caller's rows
   int rows_ = 0;
   SpMat ct_;                       ///< the caller's rows, then the anchor rows
   std::vector<int> tail_dofs_;     ///< the tail (ascending)
-  std::vector<int> tail_part_;     ///< each one's part
+  std::vector<int> tail_part_;     ///< each one's part (the factor groups its tail by part)
   std::vector<int> block_start_;   ///< where each part starts in the factor's tail (and its end)
   core::TailCholesky tail_;
   SpMat k_rho_;                    ///< K_ρ, factorised in tail_
