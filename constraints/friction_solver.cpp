@@ -302,6 +302,35 @@ class FrictionalSolve {
   bool surface_ready() {
     if (surface_tried_) return surface_ != nullptr;
     surface_tried_ = true;
+    SpMat ct = surface_rows();
+    std::vector<int> eq(me_);
+    for (int j = 0; j < me_; ++j) eq[j] = j;
+    std::vector<std::vector<int>> groups(m_);
+    for (int i = 0; i < m_; ++i) groups[i] = {me_ + i, me_ + m_ + i};
+    surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq,
+                                  std::move(groups),
+                                  std::vector<double>(p_.gap0.begin(), p_.gap0.end()));
+    first_row_ = 0;
+    return surface_ != nullptr;
+  }
+
+ public:
+  /// Takes `surface`, a condensation of this problem's K, for the condensed path, with this
+  /// solver's rows appended to it; false (and nothing changed) when they cannot be, or when
+  /// this solver already chose its path.
+  bool share(const std::shared_ptr<SurfaceCondensation>& surface) {
+    if (surface_tried_ || !surface) return false;
+    const int first = surface->add_rows(surface_rows());
+    if (first < 0) return false;
+    surface_ = surface;
+    first_row_ = first;
+    surface_tried_ = true;
+    return true;
+  }
+
+ private:
+  /// Cᵀ over this solver's rows: equality j, normal me + i, tangential me + m + i.
+  SpMat surface_rows() const {
     std::vector<Triplet> t;
     auto put = [&](int r, const std::vector<std::pair<int, double>>& coef) {
       for (const auto& [j, a] : coef) t.emplace_back(j, r, a);
@@ -310,14 +339,7 @@ class FrictionalSolve {
     for (int i = 0; i < m_; ++i) put(me_ + i, gap_rows_[i]), put(me_ + m_ + i, slip_rows_[i]);
     SpMat ct(n_, me_ + 2 * m_);
     ct.setFromTriplets(t.begin(), t.end());
-    std::vector<int> eq(me_);
-    for (int j = 0; j < me_; ++j) eq[j] = j;
-    std::vector<std::vector<int>> groups(m_);
-    for (int i = 0; i < m_; ++i) groups[i] = {me_ + i, me_ + m_ + i};
-    surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq,
-                                  std::move(groups),
-                                  std::vector<double>(p_.gap0.begin(), p_.gap0.end()));
-    return surface_ != nullptr;
+    return ct;
   }
 
   /// The sets' system on the rows, in forces w = s z: a held row's saddle-point equation
@@ -325,31 +347,32 @@ class FrictionalSolve {
   /// row's, w_t = σ(offset + slope w_n); a free row's is zero.
   SolveStatus solve_condensed(const std::vector<char>& code, ConstraintSolution& out) {
     SurfaceCondensation::RowStates st;
+    const int eq = first_row_, normal = first_row_ + me_, tangential = normal + m_;
     for (int j = 0; j < me_; ++j) {
       const double c = compliance(o_->k_eq, j);
-      st.hold(j, c, p_.eq_rhs[j] + (penalised_ ? c * o_->mu_hat[j] : 0.0));
+      st.hold(eq + j, c, p_.eq_rhs[j] + (penalised_ ? c * o_->mu_hat[j] : 0.0));
     }
     for (int i = 0; i < m_; ++i) {
       if (code[i]) {
         const double c = compliance(o_->k_gap, i);
-        st.hold(me_ + i, c, -p_.gap0[i] + (penalised_ ? c * o_->lambda_hat[i] : 0.0));
+        st.hold(normal + i, c, -p_.gap0[i] + (penalised_ ? c * o_->lambda_hat[i] : 0.0));
       }
       const char ts = code[m_ + i];
       if (ts == kStick && (penalised_ || !slip_rows_[i].empty())) {
         const double c = compliance(o_->k_tangent, i);
-        st.hold(me_ + m_ + i, c, p_.slip0[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
+        st.hold(tangential + i, c, p_.slip0[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
       } else if (ts == kSlipPlus || ts == kSlipMinus) {
         const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
         const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
-        st.follow(me_ + m_ + i, code[i] ? me_ + i : -1, sigma * b.offset, sigma * b.slope);
+        st.follow(tangential + i, code[i] ? normal + i : -1, sigma * b.offset, sigma * b.slope);
       }
     }
     VecX w;
     const SolveStatus status = surface_->solve(p_.load, st, w, out.u, surface_rcond_);
     if (status != SolveStatus::kConverged) return status;
-    out.eq_multiplier = w.head(me_);
-    out.contact_force = w.segment(me_, m_);
-    out.tangent_force = w.segment(me_ + m_, m_);
+    out.eq_multiplier = w.segment(eq, me_);
+    out.contact_force = w.segment(normal, m_);
+    out.tangent_force = w.segment(tangential, m_);
     return status;
   }
 
@@ -454,7 +477,10 @@ class FrictionalSolve {
   bool factored_ = false;                 ///< kkt_ holds the factor of factored_code_'s system
   std::vector<char> factored_code_;
   std::array<VecX, 3> factored_k_;        ///< and of these stiffnesses (penalised rows)
-  std::unique_ptr<SurfaceCondensation> surface_;  ///< the condensed path (null: LU only)
+  /// The condensed path (null: LU only), its own or another caller's with these rows appended
+  /// from first_row_ on (equality, normal, tangential).
+  std::shared_ptr<SurfaceCondensation> surface_;
+  int first_row_ = 0;
   bool surface_tried_ = false;
   bool surface_last_ = false;             ///< the last solve took the condensed path
   double surface_rcond_ = 1.0;            ///< its dense block's condition estimate
@@ -466,6 +492,10 @@ FrictionalSolver::~FrictionalSolver() = default;
 
 void FrictionalSolver::solve(const FrictionalOptions& options, ConstraintSolution& s) {
   impl_->run(options, s);
+}
+
+bool FrictionalSolver::share(const std::shared_ptr<SurfaceCondensation>& surface) {
+  return impl_->share(surface);
 }
 
 bool confirm_exactly(FrictionalSolver& solver, int max_solves, ConstraintSolution& s,

@@ -32,6 +32,7 @@
 namespace c2d::constraints {
 
 class SetRule;
+class SurfaceCondensation;
 
 struct FrictionalOptions {
   /// The method's rule (null: the primal-dual rule). A regularised rule (the return map) makes
@@ -63,6 +64,12 @@ class FrictionalSolver {
   FrictionalSolver& operator=(const FrictionalSolver&) = delete;
   /// As solve_frictional().
   void solve(const FrictionalOptions& options, ConstraintSolution& s);
+  /// Solves on `surface`, a condensation of the problem's K made for another caller (its rows
+  /// regularising as they do there; this solver's rows appended), instead of factorising K
+  /// itself: ipopt's crossover on its dual's factor. False, and the solver unchanged, when the
+  /// rows cannot be appended (they touch unknowns outside its tail; it holds anchor rows) or
+  /// the solver has already chosen its path.
+  bool share(const std::shared_ptr<SurfaceCondensation>& surface);
 
  private:
   std::unique_ptr<FrictionalSolve> impl_;

@@ -143,6 +143,31 @@ void SurfaceCondensation::find_blocks() {
 
 SurfaceCondensation::~SurfaceCondensation() = default;
 
+int SurfaceCondensation::add_rows(const SpMat& more) {
+  if (!factored_ || ct_.cols() != rows_ || more.rows() != ct_.rows() ||
+      rows_ + more.cols() > kMaxRows)
+    return -1;
+  const std::vector<int>& pos = tail_.tail_position();
+  std::vector<Triplet> t;
+  t.reserve(static_cast<size_t>(ct_.nonZeros() + more.nonZeros()));
+  for (int c = 0; c < ct_.outerSize(); ++c)
+    for (SpMat::InnerIterator it(ct_, c); it; ++it) t.emplace_back(it.row(), c, it.value());
+  for (int c = 0; c < more.outerSize(); ++c)
+    for (SpMat::InnerIterator it(more, c); it; ++it) {
+      if (pos[it.row()] < 0) return -1;
+      t.emplace_back(it.row(), rows_ + c, it.value());
+    }
+  const int first = rows_;
+  rows_ += static_cast<int>(more.cols());
+  ct_.resize(ct_.rows(), rows_);
+  ct_.setFromTriplets(t.begin(), t.end());
+  user_ct_ = ct_;
+  rho_.conservativeResize(rows_);
+  rho_.tail(rows_ - first).setZero();
+  slot_.resize(rows_, -1);
+  return first;
+}
+
 bool SurfaceCondensation::fits() const {
   const int kt = static_cast<int>(tail_dofs_.size());
   return kt > 0 && kt <= kMaxTail && kt < ct_.rows() && ct_.cols() <= kMaxRows;

@@ -79,8 +79,14 @@ class SurfaceCondensation {
   /// indefinite. `k` is referenced until the next factorize.
   /// With `anchor`, R also holds anchor rows (rows() and beyond), two per tail node anchored.
   bool factorize(const SpMat& k, const std::vector<int>& regularise, bool anchor = false);
-  /// The caller's rows (the columns of `ct`).
+  /// The caller's rows (the columns of `ct`, and those add_rows() appended).
   int rows() const { return rows_; }
+  /// Appends rows (the columns of `more`, n × k) to a factorised condensation, so that a second
+  /// caller with rows of its own solves on the same factor (ipopt's crossover on its dual's):
+  /// the first new row's index, or −1 when the condensation holds anchor rows, is not
+  /// factorised, would exceed kMaxRows, or a new row touches an unknown outside the tail (the
+  /// factor's tail is fixed). The new rows regularise nothing (ρ = 0).
+  int add_rows(const SpMat& more);
   /// The diagonal blocks of L₂₂ (the tail's parts) of the last factorisation.
   int tail_blocks() const { return static_cast<int>(block_start_.size()) - 1; }
   /// ρ per row (0 outside R), anchor rows last.

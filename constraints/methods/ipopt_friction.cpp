@@ -139,6 +139,8 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
   const std::unique_ptr<SurfaceDual> dual =
       try_surface ? SurfaceDual::build(p, base, true, s) : nullptr;
   on_surface = dual != nullptr;
+  // The crossover solves on the dual's factor (its rows appended), not on one of its own.
+  if (dual) solver.share(dual->surface());
   const std::vector<char> closed = initially_closed(p);
   struct Report {  // the surface's factorisation into s on every way out
     const SurfaceDual* dual;

@@ -102,8 +102,11 @@ class SurfaceDual {
   void classify(ConstraintSolution& s) const;
   /// The last exact solve's status (kSingular: the held rows leave a rigid motion free).
   SolveStatus solved() const { return solved_; }
-  /// The factorisation's work and figures into s.
+  /// The factorisation's work and figures, and the dual's own dense work, into s (a caller
+  /// that shares the condensation counts its own dense work).
   void report(ConstraintSolution& s) const;
+  /// The condensation, for a crossover that solves on the same factor.
+  const std::shared_ptr<SurfaceCondensation>& surface() const { return surface_; }
 
  private:
   SurfaceDual(const ConstrainedProblem& p, const RowSet& base);
@@ -112,7 +115,8 @@ class SurfaceDual {
 
   const ConstrainedProblem& p_;
   const RowSet& base_;
-  std::unique_ptr<SurfaceCondensation> surface_;
+  std::shared_ptr<SurfaceCondensation> surface_;
+  double own_dense_ = 0.0;          ///< dense seconds of this dual's own work on surface_
   VecX b_;                          ///< per dual row: C u ≥ b (= b: equality, sticking)
   std::vector<char> equality_;      ///< per dual row
   std::vector<int> tangential_of_;  ///< per gap row: its tangential dual row, or −1

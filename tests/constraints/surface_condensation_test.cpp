@@ -189,3 +189,79 @@ TEST(SurfaceCondensation, RegularisingRowsThatLeaveARigidModeAreRefused) {
   SurfaceCondensation sc(random_rows(n, 4, 20, rng), nullptr);
   EXPECT_FALSE(sc.factorize(chain(n, true), {}));  // K alone: the chain floats
 }
+
+TEST(SurfaceCondensation, RowsAppendedToAFactorisedCondensationSolveOnItsFactor) {
+  // A second caller's rows on the same K (ipopt's crossover on its dual's condensation): the
+  // first caller's 20 rows, factorised with its R on a floating chain, then 20 rows of the
+  // second's, each a multiple (0.3..3) of one of the first's or a random row on the unknowns
+  // they touch. Solved with mixed states on the appended rows (the first's free) on the first
+  // factor: the assembled system's solution (tolerance as above), and no new factorisation.
+  for (unsigned seed : {21u, 22u, 23u}) {
+    std::mt19937 rng(seed);
+    const int n = 200, rows = 20;
+    const SpMat k = chain(n, true);
+    const SpMat first = random_rows(n, rows, 60, rng);
+    std::vector<int> touched;
+    for (int c = 0; c < first.outerSize(); ++c)
+      for (SpMat::InnerIterator it(first, c); it; ++it) touched.push_back(static_cast<int>(it.row()));
+    std::uniform_real_distribution<double> u(-1.0, 1.0), factor(0.3, 3.0);
+    std::uniform_int_distribution<int> pick(0, static_cast<int>(touched.size()) - 1);
+    std::vector<Triplet> t;
+    for (int r = 0; r < rows; ++r) {
+      if (r % 2 == 0) {
+        const double a = factor(rng);
+        for (SpMat::InnerIterator it(first, (r * 7) % rows); it; ++it)
+          t.emplace_back(it.row(), r, a * it.value());
+      } else {
+        for (int e = 0; e < 3; ++e) t.emplace_back(touched[pick(rng)], r, u(rng));
+      }
+    }
+    SpMat second(n, rows);
+    second.setFromTriplets(t.begin(), t.end());
+    SurfaceCondensation sc(first, nullptr);
+    ASSERT_TRUE(sc.factorize(k, {0, 1, 2, 3})) << sc.message();
+    ASSERT_EQ(sc.add_rows(second), rows);
+    EXPECT_EQ(sc.rows(), 2 * rows);
+    SpMat both(n, 2 * rows);
+    both.leftCols(rows) = first;
+    both.rightCols(rows) = second;
+    // expect_assembled_solution's states, moved onto the appended rows.
+    struct Shifted {
+      static States of(const States& st, int by) {
+        States s = st;
+        for (int& r : s.held) r += by;
+        for (int& r : s.following) r += by;
+        for (int& r : s.leader) r = r >= 0 ? r + by : r;
+        return s;
+      }
+    };
+    const VecX f = VecX::NullaryExpr(n, [&] { return u(rng); });
+    const States st = Shifted::of(mixed_states(rng), rows);
+    VecX w, u_tail, u_full, u_ref, w_ref;
+    double rcond = 0.0;
+    ASSERT_EQ(sc.solve(f, st, w, u_tail, rcond), SolveStatus::kConverged) << sc.message();
+    ASSERT_EQ(sc.complete(u_full), SolveStatus::kConverged);
+    dense_reference(k, both, f, st, u_ref, w_ref);
+    const double scale = std::max(u_ref.cwiseAbs().maxCoeff(), w_ref.cwiseAbs().maxCoeff());
+    EXPECT_LT((u_full - u_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
+    EXPECT_LT((w - w_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
+    EXPECT_EQ(sc.report().numeric_factorizations, 1);
+  }
+}
+
+TEST(SurfaceCondensation, RowsOffTheTailOrBesideAnchorsAreNotAppended) {
+  std::mt19937 rng(24);
+  const int n = 100;
+  const SpMat k = chain(n, false);
+  const SpMat ct = random_rows(n, 4, 20, rng);
+  SpMat off(n, 1);  // unknown 90: outside the tail (the rows touch 0..19)
+  off.insert(90, 0) = 1.0;
+  SurfaceCondensation sc(ct, nullptr);
+  EXPECT_EQ(sc.add_rows(ct), -1);  // nothing factorised yet
+  ASSERT_TRUE(sc.factorize(k, {}));
+  EXPECT_EQ(sc.add_rows(off), -1);
+  EXPECT_EQ(sc.rows(), 4);
+  SurfaceCondensation anchored(ct, nullptr);
+  ASSERT_TRUE(anchored.factorize(k, {}, true));
+  EXPECT_EQ(anchored.add_rows(ct), -1);  // anchor rows follow the caller's rows
+}
