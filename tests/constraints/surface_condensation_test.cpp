@@ -84,15 +84,24 @@ States mixed_states(std::mt19937& rng) {
   return st;
 }
 
-/// Solves a random load with mixed_states on `sc` (factorised) and compares u, the rows' forces
-/// and the tail-only u with the assembled system's. Tolerance: 1e-9 of the solution's largest
-/// entry (the chain's condition number is ~n² = 4e4 grounded, a few times that floating).
+/// mixed_states moved onto the rows from `first` on (the rows before it free).
+States shifted(States st, int first) {
+  for (int& r : st.held) r += first;
+  for (int& r : st.following) r += first;
+  for (int& r : st.leader) r = r >= 0 ? r + first : r;
+  return st;
+}
+
+/// Solves a random load with mixed_states on the rows from `first` on of `sc` (factorised) and
+/// compares u, the rows' forces and the tail-only u with the assembled system's. Tolerance:
+/// 1e-9 of the solution's largest entry (the chain's condition number is ~n² = 4e4 grounded, a
+/// few times that floating).
 void expect_assembled_solution(SurfaceCondensation& sc, const SpMat& k, const SpMat& ct,
-                               std::mt19937& rng) {
+                               std::mt19937& rng, int first = 0) {
   const int n = static_cast<int>(k.rows());
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const VecX f = VecX::NullaryExpr(n, [&] { return u(rng); });
-  const States st = mixed_states(rng);
+  const States st = shifted(mixed_states(rng), first);
   VecX w, u_tail, u_full, u_ref, w_ref;
   double rcond = 0.0;
   ASSERT_EQ(sc.solve(f, st, w, u_tail, rcond), SolveStatus::kConverged) << sc.message();
@@ -225,26 +234,7 @@ TEST(SurfaceCondensation, RowsAppendedToAFactorisedCondensationSolveOnItsFactor)
     SpMat both(n, 2 * rows);
     both.leftCols(rows) = first;
     both.rightCols(rows) = second;
-    // expect_assembled_solution's states, moved onto the appended rows.
-    struct Shifted {
-      static States of(const States& st, int by) {
-        States s = st;
-        for (int& r : s.held) r += by;
-        for (int& r : s.following) r += by;
-        for (int& r : s.leader) r = r >= 0 ? r + by : r;
-        return s;
-      }
-    };
-    const VecX f = VecX::NullaryExpr(n, [&] { return u(rng); });
-    const States st = Shifted::of(mixed_states(rng), rows);
-    VecX w, u_tail, u_full, u_ref, w_ref;
-    double rcond = 0.0;
-    ASSERT_EQ(sc.solve(f, st, w, u_tail, rcond), SolveStatus::kConverged) << sc.message();
-    ASSERT_EQ(sc.complete(u_full), SolveStatus::kConverged);
-    dense_reference(k, both, f, st, u_ref, w_ref);
-    const double scale = std::max(u_ref.cwiseAbs().maxCoeff(), w_ref.cwiseAbs().maxCoeff());
-    EXPECT_LT((u_full - u_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
-    EXPECT_LT((w - w_ref).cwiseAbs().maxCoeff(), 1e-9 * scale);
+    expect_assembled_solution(sc, k, both, rng, rows);
     EXPECT_EQ(sc.report().numeric_factorizations, 1);
   }
 }
