@@ -56,7 +56,9 @@ bool ActiveSetSystem::factorize_jacobian(const VecX& x) {
   // so it is left out (at a solution active rows are compressive: the tangent is exact there).
   // Should the matrix still not factorise, the iterate steps without the term, the line search
   // keeping it safe.
-  const VecX force = forces(x, gap_now_);
+  VecX force = forces(x, gap_now_);
+  if (curvature_bound_.size() == force.size())
+    force = force.cwiseMin(curvature_bound_).cwiseMax(-curvature_bound_);
   jacobian_ = base_.matrix() +
               contact_.geometric_stiffness(rows_now_, force.head(num_gaps()).cwiseMax(0.0));
   if (!eq_now_.empty())

@@ -48,6 +48,13 @@ class ActiveSetSystem final : public NewtonSystem {
   /// A force on the free DOFs held fixed through the solve (the friction forces −Tᵀλ_t the
   /// method found: friction is resolved by the method at each outer iteration, not by Newton).
   void set_fixed_force(const VecX& f) { fixed_force_ = f; }
+  /// Bounds in magnitude the row forces that weigh the rows' curvature in the Jacobian (gap
+  /// rows, then equality rows). A penalty row's force k·g(x) at an iterate far from the
+  /// solution can exceed every force the method found by orders (the method's step linearised
+  /// its gap along a master segment it then left); its curvature term then swamps K_T and
+  /// throws Newton's step off by far more than the error it corrects. Near a solution a force
+  /// exceeds the method's by the step's error at most, and so does the tangent's.
+  void bound_curvature_forces(const VecX& bound) { curvature_bound_ = bound; }
 
   bool residual(const VecX& x, VecX& r) override;
   bool factorize_jacobian(const VecX& x) override;
@@ -74,6 +81,7 @@ class ActiveSetSystem final : public NewtonSystem {
   int n_;
   int linear_tail_ = 0;
   VecX fixed_force_;
+  VecX curvature_bound_;  ///< per held row: the largest force its curvature term is weighed with
   // Finite strain: the rows at the last iterate evaluated.
   bool evaluated_ = false;
   bool curved_ = false;  ///< the rows evaluated carry their curvature

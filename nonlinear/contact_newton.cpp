@@ -354,6 +354,10 @@ class ConstrainedStep {
                         strategy_.active_set_terms(qp, s), held,
                         friction ? static_cast<int>(friction->stick.size()) : 0);
     if (friction) sys.set_fixed_force(friction->fixed_force);
+    // A penalty-type method's forces follow the iterate's gaps times k; their curvature terms
+    // are weighed with at most the method's own forces (exact methods' multipliers are
+    // unknowns of the solve, and no k amplifies their gaps).
+    if (!strategy_.exact()) sys.bound_curvature_forces(step_force.cwiseAbs());
     VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), start_force);
     NewtonOptions newton = in_.newton;
     // The force scale of the step's residuals: the largest met in the step, so that the state
