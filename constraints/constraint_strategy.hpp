@@ -50,6 +50,13 @@ class ConstraintStrategy {
   const std::string& name() const { return options_.method; }
   /// Enforces the constraints exactly (up to round-off), or up to a regularisation.
   virtual bool exact() const = 0;
+  /// Whether the method's normal set at a state follows from that state alone: its rule on the
+  /// state's forces and gaps, with nothing of the method's own that the state does not carry.
+  /// Then a state that Newton reached with the set held, and whose rule keeps that set, ends a
+  /// load step without a solve that would only confirm it. The exact methods (multipliers are
+  /// the state's forces) and the pure penalty (its force −k g, λ̂ = 0: held where g < 0); not
+  /// adaptive_penalty (it may raise k at that state) or auglag (its estimates λ̂ move).
+  virtual bool set_follows_state() const { return exact(); }
   /// Solves the problem. Never throws for numerical trouble: the status and message say what
   /// happened, and every field is finite. Times the method, names it in the solution and
   /// derives the gaps, penetration and equality violation from u.

@@ -11,6 +11,7 @@ namespace c2d::constraints {
 class PenaltyStrategy final : public RegularisedStrategy {
  public:
   using RegularisedStrategy::RegularisedStrategy;
+  bool set_follows_state() const override { return true; }
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
