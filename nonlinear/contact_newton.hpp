@@ -14,9 +14,11 @@
 //      unknowns). The active set never changes inside a KINSOL solve, so its line search sees a
 //      smooth residual.
 // The step has converged when the strategy kept its set and the state, or the state its step
-// reached, satisfies the equations with that set held. A small-strain system takes the
-// strategy's solution as it is (its rows are linear about the detection state) and confirms it
-// by detecting again. `ipopt` is coupled the same way: Ipopt solves each iterate's QP.
+// reached, satisfies the equations with that set held; without friction, for a method whose set
+// follows from the state (ConstraintStrategy::set_follows_state), also when the state KINSOL
+// reached is one whose rows, detected afresh, the method's rule holds as held. A small-strain
+// system takes the strategy's solution as it is (its rows are linear about the detection state)
+// and confirms it by detecting again. `ipopt` is coupled the same way: Ipopt solves each iterate's QP.
 #pragma once
 
 #include <limits>
