@@ -434,14 +434,8 @@ class ConstrainedStep {
     if (!strategy_.set_follows_state() || qp.has_friction() || system_.is_linear()) return false;
     const int slots = contact_.num_slots();
     std::vector<char> held(slots, 0), found(slots, 0);
-    // A penalty row's rule reads λ̂ − k g (λ̂ = 0): its k where the state has one; any positive
-    // k gives the same verdict, so a row the state lacks takes the largest.
-    std::vector<double> stiffness(slots, state_.penalty.size() ? state_.penalty.maxCoeff() : 1.0);
-    for (size_t i = 0; i < rows_.size() && i < state_.active.size(); ++i) {
+    for (size_t i = 0; i < rows_.size() && i < state_.active.size(); ++i)
       held[rows_[i].slot] = state_.active[i] != 0;
-      if (state_.penalty.size() == static_cast<int>(state_.active.size()) && state_.penalty[i] > 0)
-        stiffness[rows_[i].slot] = state_.penalty[i];
-    }
     double scale = 0.0;
     for (const double f : force_by_slot_) scale = std::max(scale, std::abs(f));
     const RuleScales scales = rule_scales(qp, scale, saddle_point_scale(qp));
@@ -451,7 +445,9 @@ class ConstrainedStep {
       row.held = held[r.slot] != 0;
       row.force = row.held ? force_by_slot_[r.slot] : 0.0;
       row.gap = r.gap;
-      if (!strategy_.exact()) row.penalty = stiffness[r.slot], row.force_estimate = 0.0;
+      // A regularised method whose set follows the state has no estimate (λ̂ = 0): its rule
+      // reads −k g, whose sign any k > 0 gives.
+      if (!strategy_.exact()) row.penalty = 1.0, row.force_estimate = 0.0;
       if (strategy_.set_rule().normal(row, scales).held != row.held) return false;
     }
     for (int k = 0; k < slots; ++k)
