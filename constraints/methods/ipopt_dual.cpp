@@ -101,6 +101,15 @@ class DenseQpTnlp : public QpTnlp {
   const DenseQp& d_;
 };
 
+/// Adds the dense work done on `surface` while it lives to `total` (on every way out): the
+/// dual's own share of a condensation a crossover also solves on.
+struct DenseWork {
+  const SurfaceCondensation& surface;
+  double& total;
+  const double start = surface.dense_seconds();
+  ~DenseWork() { total += surface.dense_seconds() - start; }
+};
+
 /// The exact solve of the rows `held` (dual-row indices; the equality rows always) on the
 /// condensation: forces per dual row, u on the tail.
 SolveStatus solve_held(SurfaceCondensation& surface, const VecX& f, const std::vector<char>& held,
@@ -167,9 +176,7 @@ std::unique_ptr<SurfaceDual> SurfaceDual::build(const ConstrainedProblem& p, con
   d->surface_ = condense_onto_rows(std::move(ct), p.stiffness, p.ordering, always,
                                    std::move(groups), gap, false);
   if (!d->surface_) return nullptr;
-  const bool condensed = d->condense();
-  d->own_dense_ = d->surface_->dense_seconds();
-  if (!condensed) {
+  if (!d->condense()) {
     d->report(work);
     return nullptr;
   }
@@ -181,6 +188,7 @@ SurfaceDual::~SurfaceDual() = default;
 
 bool SurfaceDual::condense() {
   SurfaceCondensation& surface = *surface_;
+  const DenseWork work{surface, own_dense_};
   const int nj = static_cast<int>(b_.size());
   all_.resize(nj);
   std::iota(all_.begin(), all_.end(), 0);
@@ -291,10 +299,11 @@ QpOutcome SurfaceDual::solve(const VecX& bound, const std::vector<char>& stick,
   cols.insert(cols.end(), reg_.begin(), reg_.end());
   VecX weights(w.size() + zeta.size());
   weights << w, zeta;
-  const double dense_before = surface_->dense_seconds();
-  if (surface_->displacement(p_.load, cols, weights, s.u, false) != SolveStatus::kConverged)
-    s.u = VecX::Zero(p_.num_unknowns());
-  own_dense_ += surface_->dense_seconds() - dense_before;
+  {
+    const DenseWork work{*surface_, own_dense_};
+    if (surface_->displacement(p_.load, cols, weights, s.u, false) != SolveStatus::kConverged)
+      s.u = VecX::Zero(p_.num_unknowns());
+  }
   forces(w, s);
   return out;
 }
@@ -337,12 +346,7 @@ bool SurfaceDual::settle(const SetRule& rule, int max_solves, ConstraintSolution
   ActiveSetTracker sets;
   sets.record(held);
   VecX force, u_tail;
-  struct Clock {  // the dense work of this settle, into own_dense_ on every way out
-    const SurfaceCondensation& surface;
-    double& total;
-    const double start = surface.dense_seconds();
-    ~Clock() { total += surface.dense_seconds() - start; }
-  } clock{*surface_, own_dense_};
+  const DenseWork work{*surface_, own_dense_};
   for (int k = 0; k < max_solves; ++k) {
     solved_ = solve_held(*surface_, p_.load, held, equality_, b_, force, u_tail);
     if (solved_ != SolveStatus::kConverged) return false;
