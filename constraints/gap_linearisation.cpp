@@ -35,10 +35,14 @@ J constant(double v) {
   return J(typename J::Scalar(v));
 }
 
+/// Whether J carries value and gradient only (FirstOrder), not the Hessian too (Jets::J2).
+template <class J>
+constexpr bool kFirstOrder = std::is_same_v<typename J::Scalar, double>;
+
 /// A Jet's value, first or second order.
 template <class J>
 double value_of(const J& j) {
-  if constexpr (std::is_same_v<typename J::Scalar, double>)
+  if constexpr (kFirstOrder<J>)
     return j.a;
   else
     return j.a.a;
@@ -88,7 +92,7 @@ class Variables {
     nodes_.push_back(node);
     const Vec2 v = (x_.reference[node] - x_.reference[origin_]) +
                    (x_.displacement(node) - x_.displacement(origin_));
-    if constexpr (std::is_same_v<typename J::Scalar, double>) {
+    if constexpr (kFirstOrder<J>) {
       pos_.push_back({J(v.x(), 2 * k), J(v.y(), 2 * k + 1)});
     } else {
       using J1 = typename J::Scalar;
@@ -106,7 +110,7 @@ class Variables {
     out.nodes = nodes_;
     const int n = 2 * static_cast<int>(nodes_.size());
     out.value = value_of(g);
-    if constexpr (std::is_same_v<typename J::Scalar, double>) {  // first order: no Hessian
+    if constexpr (kFirstOrder<J>) {  // first order: no Hessian
       out.gradient = g.v.head(n);
     } else {
       out.gradient = g.a.v.head(n);
