@@ -342,12 +342,11 @@ class ConstrainedStep {
     // The held rows: the gap rows, then the equality rows (their forces: the multipliers μ).
     VecX step_force(m + me);  // the strategy's (terms whose forces follow from u ignore them)
     step_force << s.contact_force, s.eq_multiplier;
-    VecX start_force = step_force;
-    if (same_set) {
-      for (int i = 0; i < m; ++i) start_force[i] = force_by_slot_[rows_[i].slot];
-      const int me0 = qp0.num_equalities();
-      if (state_.eq_multiplier.size() == me0) start_force.segment(m, me0) = state_.eq_multiplier;
-    }
+    // The state's own forces on the held rows (the previous solve's; a row entering now: 0).
+    VecX state_force = step_force;
+    for (int i = 0; i < m; ++i) state_force[i] = force_by_slot_[rows_[i].slot];
+    const int me0 = qp0.num_equalities();
+    if (state_.eq_multiplier.size() == me0) state_force.segment(m, me0) = state_.eq_multiplier;
     std::vector<char> held = s.active;
     held.resize(m + me, 1);
     ActiveSetSystem sys(system_, contact_, rows_, stack_rows(qp.gap_jacobian, qp.eq_jacobian), c,
@@ -358,7 +357,7 @@ class ConstrainedStep {
     // are weighed with at most the method's own forces (exact methods' multipliers are
     // unknowns of the solve, and no k amplifies their gaps).
     if (!strategy_.exact()) sys.bound_curvature_forces(step_force.cwiseAbs());
-    VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), start_force);
+    VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), same_set ? state_force : step_force);
     NewtonOptions newton = in_.newton;
     // The force scale of the step's residuals: the largest met in the step, so that the state
     // a solve converged to is judged by the same measure when the next outer iteration checks it.
@@ -370,8 +369,8 @@ class ConstrainedStep {
     // The step: the strategy's solve of the problem linearised at u is a Newton step with the
     // sets updated. The step ends where the method kept its set at u and the state already
     // satisfies the equations with that set held, or its step reached such a state. A step
-    // that does not halve the residual is finished by Newton with the set held (KINSOL, line
-    // search), the globalisation.
+    // that does not divide the residual by ten is finished by Newton with the set held
+    // (KINSOL, line search), the globalisation.
     double norm = 0.0;
     bool satisfied_now = false;  // x satisfies the equations with the set held
     if (same_set && satisfied(sys, x, newton, it, norm)) {
@@ -384,13 +383,24 @@ class ConstrainedStep {
           !newton_with_set_held(sys, x, newton, it, !same_set))
         return false;
     } else {
-      if (same_set) {
-        x = sys.pack(VecX(u_ + s.u), step_force);
-      } else if (!std::isfinite(last_norm_)) {
-        // The first iterate of the step: its residual before the step is the reference.
+      // The step is a Newton step of the equations as now held (the method's set, its
+      // friction forces), so the residual it must reduce is theirs at the state it started
+      // from, with the state's forces (a row entering carries none yet, a leaving one none any
+      // more). It can be far above the last state's residual with what was held then: a state
+      // Newton converged with one row too many is out of balance by that row's force once the
+      // row is gone, and one converged with the slipping rows' forces held is out of balance
+      // by their change once the method has updated them. The first iterate of the step: its
+      // residual before the step, with the method's forces.
+      double before = norm;  // same set: the state's residual, measured above
+      if (!same_set) {
         VecX r;
-        if (sys.residual(sys.pack(u_, start_force), r)) last_norm_ = inf_norm(r);
+        const bool first = !std::isfinite(last_norm_);
+        before = sys.residual(sys.pack(u_, first ? step_force : state_force), r)
+                     ? inf_norm(r) : std::numeric_limits<double>::quiet_NaN();
       }
+      if (std::isfinite(before))
+        last_norm_ = std::isfinite(last_norm_) ? std::max(last_norm_, before) : before;
+      if (same_set) x = sys.pack(VecX(u_ + s.u), step_force);
       // Finite strain: the held rows are detected again at x, so a state that satisfies them
       // with the set the method kept at u is converged.
       const bool reached = satisfied(sys, x, newton, it, norm);
@@ -584,7 +594,8 @@ class ConstrainedStep {
   std::vector<double> force_since_;  ///< and the friction force it held there
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
-  /// The residual at the last state kept (∞ before the first): a step must halve it.
+  /// The residual a method's step must divide by ten to be kept as a Newton step: the larger
+  /// of the last state's and the state's residual with what the step holds (∞ before the first).
   double last_norm_ = std::numeric_limits<double>::infinity();
   double coordinate_scale_ = 0.0;      ///< the lengths a gap is computed from, for round-off
   double absolute_scale_ = 0.0;        ///< the coordinates' size (gaps from absolute positions)
