@@ -340,10 +340,18 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
                                         VecX& u, double& rcond) {
   if (!factored_) return SolveStatus::kFailed;
   const int rows = static_cast<int>(ct_.cols());
+  const int nh = static_cast<int>(states.held.size());
+  std::vector<int> held_at(rows, -1);
+  for (int h = 0; h < nh; ++h) held_at[states.held[h]] = h;
+  // The regularising rows that need an auxiliary force of their own. A held row that
+  // regularises needs none: its two equations, (S W)_r + compliance_r w_r = target_r − y0_r and
+  // (S W)_r − ζ_r/ρ_r = −y0_r, give ζ_r = ρ_r (target_r − compliance_r w_r), so its column of W
+  // is (1 − ρ_r compliance_r) w_r + ρ_r target_r and the second equation is the first. (A body
+  // held only by its contact regularises every contact row: this halves the dense block.)
   std::vector<int> reg;
   for (int r = 0; r < rows; ++r)
-    if (rho_[r] > 0) reg.push_back(r);
-  const int nh = static_cast<int>(states.held.size()), nr = static_cast<int>(reg.size());
+    if (rho_[r] > 0 && held_at[r] < 0) reg.push_back(r);
+  const int nr = static_cast<int>(reg.size());
   // W over the columns J (rows that may carry a force, ζ folded into its row's column):
   // W_J = B X + W0 with X = [w_H; ζ].
   std::vector<int> cols, col_of(rows, -1), x_of(rows, -1);
@@ -356,9 +364,15 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
     double v;
   };
   std::vector<Entry> b_map;
-  for (int h = 0; h < nh; ++h) b_map.push_back({col(states.held[h]), h, 1.0}), x_of[states.held[h]] = h;
-  for (int q = 0; q < nr; ++q) b_map.push_back({col(reg[q]), nh + q, 1.0});
   std::vector<std::pair<int, double>> w0;
+  for (int h = 0; h < nh; ++h) {
+    const int r = states.held[h];
+    const double rho = rho_[r];
+    b_map.push_back({col(r), h, 1.0 - rho * states.compliance[h]});
+    if (rho > 0 && states.target[h] != 0.0) w0.emplace_back(col(r), rho * states.target[h]);
+    x_of[r] = h;
+  }
+  for (int q = 0; q < nr; ++q) b_map.push_back({col(reg[q]), nh + q, 1.0});
   for (size_t k = 0; k < states.following.size(); ++k) {
     const int c = col(states.following[k]), lead = states.leader[k];
     w0.emplace_back(c, states.offset[k]);
