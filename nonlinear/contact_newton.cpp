@@ -10,6 +10,7 @@
 #include "constraints/strategy_common.hpp"
 #include "core/stopwatch.hpp"
 #include "nonlinear/active_set_system.hpp"
+#include "nonlinear/first_touch.hpp"
 #include "nonlinear/held_friction.hpp"
 
 
@@ -144,10 +145,10 @@ class ConstrainedStep {
       }
     }
     keep_local_stiffness(qp);
-    warm_start(qp);
+    warm_start(qp, rows_, previous_, force_by_slot_);
 
     // 2. The strategy on the linearised problem.
-    const ConstraintSolution s = solve_strategy(qp);
+    const ConstraintSolution s = solve_catching_first_touch(strategy_, qp);
     out_.strategy.add(s);
     it.factorizations = s.factorizations;
     const ContactMemory next = record_strategy(qp, s, it);
@@ -231,64 +232,6 @@ class ConstrainedStep {
       else
         kept = qp.gap_row_stiffness[i];
     }
-  }
-
-  /// Warm start: the rows closed at the last state, and rows touching or penetrating now.
-  void warm_start(ConstrainedProblem& qp) const {
-    const int m = qp.num_gaps();
-    qp.initial_active.assign(m, 0);
-    qp.initial_force = VecX::Zero(m);
-    const double touch = touch_tolerance(qp);
-    bool any = false;
-    if (qp.has_friction()) qp.initial_friction.assign(m, 0);
-    for (int i = 0; i < m; ++i) {
-      if (qp.has_friction()) qp.initial_friction[i] = previous_[rows_[i].slot];
-      qp.initial_active[i] = previous_[rows_[i].slot] || qp.gap0[i] <= touch;
-      qp.initial_force[i] = force_by_slot_[rows_[i].slot];
-      any = any || qp.initial_active[i];
-    }
-    // Nothing touches yet but some rows nearly do (within 1 % of the smallest contact edge):
-    // guess the nearest closed. A body held only by its contact (a cylinder on a floor) is
-    // otherwise singular in the first solve; a wrong guess costs one active-set iteration. Node
-    // rows at a first touch have gap 0, but a mortar row's gap is a mean under its hat, positive
-    // on a curved surface. Farther rows are closed only when the open solve is singular
-    // (close_nearest after the solve).
-    if (!any) close_nearest(qp, 1e-2 * qp.length_scale);
-  }
-
-  /// Closes the rows nearest to touching (gap within the touch tolerance of the smallest) when
-  /// that smallest gap is at most `within`; rows on prescribed DOFs only cannot be closed.
-  /// Returns whether it closed any.
-  bool close_nearest(ConstrainedProblem& qp, double within) const {
-    const int m = qp.num_gaps();
-    std::vector<char> free(m, 0);
-    for (int k = 0; k < qp.gap_jacobian.outerSize(); ++k)
-      for (SpMat::InnerIterator it(qp.gap_jacobian, k); it; ++it) free[it.row()] = 1;
-    double nearest = std::numeric_limits<double>::infinity();
-    for (int i = 0; i < m; ++i)
-      if (free[i]) nearest = std::min(nearest, qp.gap0[i]);
-    if (!(nearest <= within)) return false;
-    const double touch = touch_tolerance(qp);
-    for (int i = 0; i < m; ++i) qp.initial_active[i] = free[i] && qp.gap0[i] <= nearest + touch;
-    return true;
-  }
-
-  /// The strategy's solve; a body held only by its contact, caught at first touch from farther
-  /// than the warm start guesses, is singular with every row open: then the nearest rows close
-  /// and the strategy solves again (the active-set iteration opens them if the load says so).
-  ConstraintSolution solve_strategy(ConstrainedProblem& qp) {
-    ConstraintSolution s = strategy_.solve(qp);
-    const bool none_closed =
-        std::none_of(qp.initial_active.begin(), qp.initial_active.end(), [](char a) { return a; });
-    if (s.status != SolveStatus::kSingular || !none_closed ||
-        !close_nearest(qp, std::numeric_limits<double>::infinity()))
-      return s;
-    const ConstraintSolution open = std::move(s);
-    s = strategy_.solve(qp);
-    s.factorizations += open.factorizations;  // the singular attempt's work counts too
-    s.iterations += open.iterations;
-    s.seconds += open.seconds;
-    return s;
   }
 
   /// The strategy's figures in the iteration record; returns its active set by slot.
