@@ -52,17 +52,32 @@ SolveStatus PenalizedSolver::solve_condensed(const std::vector<char>& set, const
   return st;
 }
 
+VecX PenalizedSolver::gaps(const VecX& u) const {
+  return p_.num_gaps() > 0 ? VecX(p_.gap0 + p_.gap_jacobian * u) : VecX();
+}
+
+VecX PenalizedSolver::penalised_gap_forces(const VecX& u, const VecX& k_gap,
+                                           const VecX& lambda) const {
+  return p_.num_gaps() > 0 ? VecX(lambda - k_gap.cwiseProduct(gaps(u))) : VecX();
+}
+
+VecX PenalizedSolver::penalised_eq_forces(const VecX& u, const VecX& k_eq, const VecX& mu) const {
+  return p_.num_equalities() > 0
+             ? VecX(mu - k_eq.cwiseProduct(p_.eq_jacobian * u - p_.eq_rhs))
+             : VecX();
+}
+
 double PenalizedSolver::force_round_off(const VecX& k_gap, const VecX& lambda, const VecX& k_eq,
                                         const VecX& mu, const VecX& u) const {
   const int m = p_.num_gaps(), me = p_.num_equalities();
   if (kept_w_.size() != me + m) return 0.0;
-  const VecX g = p_.gap0 + p_.gap_jacobian * u, h = p_.eq_jacobian * u - p_.eq_rhs;
+  const VecX gap_force = penalised_gap_forces(u, k_gap, lambda);
+  const VecX eq_force = penalised_eq_forces(u, k_eq, mu);
   double largest = 0.0;
-  for (int j = 0; j < me; ++j)
-    largest = std::max(largest, std::abs(mu[j] - k_eq[j] * h[j] - kept_w_[j]));
+  for (int j = 0; j < me; ++j) largest = std::max(largest, std::abs(eq_force[j] - kept_w_[j]));
   for (int i = 0; i < m; ++i)
     if (kept_w_[me + i] > 0)
-      largest = std::max(largest, std::abs(lambda[i] - k_gap[i] * g[i] - kept_w_[me + i]));
+      largest = std::max(largest, std::abs(gap_force[i] - kept_w_[me + i]));
   return largest;
 }
 
@@ -86,18 +101,11 @@ void PenalizedSolver::forces(const VecX& k_gap, const VecX& lambda, const VecX& 
                              const VecX& mu, ConstraintSolution& s) const {
   const int m = p_.num_gaps(), me = p_.num_equalities();
   const bool exact = kept_w_.size() == me + m;
-  const VecX g = m > 0 && !exact ? VecX(p_.gap0 + p_.gap_jacobian * s.u) : VecX();
-  s.contact_force = VecX::Zero(m);
+  s.contact_force = (exact ? VecX(kept_w_.tail(m)) : penalised_gap_forces(s.u, k_gap, lambda))
+                        .cwiseMax(0.0);
   s.active.assign(m, 0);
-  for (int i = 0; i < m; ++i) {
-    s.contact_force[i] = std::max(0.0, exact ? kept_w_[me + i] : lambda[i] - k_gap[i] * g[i]);
-    s.active[i] = s.contact_force[i] > 0;
-  }
-  if (exact)
-    s.eq_multiplier = kept_w_.head(me);
-  else
-    s.eq_multiplier =
-        me > 0 ? VecX(mu - k_eq.cwiseProduct(p_.eq_jacobian * s.u - p_.eq_rhs)) : VecX();
+  for (int i = 0; i < m; ++i) s.active[i] = s.contact_force[i] > 0;
+  s.eq_multiplier = exact ? VecX(kept_w_.head(me)) : penalised_eq_forces(s.u, k_eq, mu);
   s.penalty = k_gap;
   s.eq_penalty = k_eq;
 }
@@ -219,7 +227,7 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
       out.message = solver_.report().message;
       return out;
     }
-    const VecX g = m > 0 ? VecX(p_.gap0 + p_.gap_jacobian * u) : VecX();
+    const VecX g = gaps(u);
     std::vector<char> next = active;
     next_normal_set(rule_, p_, VecX(), g, k_gap, lambda, 0.0, next);
     const auto change = tracker.record(next);
@@ -260,16 +268,10 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
       error = solver_.report().message;
       return st;
     }
-    out_set.contact_force = VecX::Zero(m);
-    if (m > 0) {
-      const VecX g = p_.gap0 + p_.gap_jacobian * out_set.u;
-      for (int i = 0; i < m; ++i)
-        if (set[i]) out_set.contact_force[i] = lambda[i] - k_gap[i] * g[i];
-    }
-    out_set.eq_multiplier =
-        p_.num_equalities() > 0
-            ? VecX(mu - k_eq.cwiseProduct(p_.eq_jacobian * out_set.u - p_.eq_rhs))
-            : VecX();
+    out_set.contact_force = penalised_gap_forces(out_set.u, k_gap, lambda);
+    for (int i = 0; i < m; ++i)
+      if (!set[i]) out_set.contact_force[i] = 0.0;
+    out_set.eq_multiplier = penalised_eq_forces(out_set.u, k_eq, mu);
     return SolveStatus::kConverged;
   };
   VecX shift = VecX::Zero(m);

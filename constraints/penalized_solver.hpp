@@ -62,6 +62,13 @@ class PenalizedSolver {
   bool condensed() const { return surface_last_; }
 
  private:
+  /// The gaps g = g0 + G u at u (empty without gap rows).
+  VecX gaps(const VecX& u) const;
+  /// The penalised forces at u of every gap row, λ − k g(u), and of the equality rows,
+  /// μ − k_eq (A u − b) (empty without such rows).
+  VecX penalised_gap_forces(const VecX& u, const VecX& k_gap, const VecX& lambda) const;
+  VecX penalised_eq_forces(const VecX& u, const VecX& k_eq, const VecX& mu) const;
+
   /// Solves the penalised system with the rows of `set` closed: K + Gᵀ k G over the set
   /// (+ Aᵀ k A), right-hand side f + Gᵀ(λ̂ − k g0) over the set (+ the equalities'). With
   /// `tail_only` a condensed solve leaves u on the unknowns the rows touch (all the set
