@@ -8,7 +8,9 @@
 //      sets on that problem and returns the step, forces and (penalty-type methods)
 //      stiffnesses: friction on the condensed surface, one factorisation of K per iterate;
 //   3. keeps the step when the residual at u + Δu, with the set held and the rows re-detected
-//      there, is a tenth or less of the last one (a Newton step); else finishes the iterate with
+//      there, is a tenth or less of the residual it set out to reduce (the larger of the last
+//      state's and the state's with what the step holds: the method's new set, its new friction
+//      forces), a Newton step; else finishes the iterate with
 //      KINSOL with the set held (the globalisation: penalty-type methods add the forces
 //      λ̂ − k g(u) of the active rows, exact methods the multipliers of the active rows as
 //      unknowns). The active set never changes inside a KINSOL solve, so its line search sees a
