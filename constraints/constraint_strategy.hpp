@@ -73,6 +73,10 @@ class ConstraintStrategy {
   /// (a method with history per step keeps or restores it here). Nothing by default.
   virtual void step_accepted() {}
   virtual void step_rejected() {}
+  /// The method that finishes a load step whose outer iterations cycle (their sets return to
+  /// an earlier combination), or null: the cycle then ends the step as `cycling`. Only a
+  /// method with the same solution may serve.
+  virtual std::unique_ptr<ConstraintStrategy> cycle_fallback() const { return nullptr; }
 
   /// The only place a method name becomes a class (through the method registry). Throws
   /// InputError for an unknown method or invalid options.

@@ -54,6 +54,9 @@ struct PlateResult {
 
 struct ContactReport {
   std::string method;
+  /// Load steps the method's cycle fallback finished (its sets cycled there), and its name.
+  int fallback_steps = 0;
+  std::string fallback_method;
   SolveStatus status = SolveStatus::kFailed;
   std::string message;
   int iterations = 0;          ///< backend iterations summed over detection passes

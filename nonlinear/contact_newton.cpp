@@ -148,22 +148,28 @@ class ConstrainedStep {
     warm_start(qp, rows_, previous_, force_by_slot_);
 
     // 2. The strategy on the linearised problem.
-    const ConstraintSolution s = solve_catching_first_touch(strategy_, qp);
+    ConstraintSolution s = solve_catching_first_touch(method(), qp);
     out_.strategy.add(s);
     it.factorizations = s.factorizations;
-    const ContactMemory next = record_strategy(qp, s, it);
-    if (s.status != SolveStatus::kConverged) {
-      keep_partial(c, qp, s);
-      out_.iterations.push_back(it);
-      fail(s.status, where_ + strategy_.name() + ": " + s.message);
-      return false;
-    }
+    ContactMemory next = record_strategy(qp, s, it);
+    if (s.status != SolveStatus::kConverged) return strategy_failed(c, qp, s, it);
     // The first iteration's set is the predictor's, at the step's start: it may come back.
     ActiveSetTracker::Change change;
     if (outer == 1)
       sets_.follow(next);
     else
       change = sets_.record(next);
+    // Sets that cycle end the step, unless the method has a fallback to finish it with: then
+    // this iterate is solved again by the fallback, and so is every later one of the step.
+    if (change.repeated && !fallback_ && (fallback_ = strategy_.cycle_fallback())) {
+      out_.fallback = fallback_->name();
+      s = solve_catching_first_touch(*fallback_, qp);
+      out_.strategy.add(s);
+      it.factorizations += s.factorizations;
+      next = record_strategy(qp, s, it);
+      if (s.status != SolveStatus::kConverged) return strategy_failed(c, qp, s, it);
+      change = sets_.record(next);
+    }
     const bool same_set = change.unchanged;
     if (change.repeated) {
       out_.iterations.push_back(it);
@@ -174,6 +180,18 @@ class ConstrainedStep {
     if (!hold_set(qp, c, s, same_set, it)) return false;
     previous_ = next;
     return true;
+  }
+
+  /// The method solving the step's iterates: the step's own, or its cycle fallback.
+  ConstraintStrategy& method() const { return fallback_ ? *fallback_ : strategy_; }
+
+  /// A method's solve that failed: its trial state kept, the step failed with its status.
+  bool strategy_failed(const VecX& c, const ConstrainedProblem& qp, const ConstraintSolution& s,
+                       ContactIteration& it) {
+    keep_partial(c, qp, s);
+    out_.iterations.push_back(it);
+    fail(s.status, where_ + method().name() + ": " + s.message);
+    return false;
   }
 
   /// The stiffness the strategy linearises with: K_T, and from the second outer iteration on
@@ -293,13 +311,13 @@ class ConstrainedStep {
     std::vector<char> held = s.active;
     held.resize(m + me, 1);
     ActiveSetSystem sys(system_, contact_, rows_, stack_rows(qp.gap_jacobian, qp.eq_jacobian), c,
-                        strategy_.active_set_terms(qp, s), held,
+                        method().active_set_terms(qp, s), held,
                         friction ? static_cast<int>(friction->stick.size()) : 0);
     if (friction) sys.set_fixed_force(friction->fixed_force);
     // A penalty-type method's forces follow the iterate's gaps times k; their curvature terms
     // are weighed with at most the method's own forces (exact methods' multipliers are
     // unknowns of the solve, and no k amplifies their gaps).
-    if (!strategy_.exact()) sys.bound_curvature_forces(step_force.cwiseAbs());
+    if (!method().exact()) sys.bound_curvature_forces(step_force.cwiseAbs());
     VecX x = sys.pack(same_set ? u_ : VecX(u_ + s.u), same_set ? state_force : step_force);
     NewtonOptions newton = in_.newton;
     // The force scale of the step's residuals: the largest met in the step, so that the state
@@ -384,7 +402,7 @@ class ConstrainedStep {
   /// follows from the state (ConstraintStrategy::set_follows_state): friction's states follow
   /// from slips the next linearisation measures.
   bool settled(const ConstrainedProblem& qp) const {
-    if (!strategy_.set_follows_state() || qp.has_friction() || system_.is_linear()) return false;
+    if (!method().set_follows_state() || qp.has_friction() || system_.is_linear()) return false;
     const int slots = contact_.num_slots();
     std::vector<char> held(slots, 0), found(slots, 0);
     for (size_t i = 0; i < rows_.size() && i < state_.active.size(); ++i)
@@ -400,8 +418,8 @@ class ConstrainedStep {
       row.gap = r.gap;
       // A regularised method whose set follows the state has no estimate (λ̂ = 0): its rule
       // reads −k g, whose sign any k > 0 gives.
-      if (!strategy_.exact()) row.penalty = 1.0, row.force_estimate = 0.0;
-      if (strategy_.set_rule().normal(row, scales).held != row.held) return false;
+      if (!method().exact()) row.penalty = 1.0, row.force_estimate = 0.0;
+      if (method().set_rule().normal(row, scales).held != row.held) return false;
     }
     for (int k = 0; k < slots; ++k)
       if (held[k] && !found[k]) return false;
@@ -525,6 +543,7 @@ class ConstrainedStep {
   StructuralSystem& system_;
   const ContactSet& contact_;
   ConstraintStrategy& strategy_;
+  std::unique_ptr<ConstraintStrategy> fallback_;  ///< the cycle fallback, once called on
   const ContactStepInput& in_;
   VecX u_;
   ContactMemory previous_;

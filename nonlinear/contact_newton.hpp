@@ -88,6 +88,9 @@ struct ContactStepResult {
   VecX u_free;
   ContactMemory memory;
   VecX tangent_memory;  ///< friction: per slot, the friction force λ_t at the converged state
+  /// The method that finished the step after the outer iterations cycled
+  /// (ConstraintStrategy::cycle_fallback); empty: the step's own method throughout.
+  std::string fallback;
   std::vector<ContactIteration> iterations;
   NewtonReport newton;  ///< the KINSOL solves of the step combined (iterations, norms)
   std::vector<constraints::GapRow> rows;   ///< at the converged state

@@ -140,6 +140,7 @@ class LoadStepper {
       rec.newton.status = cstep.status;
       rec.newton.message = cstep.message;
       rec.contact = cstep.iterations;
+      rec.fallback = cstep.fallback;
       rec.factorizations = cstep.strategy.factorizations + cstep.newton.factorizations;
       return cstep.u_free;
     }
@@ -201,6 +202,8 @@ class LoadStepper {
                               last_contact_);
       last_contact_.measured_penetration = cstep.measured_penetration;
       last_contact_.penetration_tolerance = cstep.penetration_tolerance;
+      if (!cstep.fallback.empty())
+        ++last_contact_.fallback_steps, last_contact_.fallback_method = cstep.fallback;
       rec.contact_state = last_contact_;
     }
     // Below the nominal increment, grow back toward it: at once after a cutback when the step

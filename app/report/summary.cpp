@@ -37,6 +37,12 @@ nlohmann::json contact_warnings(const constraints::ContactReport& contact) {
                   contact.measured_penetration, contact.penetration_limit);
     w.push_back(text);
   }
+  if (contact.fallback_steps > 0)
+    w.push_back("contact: " + contact.method + "'s sets cycled in " +
+                std::to_string(contact.fallback_steps) + " load step" +
+                (contact.fallback_steps > 1 ? "s" : "") + ", finished by " +
+                contact.fallback_method + " (the same solution: the primal-dual active-set "
+                "iteration that confirms every set Ipopt finds)");
   return w;
 }
 
@@ -54,6 +60,7 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
                       {"status", to_string(contact.status)},
                       {"message", contact.message},
                       {"iterations", contact.iterations},
+                      {"fallback_steps", contact.fallback_steps},
                       {"detection_passes", contact.detection_passes},
                       {"rows", contact.rows},
                       {"slave_nodes", contact.nodes.size()},

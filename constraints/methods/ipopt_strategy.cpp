@@ -366,6 +366,12 @@ int solve_with_friction(const ConstrainedProblem& p, const RowSet& base, const S
 
 }  // namespace
 
+std::unique_ptr<ConstraintStrategy> IpoptStrategy::cycle_fallback() const {
+  StrategyOptions o = options_;
+  o.method = "lagrange";
+  return ConstraintStrategy::create(o);
+}
+
 ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
   ConstraintSolution s;
   const RowSet base = prepare_rows(p);

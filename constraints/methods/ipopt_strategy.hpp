@@ -13,6 +13,12 @@ class IpoptStrategy final : public ExactStrategy {
  public:
   using ExactStrategy::ExactStrategy;
   const SetRule& set_rule() const override { return rule_; }
+  /// `lagrange`: the primal-dual active-set iteration that already confirms every set Ipopt
+  /// finds (its crossover), on the whole step. Ipopt's problem is convex: where K_T is
+  /// indefinite along a motion only the rows hold (a beam buckling against a cap), its dual
+  /// holds that motion as if rigid, and the sets it finds at two linearisations can alternate
+  /// where the exact active-set iteration settles.
+  std::unique_ptr<ConstraintStrategy> cycle_fallback() const override;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
