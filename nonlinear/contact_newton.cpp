@@ -379,10 +379,10 @@ class ConstrainedStep {
         it.newton.residual_norms = {norm};
         it.newton.last_step = inf_norm(s.u);
         add_newton(it);
-      } else if (!newton_with_set_held(sys, x, newton, it, true)) {
+      } else if (!newton_with_set_held(sys, x, newton, it, true, !continued_)) {
         return false;
       } else {
-        satisfied_now = true;
+        satisfied_now = it.newton.status == SolveStatus::kConverged;
       }
     }
     last_norm_ = it.newton.final_residual;
@@ -464,8 +464,11 @@ class ConstrainedStep {
 
   /// KINSOL with the set held from x; false when it failed (out_ says why). With
   /// `from_method_step`, x is the method's step, counted as that Newton's first iteration.
+  /// With `may_continue`, true also where it handed an unconverged state on (see below:
+  /// it.newton.status says so).
   bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& options,
-                            ContactIteration& it, bool from_method_step) {
+                            ContactIteration& it, bool from_method_step,
+                            bool may_continue = false) {
     // KINSOL's test is relative to the scale: never below what the rows' round-off allows (a
     // stiff penalty on an obstacle row otherwise leaves Newton stuck a decade above its test,
     // ending on a zero step).
@@ -480,6 +483,20 @@ class ConstrainedStep {
     }
     add_newton(it);
     if (it.newton.status == SolveStatus::kConverged) return true;
+    // A solve that ran out of iterations or stalled after halving the residual at least hands
+    // its state to the next outer iteration, once an attempt: the set it held may be the one
+    // that stopped fitting (a node sliding past its master's free end cannot keep g = 0), and
+    // the method decides the set anew there. The step still ends only on a state that
+    // satisfies the equations with a set the method keeps.
+    const auto& norms = it.newton.residual_norms;
+    if (may_continue &&
+        (it.newton.status == SolveStatus::kMaxIterations ||
+         it.newton.status == SolveStatus::kStalled) &&
+        !norms.empty() && std::isfinite(it.newton.final_residual) &&
+        it.newton.final_residual < 0.5 * norms.front()) {
+      continued_ = true;
+      return true;
+    }
     out_.iterations.push_back(it);
     fail(it.newton.status, where_ + "Newton with the active set fixed: " + it.newton.message);
     return false;
@@ -556,6 +573,7 @@ class ConstrainedStep {
   std::vector<double> force_since_;  ///< and the friction force it held there
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
+  bool continued_ = false;  ///< a held solve that did not converge handed its state on
   /// The residual a method's step must divide by ten to be kept as a Newton step: the larger
   /// of the last state's and the state's residual with what the step holds (∞ before the first).
   double last_norm_ = std::numeric_limits<double>::infinity();

@@ -14,7 +14,9 @@
 //      KINSOL with the set held (the globalisation: penalty-type methods add the forces
 //      λ̂ − k g(u) of the active rows, exact methods the multipliers of the active rows as
 //      unknowns). The active set never changes inside a KINSOL solve, so its line search sees a
-//      smooth residual.
+//      smooth residual. Once an attempt, a KINSOL solve that runs out of iterations or stalls
+//      after halving the residual hands its state to the next iterate instead of failing the
+//      attempt (a node sliding past its master's free end cannot keep the set it was held in).
 // The step has converged when the strategy kept its set and the state, or the state its step
 // reached, satisfies the equations with that set held; without friction, for a method whose set
 // follows from the state (ConstraintStrategy::set_follows_state), also when the state KINSOL
