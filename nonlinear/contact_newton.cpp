@@ -148,11 +148,9 @@ class ConstrainedStep {
     warm_start(qp, rows_, previous_, force_by_slot_);
 
     // 2. The strategy on the linearised problem.
-    ConstraintSolution s = solve_catching_first_touch(method(), qp);
-    out_.strategy.add(s);
-    it.factorizations = s.factorizations;
-    ContactMemory next = record_strategy(qp, s, it);
-    if (s.status != SolveStatus::kConverged) return strategy_failed(c, qp, s, it);
+    ConstraintSolution s;
+    ContactMemory next;
+    if (!solve_method(qp, c, it, s, next)) return false;
     // The first iteration's set is the predictor's, at the step's start: it may come back.
     ActiveSetTracker::Change change;
     if (outer == 1)
@@ -163,11 +161,7 @@ class ConstrainedStep {
     // this iterate is solved again by the fallback, and so is every later one of the step.
     if (change.repeated && !fallback_ && (fallback_ = strategy_.cycle_fallback())) {
       out_.fallback = fallback_->name();
-      s = solve_catching_first_touch(*fallback_, qp);
-      out_.strategy.add(s);
-      it.factorizations += s.factorizations;
-      next = record_strategy(qp, s, it);
-      if (s.status != SolveStatus::kConverged) return strategy_failed(c, qp, s, it);
+      if (!solve_method(qp, c, it, s, next)) return false;
       change = sets_.record(next);
     }
     const bool same_set = change.unchanged;
@@ -185,9 +179,16 @@ class ConstrainedStep {
   /// The method solving the step's iterates: the step's own, or its cycle fallback.
   ConstraintStrategy& method() const { return fallback_ ? *fallback_ : strategy_; }
 
-  /// A method's solve that failed: its trial state kept, the step failed with its status.
-  bool strategy_failed(const VecX& c, const ConstrainedProblem& qp, const ConstraintSolution& s,
-                       ContactIteration& it) {
+  /// The method's solve of the linearised problem `qp` (constants `c`), its work and set in
+  /// the iteration record `it`; `next` its active set by slot. False when it failed: its trial
+  /// state kept, the step failed with its status.
+  bool solve_method(ConstrainedProblem& qp, const VecX& c, ContactIteration& it,
+                    ConstraintSolution& s, ContactMemory& next) {
+    s = solve_catching_first_touch(method(), qp);
+    out_.strategy.add(s);
+    it.factorizations += s.factorizations;
+    next = record_strategy(qp, s, it);
+    if (s.status == SolveStatus::kConverged) return true;
     keep_partial(c, qp, s);
     out_.iterations.push_back(it);
     fail(s.status, where_ + method().name() + ": " + s.message);
