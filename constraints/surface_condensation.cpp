@@ -341,8 +341,8 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
   if (!factored_) return SolveStatus::kFailed;
   const int rows = static_cast<int>(ct_.cols());
   const int nh = static_cast<int>(states.held.size());
-  std::vector<int> held_at(rows, -1);
-  for (int h = 0; h < nh; ++h) held_at[states.held[h]] = h;
+  std::vector<int> x_of(rows, -1);  // a held row's unknown in X
+  for (int h = 0; h < nh; ++h) x_of[states.held[h]] = h;
   // The regularising rows that need an auxiliary force of their own. A held row that
   // regularises needs none: its two equations, (S W)_r + compliance_r w_r = target_r − y0_r and
   // (S W)_r − ζ_r/ρ_r = −y0_r, give ζ_r = ρ_r (target_r − compliance_r w_r), so its column of W
@@ -350,11 +350,11 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
   // held only by its contact regularises every contact row: this halves the dense block.)
   std::vector<int> reg;
   for (int r = 0; r < rows; ++r)
-    if (rho_[r] > 0 && held_at[r] < 0) reg.push_back(r);
+    if (rho_[r] > 0 && x_of[r] < 0) reg.push_back(r);
   const int nr = static_cast<int>(reg.size());
   // W over the columns J (rows that may carry a force, ζ folded into its row's column):
   // W_J = B X + W0 with X = [w_H; ζ].
-  std::vector<int> cols, col_of(rows, -1), x_of(rows, -1);
+  std::vector<int> cols, col_of(rows, -1);
   auto col = [&](int r) {
     if (col_of[r] < 0) col_of[r] = static_cast<int>(cols.size()), cols.push_back(r);
     return col_of[r];
@@ -370,7 +370,6 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
     const double rho = rho_[r];
     b_map.push_back({col(r), h, 1.0 - rho * states.compliance[h]});
     if (rho > 0 && states.target[h] != 0.0) w0.emplace_back(col(r), rho * states.target[h]);
-    x_of[r] = h;
   }
   for (int q = 0; q < nr; ++q) b_map.push_back({col(reg[q]), nh + q, 1.0});
   for (size_t k = 0; k < states.following.size(); ++k) {
