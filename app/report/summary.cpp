@@ -41,8 +41,8 @@ nlohmann::json contact_warnings(const constraints::ContactReport& contact) {
     w.push_back("contact: " + contact.method + "'s sets cycled in " +
                 std::to_string(contact.fallback_steps) + " load step" +
                 (contact.fallback_steps > 1 ? "s" : "") + ", finished by " +
-                contact.fallback_method + " (the same solution: the primal-dual active-set "
-                "iteration that confirms every set Ipopt finds)");
+                contact.fallback_method + ", the method's fallback for a cycle (the same "
+                "solution: docs/scene.md)");
   return w;
 }
 
