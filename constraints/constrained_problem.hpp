@@ -44,6 +44,15 @@ struct ConstrainedProblem {
   /// penalties do not drift with K_T and an outer iteration that changes no active set
   /// confirms the step instead of posing a slightly different problem.
   VecX gap_row_stiffness;
+  /// Per gap row: its share of the slave surface (a mortar row's ∫Φ ds·t, a node-based row's
+  /// slave tributary length·t), so that its force over it is the pressure at its node; the
+  /// friction laws' traction bounds and the default penalties' spread use it. Empty: unknown.
+  VecX gap_area;
+  /// Per gap row: its slave node's whole share of the slave surface (gap_area uncut by a mortar
+  /// row's overlap with the master's ends), and the contact surface (pair) it belongs to, −1
+  /// for none. See gap_local_stiffness.
+  VecX gap_node_area;
+  std::vector<int> gap_surface;
   /// Friction (all empty: frictionless; see constraints/friction_solver.hpp). Per gap row i,
   /// the tangential row T_i: the slave's displacement relative to the master along the tangent
   /// t (the normal turned clockwise), so s = slip0 + T u is the row's slip in the step (from the
@@ -54,7 +63,6 @@ struct ConstrainedProblem {
   VecX slip0;                 ///< m
   /// m: each row's friction law (null: a frictionless row), shared with the scene's pairs.
   std::vector<std::shared_ptr<const FrictionLaw>> friction_law;
-  VecX friction_area;         ///< m: each row's share of the slave surface (traction bounds)
   VecX tangent_penalty_ratio; ///< m: k_t / k of penalty-type methods
   /// m: the friction force each row carried at the last converged state (the penalty's
   /// elastic tangential spring: its return map starts from it); empty: none.
@@ -86,7 +94,12 @@ struct ConstrainedProblem {
   /// assembled stiffness of the elements around the slave node (and its master nodes), the
   /// scale FEBio, Kratos and Tribol derive their default penalties from.
   VecX row_stiffness(const SpMat& rows) const;
-  /// The gap rows' local stiffness: gap_row_stiffness when given, else row_stiffness(G).
+  /// The gap rows' local stiffness, the base of default penalties: gap_row_stiffness when
+  /// given; else, on each contact surface, one stiffness per area κ (the largest of its rows'
+  /// row_stiffness over their slave node's area) times each row's area, so that a uniform
+  /// pressure meets a uniform penetration and a penalty reproduces it exactly (a row's own
+  /// row_stiffness follows the mesh's topology node by node); rows without a surface or an
+  /// area keep their row_stiffness.
   VecX gap_local_stiffness() const;
 };
 

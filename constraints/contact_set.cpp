@@ -109,8 +109,16 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   std::vector<Eigen::Triplet<double>> t;
   p.gap0 = VecX(m);
   p.gap_penalty = VecX::Zero(m);
+  p.gap_area = VecX::Zero(m);
+  p.gap_node_area = VecX::Zero(m);
+  p.gap_surface.assign(m, -1);
   for (int i = 0; i < m; ++i) {
     const GapRow& r = rows[i];
+    if (r.pair < static_cast<int>(spec_.pairs.size())) {  // not one of the seed's gap elements
+      p.gap_node_area[i] = tributary_[r.slave];
+      p.gap_area[i] = r.weight > 0 ? r.weight : p.gap_node_area[i];
+      p.gap_surface[i] = r.pair;
+    }
     // g(u) = g_det + Σ a_j (u_j − u_det,j): free DOFs become columns, the rest is constant.
     double g0 = r.gap;
     for (const auto& [node, coefficient] : r.terms)

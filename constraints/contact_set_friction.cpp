@@ -36,7 +36,6 @@ void ContactSet::add_friction_rows(const std::vector<GapRow>& rows, const VecX& 
   std::vector<Eigen::Triplet<double>> t;
   p.slip0 = VecX::Zero(m);
   p.friction_law.assign(m, nullptr);
-  p.friction_area = VecX::Zero(m);
   p.tangent_penalty_ratio = VecX::Ones(m);
   for (int i = 0; i < m; ++i) {
     const GapRow& r = rows[i];
@@ -59,7 +58,6 @@ void ContactSet::add_friction_rows(const std::vector<GapRow>& rows, const VecX& 
     const FrictionSpec& f = spec_.pairs[r.pair].friction;
     p.friction_law[i] = f.model;
     p.tangent_penalty_ratio[i] = f.penalty_ratio;
-    p.friction_area[i] = r.weight > 0 ? r.weight : tributary_[r.slave];
   }
   p.slip_jacobian = SpMat(m, dofs.num_free());
   p.slip_jacobian.setFromTriplets(t.begin(), t.end());

@@ -19,7 +19,7 @@ bool ConstrainedProblem::frictional(int i) const {
 }
 
 FrictionBound ConstrainedProblem::friction_bound(int i, double normal_force) const {
-  const double area = friction_area.size() == num_gaps() ? friction_area[i] : 0.0;
+  const double area = gap_area.size() == num_gaps() ? gap_area[i] : 0.0;
   return friction_law[i]->bound(std::max(0.0, normal_force), area);
 }
 

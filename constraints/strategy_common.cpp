@@ -36,7 +36,26 @@ SpMat stack_rows(const SpMat& top, const SpMat& bottom) {
 }
 
 VecX ConstrainedProblem::gap_local_stiffness() const {
-  return gap_row_stiffness.size() == num_gaps() ? gap_row_stiffness : row_stiffness(gap_jacobian);
+  const int m = num_gaps();
+  if (gap_row_stiffness.size() == m) return gap_row_stiffness;
+  VecX local = row_stiffness(gap_jacobian);
+  if (gap_area.size() != m || gap_node_area.size() != m || static_cast<int>(gap_surface.size()) != m)
+    return local;
+  // κ per surface over its slave nodes' whole areas: a mortar row cut short by the master's
+  // end has a sliver of weight, and its stiffness over that sliver is no measure of the surface.
+  std::vector<double> kappa;
+  for (int i = 0; i < m; ++i) {
+    const int s = gap_surface[i];
+    if (s < 0 || !(gap_node_area[i] > 0) || !(local[i] > 0)) continue;
+    if (s >= static_cast<int>(kappa.size())) kappa.resize(s + 1, 0.0);
+    kappa[s] = std::max(kappa[s], local[i] / gap_node_area[i]);
+  }
+  for (int i = 0; i < m; ++i) {
+    const int s = gap_surface[i];
+    if (s >= 0 && s < static_cast<int>(kappa.size()) && kappa[s] > 0 && gap_area[i] > 0)
+      local[i] = kappa[s] * gap_area[i];
+  }
+  return local;
 }
 
 double penetration_tolerance(const StrategyOptions& o, const ConstrainedProblem& p) {

@@ -61,7 +61,7 @@ ConstrainedProblem node_on_floor(double fx) {
   p.slip_jacobian = sparse(Eigen::RowVector3d(1, 0, 0));
   p.slip0 = VecX::Zero(1);
   p.friction_law = {std::make_shared<Coulomb>(0.5)};
-  p.friction_area = VecX::Ones(1);
+  p.gap_area = VecX::Ones(1);
   p.tangent_penalty_ratio = VecX::Ones(1);
   return p;
 }
