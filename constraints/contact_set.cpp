@@ -24,6 +24,10 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
     if (!info) throw InputError(cs.where + ": unknown detection '" + cs.detection + "'");
     add_slave_edges(cs, info->slave_surface);
     pairs_.push_back(info->create({model, cs, spec_.obstacles, static_cast<int>(c)}));
+    const DiscretizationInfo* nodal = find_discretization("node_to_segment");
+    gauges_.push_back(cs.detection == nodal->name
+                          ? nullptr
+                          : nodal->create({model, cs, spec_.obstacles, static_cast<int>(c)}));
   }
   if (scene.explicit_model) add_gap_elements(*scene.explicit_model);
   add_equalities();
@@ -95,6 +99,21 @@ std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain, bool cu
   std::vector<GapRow> rows;
   for (size_t p = 0; p < pairs_.size(); ++p) pairs_[p]->detect(c, first_slot_[p], rows);
   return rows;
+}
+
+double ContactSet::nodal_penetration(const VecX& u) const {
+  const core::Mesh& mesh = model_.mesh;
+  std::vector<Vec2> x(mesh.num_nodes());
+  for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
+  const Configuration c{x, mesh.nodes, false, &u, false};
+  std::vector<GapRow> rows;
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const ContactDiscretization& d = p < gauges_.size() && gauges_[p] ? *gauges_[p] : *pairs_[p];
+    d.detect(c, first_slot_[p], rows);
+  }
+  double deepest = 0.0;
+  for (const GapRow& r : rows) deepest = std::max(deepest, -r.gap);
+  return deepest;
 }
 
 ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,

@@ -71,6 +71,9 @@ struct ContactReport {
   /// it under (the method's own penetration + 1e-9 × model size); NaN when not measured.
   double measured_penetration = std::numeric_limits<double>::quiet_NaN();
   double penetration_tolerance = std::numeric_limits<double>::quiet_NaN();
+  /// The deepest slave node below the master surface at the final positions (see
+  /// ContactSet::nodal_penetration); NaN when not measured.
+  double nodal_penetration = std::numeric_limits<double>::quiet_NaN();
   /// The physical limit: penetration_limit × the shortest contact edge (StrategyOptions).
   double penetration_limit = std::numeric_limits<double>::quiet_NaN();
   double total_force = 0.0;     ///< Σ normal forces
@@ -123,6 +126,11 @@ class ContactSet {
   /// Without `curvature`, finite-strain rows carry their values and gradients only.
   std::vector<GapRow> detect(const VecX& u_full, bool small_strain = false,
                              bool curvature = true) const;
+  /// The deepest slave node below its master surface at the configuration X + u: each slave
+  /// node projected onto the current master surface (quadratic edges on T6), whatever the
+  /// pair's discretization (a mortar row's weighted gap allows a node an overlap of the
+  /// order h²/R between its neighbours). 0 when none penetrates.
+  double nodal_penetration(const VecX& u_full) const;
 
   /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
   /// configuration), with prescribed DOFs moved into g0.
@@ -188,6 +196,9 @@ class ContactSet {
   const core::Model& model_;
   ContactSceneSpec spec_;
   std::vector<std::unique_ptr<ContactDiscretization>> pairs_;  ///< one per [[contact]] (+ gaps)
+  /// Per [[contact]] whose rows are not one per slave node: a node_to_segment of the same
+  /// surfaces, the gauge of nodal_penetration (null: the pair is its own gauge).
+  std::vector<std::unique_ptr<ContactDiscretization>> gauges_;
   std::vector<int> first_slot_;              ///< per pair: the slot of its first row
   std::vector<EqualityRow> equality_rows_;
   std::vector<char> plate_row_kept_;         ///< per row rigid_plate_rows makes, in order

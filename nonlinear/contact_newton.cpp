@@ -540,13 +540,16 @@ class ConstrainedStep {
   }
 
   /// "converged" is checked on the final state: the rows detected afresh at the final
-  /// positions may not penetrate beyond what the method reports. A failed step is measured too.
+  /// positions (paired there; a linear run's gaps linearised as its analysis is) may not
+  /// penetrate beyond what the method reports. Each slave node's depth below the deformed
+  /// master surface, in the final geometry, is measured beside it. A failed step is measured too.
   void verify_final_state() {
     const std::vector<GapRow> fresh =
         contact_.detect(system_.full(u_), system_.is_linear(), false);
     double measured = 0.0;
     for (const GapRow& r : fresh) measured = std::max(measured, -r.gap);
     out_.measured_penetration = measured;
+    out_.nodal_penetration = contact_.nodal_penetration(system_.full(u_));
     out_.penetration_tolerance = state_.max_penetration + 1e-9 * contact_.model_size();
     if (out_.status == SolveStatus::kConverged && measured > out_.penetration_tolerance)
       fail(SolveStatus::kPenetration,

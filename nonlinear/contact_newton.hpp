@@ -105,6 +105,8 @@ struct ContactStepResult {
   /// NaN when the step ended before a state to measure.
   double measured_penetration = std::numeric_limits<double>::quiet_NaN();
   double penetration_tolerance = std::numeric_limits<double>::quiet_NaN();
+  /// The deepest slave node below its master surface there (ContactSet::nodal_penetration).
+  double nodal_penetration = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The constrained step: one load step to the load factor and prescribed values set on

@@ -202,6 +202,7 @@ class LoadStepper {
                               last_contact_);
       last_contact_.measured_penetration = cstep.measured_penetration;
       last_contact_.penetration_tolerance = cstep.penetration_tolerance;
+      last_contact_.nodal_penetration = cstep.nodal_penetration;
       if (!cstep.fallback.empty())
         ++last_contact_.fallback_steps, last_contact_.fallback_method = cstep.fallback;
       rec.contact_state = last_contact_;

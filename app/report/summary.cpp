@@ -37,6 +37,17 @@ nlohmann::json contact_warnings(const constraints::ContactReport& contact) {
                   contact.measured_penetration, contact.penetration_limit);
     w.push_back(text);
   }
+  if (contact.nodal_penetration > contact.penetration_limit &&
+      !(contact.measured_penetration > contact.penetration_limit)) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "contact: a slave node lies %.4g below the deformed master surface, beyond the "
+                  "physical limit %.4g, although the contact rows hold (a linear analysis's "
+                  "linearised gaps, or mortar's weighted ones, on a coarse or strongly curved "
+                  "surface)",
+                  contact.nodal_penetration, contact.penetration_limit);
+    w.push_back(text);
+  }
   if (contact.fallback_steps > 0)
     w.push_back("contact: " + contact.method + "'s sets cycled in " +
                 std::to_string(contact.fallback_steps) + " load step" +
@@ -55,6 +66,7 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
                       {"max_penetration", number(contact.max_penetration)},
                       {"measured_penetration", number(contact.measured_penetration)},
                       {"penetration_tolerance", number(contact.penetration_tolerance)},
+                      {"nodal_penetration", number(contact.nodal_penetration)},
                       {"penetration_limit", number(contact.penetration_limit)},
                       {"total_force", number(contact.total_force)},
                       {"status", to_string(contact.status)},

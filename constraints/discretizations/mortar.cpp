@@ -163,12 +163,14 @@ void Mortar::integrate_obstacle(const Configuration& c, const SlaveEdge& se,
 
 void Mortar::integrate_master(const Configuration& c, const MasterSurfaceSearch& search,
                               const SlaveEdge& se, std::vector<Accumulator>& acc) const {
-  // Segments, pairing and normals on `geo` (the current positions, or the reference ones in
-  // small strain); gaps at the current positions.
+  // Segments and pairing at the current positions, so that a slave that slid along its master
+  // meets the master it now faces (node_to_segment's projection does the same); in small
+  // strain the normals and weights stay the reference slave edge's (the linear kinematics).
+  const std::vector<Vec2>& now = c.x;
   const std::vector<Vec2>& geo = c.small_strain ? c.reference : c.x;
   const MasterEdge& e = se.edge;
-  Vec2 lo = geo[e.nodes[0]], hi = lo;
-  for (int a = 1; a < e.count; ++a) lo = lo.cwiseMin(geo[e.nodes[a]]), hi = hi.cwiseMax(geo[e.nodes[a]]);
+  Vec2 lo = now[e.nodes[0]], hi = lo;
+  for (int a = 1; a < e.count; ++a) lo = lo.cwiseMin(now[e.nodes[a]]), hi = hi.cwiseMax(now[e.nodes[a]]);
   std::vector<int> candidates;
   for (int id : search.edges_near(lo, hi))
     if (!shares_node(e, master_edges_[id])) candidates.push_back(id);
@@ -178,7 +180,7 @@ void Mortar::integrate_master(const Configuration& c, const MasterSurfaceSearch&
   for (int id : candidates)
     for (int end = 0; end < 2; ++end) {
       const int vertex = master_edges_[id].nodes[end];
-      const double xi = project_on_edge(e, geo, geo[vertex]).xi;
+      const double xi = project_on_edge(e, now, now[vertex]).xi;
       if (xi > 0.0 && xi < 1.0) cuts.push_back({xi, vertex});
     }
   std::sort(cuts.begin(), cuts.end(),
@@ -186,17 +188,18 @@ void Mortar::integrate_master(const Configuration& c, const MasterSurfaceSearch&
   for (size_t k = 0; k + 1 < cuts.size(); ++k) {
     const double a = cuts[k].xi, b = cuts[k + 1].xi;
     if (b - a < 1e-12) continue;
-    const MasterEdge* master = facing_edge(geo, e, 0.5 * (a + b), candidates);
+    const MasterEdge* master = facing_edge(now, e, 0.5 * (a + b), candidates);
     if (!master) continue;  // past a free end of the master surface: nothing to touch
     for (int q = 0; q < 4; ++q) {
       const double xi = a + (b - a) * kGaussPoint[q];
-      const EdgePoint slave = evaluate(e, geo, xi);
+      const EdgePoint slave = evaluate(e, now, xi);
       double eta, alpha;
-      if (!ray_hit(*master, geo, slave.x, outward_normal(slave.tangent), eta, alpha)) continue;
-      const Vec2 n = -outward_normal(slave.tangent);  // from the master toward the slave
-      const EdgePoint on_master = evaluate(*master, geo, eta);
-      const double g = n.dot(combine(e, c.x, slave.shape) - combine(*master, c.x, on_master.shape));
-      const double w = (b - a) * kGaussWeight[q] * slave.tangent.norm() * se.thickness;
+      if (!ray_hit(*master, now, slave.x, outward_normal(slave.tangent), eta, alpha)) continue;
+      const EdgePoint own = c.small_strain ? evaluate(e, geo, xi) : slave;
+      const Vec2 n = -outward_normal(own.tangent);  // from the master toward the slave
+      const EdgePoint on_master = evaluate(*master, now, eta);
+      const double g = n.dot(slave.x - on_master.x);
+      const double w = (b - a) * kGaussWeight[q] * own.tangent.norm() * se.thickness;
       const double phi[2] = {1.0 - xi, xi};
       for (int r = 0; r < 2; ++r)
         acc[se.row[r]].add_point(w * phi[r], g, n, e, slave.shape, master, on_master.shape);
@@ -252,7 +255,7 @@ void Mortar::detect(const Configuration& c, int first_slot, std::vector<GapRow>&
   if (obstacle_) {
     for (const SlaveEdge& se : slave_edges_) integrate_obstacle(c, se, acc);
   } else {
-    const MasterSurfaceSearch search(master_edges_, c.small_strain ? c.reference : c.x, search_);
+    const MasterSurfaceSearch search(master_edges_, c.x, search_);
     for (const SlaveEdge& se : slave_edges_) integrate_master(c, search, se, acc);
   }
   for (size_t j = 0; j < acc.size(); ++j) {
