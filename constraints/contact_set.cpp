@@ -365,10 +365,30 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
   }
   std::vector<double> mortar_weight(r.nodes.size(), 0.0);
   std::vector<Vec2> contact_normal(r.nodes.size(), Vec2::Zero());  // of an active row
+  // The frame of the tangential force: the slave surface's normals in the reference
+  // configuration (into the slave), weighted by the rows' forces.
+  std::map<int, Vec2> inward;
+  for (const MasterEdge& e : slave_edges_) {
+    const Vec2 t = mesh.nodes[e.nodes[1]] - mesh.nodes[e.nodes[0]];
+    const Vec2 in(-t.y(), t.x());  // the body lies left of its edges
+    for (int a = 0; a < e.count; ++a) inward.try_emplace(e.nodes[a], Vec2::Zero()).first->second += in;
+  }
+  Vec2 normal_sum = Vec2::Zero();
+  r.resultant = Vec2::Zero();
   for (size_t i = 0; i < rows.size(); ++i) {
     const int at = slot[rows[i].slave];
     ContactNodeResult& cn = r.nodes[at];
     const int k = static_cast<int>(i);
+    {  // the row's force on the slave: λ along its normal, −λ_t along its tangent (n turned cw)
+      const Vec2& n = rows[i].normal;
+      const double lambda = s.contact_force.size() > k ? s.contact_force[k] : 0.0;
+      const double q = s.tangent_force.size() > k ? -s.tangent_force[k] : 0.0;
+      const auto own = inward.find(rows[i].slave);
+      normal_sum += lambda * (own != inward.end() && own->second.norm() > 0
+                                  ? Vec2(own->second.normalized())
+                                  : n);
+      r.resultant += lambda * n + q * Vec2(n.y(), -n.x());
+    }
     cn.gap = std::min(cn.gap, s.gap.size() > k ? s.gap[k] : rows[i].gap);
     cn.force += s.contact_force.size() > k ? s.contact_force[k] : 0.0;
     cn.penalty = std::max(cn.penalty, s.penalty.size() > k ? s.penalty[k] : 0.0);
@@ -412,12 +432,17 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
   r.stick_nodes = r.slip_nodes = 0;
   r.tangent_force = 0.0;
   for (const ContactNodeResult& cn : r.nodes) {
-    r.tangent_force += cn.tangent_force;
     r.stick_nodes += cn.state == FrictionState::kStick;
     r.slip_nodes += cn.state == FrictionState::kSlip;
     r.active_nodes += cn.active;
     r.total_force += cn.force;
     r.p_max = std::max(r.p_max, cn.pressure);
+  }
+  if (normal_sum.norm() > 0) {
+    const Vec2 n = normal_sum.normalized();
+    r.tangent_force = r.resultant.dot(Vec2(n.y(), -n.x()));
+  } else {
+    for (const ContactNodeResult& cn : r.nodes) r.tangent_force += cn.tangent_force;
   }
   r.length = contact_length(slot, mortar_edge, side, r.nodes);
   if (r.friction) {  // the stick zone, measured as the contact zone is

@@ -69,6 +69,7 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
                       {"nodal_penetration", number(contact.nodal_penetration)},
                       {"penetration_limit", number(contact.penetration_limit)},
                       {"total_force", number(contact.total_force)},
+                      {"resultant", {number(contact.resultant.x()), number(contact.resultant.y())}},
                       {"status", to_string(contact.status)},
                       {"message", contact.message},
                       {"iterations", contact.iterations},

@@ -238,7 +238,12 @@ double stick_half_width(const constraints::ContactReport& report) {
 
 // The example with ssn, lagrange and auglag: stick half-width c = b √(1 − Q/μP) = 1.6609 mm
 // within 2 % + one node spacing (0.06 mm); the stick zone's measured length within 2 %; the
-// shear profile's L2 error over |x| < 1.5 b below 3 % (1.9 to 2.3 % measured).
+// shear profile's L2 error over |x| < 1.5 b below 3 % (1.9 to 2.3 % measured). The contact
+// forces' resultant on the cylinder is the cap's load (−Q, P) to 1e-6 P (Newton's test is
+// 1e-8 of the load), and the reported tangential force, its component along the surface's
+// reference tangent, is Q to 1e-4 (finite strain moves the pressure's centre by 2.5e-3 mm
+// under Q, and with it the tilt of the mean normal: 3.3e-5 measured; the sum of the nodes'
+// forces along their own deformed tangents, reported before, read 5.5e-4 off).
 TEST(Friction, CattaneoMindlinStickZoneAndShearProfile) {
   const double c = kB * std::sqrt(1.0 - kQ / (kMu * kP));
   for (const std::string m : {"lagrange", "ssn", "auglag"}) {
@@ -251,6 +256,9 @@ TEST(Friction, CattaneoMindlinStickZoneAndShearProfile) {
     EXPECT_NEAR(r.report.length / (2 * kB), 1.0, 0.01);
     EXPECT_LT(shear_profile_error(scene, r), 0.03);
     EXPECT_GT(r.report.slip_nodes, 0);
+    EXPECT_NEAR(r.report.resultant.x(), -kQ, 1e-6 * kP);
+    EXPECT_NEAR(r.report.resultant.y(), kP, 1e-6 * kP);
+    EXPECT_NEAR(r.report.tangent_force / -kQ, 1.0, 1e-4);
   }
 }
 
