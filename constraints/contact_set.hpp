@@ -173,6 +173,11 @@ class ContactSet {
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
+  /// The [[constraint]] rows' multipliers and residuals (contact_set_report.cpp).
+  void report_equalities(const ConstraintSolution& s, ContactReport& r) const;
+  /// The resultant of the rows' forces and its tangential part (contact_set_report.cpp).
+  void add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
+                     ContactReport& r) const;
   /// Each slave node's share of the slave surface (tributary_).
   void add_tributary();
   /// The tangential rows of `rows` and their friction laws into `p` (see ConstrainedProblem).
