@@ -201,6 +201,10 @@ class ContactSet {
                                const std::vector<Vec2>& contact_normal,
                                const std::vector<ContactNodeResult>& nodes) const;
   /// Arc length of the slave surface owned by active nodes (side edges left out).
+  /// The length of the longest run of sticking nodes along the slave surface (the stick zone).
+  double stick_zone_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
+                           const std::vector<char>& side_edge,
+                           const std::vector<ContactNodeResult>& sticking) const;
   double contact_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
                         const std::vector<char>& side_edge,
                         const std::vector<ContactNodeResult>& nodes) const;

@@ -209,7 +209,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
         sticking[slot.at(slave_edges_[k].nodes[2])].active =
             sticking[slot.at(slave_edges_[k].nodes[0])].active ||
             sticking[slot.at(slave_edges_[k].nodes[1])].active;
-    r.stick_length = contact_length(slot, mortar_edge, side, sticking);
+    r.stick_length = stick_zone_length(slot, mortar_edge, side, sticking);
   }
   r.max_penetration = s.max_penetration;
   r.rows = static_cast<int>(rows.size());
@@ -340,6 +340,50 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
     // sticking where both corners stick, slipping where either slips
     m.state = a.state == b.state ? a.state : std::max(a.state, b.state);
   }
+}
+
+double ContactSet::stick_zone_length(const std::map<int, int>& slot,
+                                     const std::vector<char>& mortar_edge,
+                                     const std::vector<char>& side_edge,
+                                     const std::vector<ContactNodeResult>& sticking) const {
+  // The sticking nodes joined along the slave edges into runs; the longest run is the stick
+  // zone. A node that first touched in the last increment has not slipped yet and sticks at
+  // the edge of the contact zone, apart from the zone (Cattaneo–Mindlin on a rigid flat: two
+  // such nodes added 0.006 to c/b at b/80).
+  const int n = static_cast<int>(sticking.size());
+  std::vector<int> root(n);
+  for (int i = 0; i < n; ++i) root[i] = i;
+  auto find = [&](int i) {
+    while (root[i] != i) i = root[i] = root[root[i]];
+    return i;
+  };
+  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+    if (side_edge[k]) continue;
+    const MasterEdge& e = slave_edges_[k];
+    for (int a = 1; a < e.count; ++a) {
+      const int p = slot.at(e.nodes[0]), q = slot.at(e.nodes[a]);
+      const int m = e.count == 3 ? slot.at(e.nodes[2]) : q;  // a T6 edge's run passes its middle
+      if (sticking[p].active && sticking[q].active && sticking[m].active) root[find(p)] = find(q);
+    }
+    if (e.count == 3) {  // a middle node joins each sticking corner beside it
+      const int m = slot.at(e.nodes[2]);
+      for (int a = 0; a < 2; ++a) {
+        const int c = slot.at(e.nodes[a]);
+        if (sticking[m].active && sticking[c].active) root[find(m)] = find(c);
+      }
+    }
+  }
+  std::map<int, std::vector<ContactNodeResult>> runs;
+  double longest = 0.0;
+  for (int i = 0; i < n; ++i) {
+    if (!sticking[i].active) continue;
+    auto [it, fresh] = runs.try_emplace(find(i), sticking);
+    if (fresh)
+      for (int j = 0; j < n; ++j) it->second[j].active = sticking[j].active && find(j) == it->first;
+  }
+  for (const auto& [id, run] : runs)
+    longest = std::max(longest, contact_length(slot, mortar_edge, side_edge, run));
+  return longest;
 }
 
 double ContactSet::contact_length(const std::map<int, int>& slot,
