@@ -11,8 +11,15 @@
 namespace c2d::constraints {
 
 namespace {
-/// Rows of the dense Schur complement (its LU costs k³/3 flops per active set: 0.3 GFlop here).
+/// Rows of the dense Schur complement (its LU costs k³/3 flops per active set: 0.3 GFlop here)
+/// when its columns come from solves with K_ρ's factor (4·nnz(L) flops a row).
 constexpr int kMaxSchurRows = 1000;
+/// The same with K_ρ condensed onto the surface, whose columns are dense work on the tail:
+/// up to 4,000 rows (21 GFlop an LU, k² doubles: 128 MB). Above 1,000 rows the whole saddle
+/// point's LU costs more: a T6 Hertz on an elastic block at 60,856 DOFs with 1,027 active
+/// node-to-segment rows took 12 UMFPACK factorisations (64 s of solve) after the tail factor
+/// had been made; held on the tail, one factorisation and 17 s.
+constexpr int kMaxCondensedSchurRows = 4000;
 /// Columns of W = K_ρ⁻¹ Cᵀ solved at once: n × 32 doubles at a time (256 MB at 1M unknowns).
 constexpr int kSchurBlock = 32;
 constexpr double kMinSchurRcond = 1e-13;
@@ -159,7 +166,7 @@ SolveStatus SaddlePointSolver::factorize(const std::vector<char>& active, bool a
     if (all_rows || active[i]) ++size_;
   }
   const int k = static_cast<int>(rows_.size());
-  if (path_ == Path::kSchur && k <= kMaxSchurRows) {
+  if (path_ == Path::kSchur && k <= (condensed_ ? kMaxCondensedSchurRows : kMaxSchurRows)) {
     const SolveStatus st = factorize_schur();
     if (st == SolveStatus::kConverged || report_.rcond < kMinSchurRcond) return st;
   }
