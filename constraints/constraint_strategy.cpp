@@ -72,4 +72,11 @@ std::unique_ptr<ActiveSetTerms> ExactStrategy::active_set_terms(
                                saddle_point_scale(p));
 }
 
+void ConstraintStrategy::step_accepted(StepHistory converged) {
+  accepted_ = std::move(converged);
+  on_step_accepted();
+}
+
+void ConstraintStrategy::step_rejected() { on_step_rejected(); }
+
 }  // namespace c2d::constraints

@@ -42,6 +42,15 @@ struct StrategyOptions {
   std::string validate() const;
 };
 
+/// What a method carries from one accepted load step to the next, per row slot (a row's
+/// identity across detections, ContactSet::num_slots): its state (0 open, 1 closed and
+/// sticking, 2 closed and slipping along +t, 3 along −t) and, with friction, the friction force
+/// λ_t it held (empty: none yet).
+struct StepHistory {
+  std::vector<char> states;
+  VecX tangent_force;
+};
+
 class ConstraintStrategy {
  public:
   /// `options.method` is the registered name the strategy reports.
@@ -69,10 +78,14 @@ class ConstraintStrategy {
   /// The rule by which the method's set iterations choose each row's next normal and
   /// tangential state (set_rules.hpp): the one set engine asks it, for every method.
   virtual const SetRule& set_rule() const = 0;
-  /// Hooks of a load-stepped analysis: the step just solved was accepted, or is being cut back
-  /// (a method with history per step keeps or restores it here). Nothing by default.
-  virtual void step_accepted() {}
-  virtual void step_rejected() {}
+  /// The history of the last accepted load step, where every attempt at the next one starts.
+  const StepHistory& history() const { return accepted_; }
+  /// Hooks of a load-stepped analysis: the step just solved was accepted with `converged` as
+  /// its history, which becomes the method's snapshot; or it is being cut back, and the next
+  /// attempt starts again from the snapshot (a method with more state per step restores it in
+  /// on_step_rejected).
+  void step_accepted(StepHistory converged);
+  void step_rejected();
   /// The method that finishes a load step whose outer iterations cycle (their sets return to
   /// an earlier combination), or null: the cycle then ends the step as `cycling`. Only a
   /// method with the same solution may serve.
@@ -86,7 +99,14 @@ class ConstraintStrategy {
   /// The method itself: u, forces, multipliers, active set, status, history.
   virtual ConstraintSolution solve_problem(const ConstrainedProblem& problem) = 0;
 
+  /// A method's own per-step state beyond StepHistory: kept or restored here. Nothing by default.
+  virtual void on_step_accepted() {}
+  virtual void on_step_rejected() {}
+
   StrategyOptions options_;
+
+ private:
+  StepHistory accepted_;
 };
 
 /// A method that enforces the constraints up to a regularisation (a penalty stiffness per

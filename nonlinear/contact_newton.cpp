@@ -41,7 +41,7 @@ class ConstrainedStep {
   ConstrainedStep(StructuralSystem& system, const ContactSet& contact,
                   ConstraintStrategy& strategy, const ContactStepInput& in)
       : system_(system), contact_(contact), strategy_(strategy), in_(in), u_(in.u_free),
-        previous_(in.memory), force_by_slot_(contact.num_slots(), 0.0) {
+        previous_(strategy.history().states), force_by_slot_(contact.num_slots(), 0.0) {
     previous_.resize(contact.num_slots(), 0);
     // The step's starting set belongs to the last converged state, not to this step: a set
     // that returns to it (the predictor closed a row that the corrected state opens again) is
@@ -66,8 +66,7 @@ class ConstrainedStep {
     }
     if (out_.status == SolveStatus::kConverged) {
       out_.newton.status = SolveStatus::kConverged;
-      out_.memory = previous_;
-      out_.tangent_memory = tangent_by_slot_;
+      out_.history = {previous_, tangent_by_slot_};
       verify_final_state();
     } else {
       fail(SolveStatus::kMaxIterations, "active set or geometry still changing after " +
@@ -121,9 +120,9 @@ class ConstrainedStep {
     if (qp.slip0.size() == qp.num_gaps()) {  // friction: the slip since the last step, and
       qp.slip0 += qp.slip_jacobian * u_;      // the penalty's tangential spring force there
       qp.tangent_force0 = VecX::Zero(qp.num_gaps());
-      if (in_.tangent_memory.size() == contact_.num_slots())
-        for (int i = 0; i < qp.num_gaps(); ++i)
-          qp.tangent_force0[i] = in_.tangent_memory[rows_[i].slot];
+      const VecX& held = strategy_.history().tangent_force;
+      if (held.size() == contact_.num_slots())
+        for (int i = 0; i < qp.num_gaps(); ++i) qp.tangent_force0[i] = held[rows_[i].slot];
       // A row that was open at the step's start slips from where it first closed: from the
       // state of the outer iteration that found it closed, with the friction force it held
       // there (a penalty's spring keeps its stretch). Its slip while it was still approaching
@@ -134,7 +133,8 @@ class ConstrainedStep {
       force_since_.resize(contact_.num_slots(), 0.0);
       for (int i = 0; i < qp.num_gaps(); ++i) {
         const int k = rows_[i].slot;
-        if (static_cast<int>(in_.memory.size()) > k && in_.memory[k]) continue;
+        const std::vector<char>& closed = strategy_.history().states;
+        if (static_cast<int>(closed.size()) > k && closed[k]) continue;
         if (std::isnan(slip_since_[k]) && previous_[k]) {
           slip_since_[k] = qp.slip0[i];
           force_since_[k] = tangent_by_slot_.size() > k ? tangent_by_slot_[k] : 0.0;

@@ -61,9 +61,6 @@ using ContactMemory = std::vector<char>;
 struct ContactStepInput {
   VecX u_free;          ///< converged free displacements of the previous step
   VecX u_prev_full;     ///< the same state as a full vector (previous prescribed values)
-  ContactMemory memory; ///< active set of the previous step, by slot
-  /// Friction: per slot, the friction force λ_t of the previous step (empty: none).
-  VecX tangent_memory;
   NewtonOptions newton; ///< tolerance and limits; the residual scale is set per step
   double floor_scale = 0.0;  ///< smallest residual scale (stress-free, displacement-driven)
   int max_outer = 15;
@@ -88,8 +85,9 @@ struct ContactStepResult {
   SolveStatus status = SolveStatus::kFailed;
   std::string message;
   VecX u_free;
-  ContactMemory memory;
-  VecX tangent_memory;  ///< friction: per slot, the friction force λ_t at the converged state
+  /// The converged state's sets and friction forces by slot, for the method's history
+  /// (ConstraintStrategy::step_accepted).
+  constraints::StepHistory history;
   /// The method that finished the step after the outer iterations cycled
   /// (ConstraintStrategy::cycle_fallback); empty: the step's own method throughout.
   std::string fallback;

@@ -30,7 +30,6 @@ class LoadStepper {
         contact_(contact), system_(system), with_contact_(contact && !contact->empty()),
         floor_scale_(residual_floor_scale(model_)),
         u_free_(VecX::Zero(model_.dofs.num_free())), u_prev_full_(prescribe(0.0)),
-        memory_(with_contact_ ? contact->num_slots() : 0, 0),
         nominal_(1.0 / std::max(1, options.steps)),
         smallest_(nominal_ / std::ldexp(1.0, std::clamp(options.max_cutbacks, 0, 40))),
         max_attempts_(options.max_attempts > 0
@@ -129,8 +128,6 @@ class LoadStepper {
       ContactStepInput in;
       in.u_free = u_free_;
       in.u_prev_full = u_prev_full_;
-      in.memory = memory_;
-      in.tangent_memory = tangent_memory_;
       in.newton = options_.newton;
       in.newton.residual_scale = load_scale;
       in.floor_scale = floor_scale_;
@@ -187,9 +184,7 @@ class LoadStepper {
     u_prev_full_ = system_.full(u_free_);
     lambda_ = target;
     if (with_contact_) {
-      strategy_->step_accepted();
-      memory_ = cstep.memory;
-      tangent_memory_ = cstep.tangent_memory;
+      strategy_->step_accepted(cstep.history);
       last_contact_.status = SolveStatus::kConverged;
       contact_->report(cstep.rows, cstep.state, last_contact_);
       // Friction: the slip accumulated over the converged steps, per slave node.
@@ -335,8 +330,6 @@ class LoadStepper {
   // The converged state: everything a failed attempt must not touch.
   VecX u_free_, u_prev_full_;
   double lambda_ = 0.0;
-  ContactMemory memory_;
-  VecX tangent_memory_;                 ///< friction: per slot, the last converged λ_t
   /// The attempt at the lowest load (inverted_lambda_) beyond the converged state that
   /// inverted an element; empty when none has.
   std::string inverted_at_;
