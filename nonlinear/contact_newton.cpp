@@ -12,6 +12,7 @@
 #include "nonlinear/active_set_system.hpp"
 #include "nonlinear/first_touch.hpp"
 #include "nonlinear/held_friction.hpp"
+#include "nonlinear/slip_origin.hpp"
 
 
 namespace c2d::nonlinear {
@@ -41,7 +42,8 @@ class ConstrainedStep {
   ConstrainedStep(StructuralSystem& system, const ContactSet& contact,
                   ConstraintStrategy& strategy, const ContactStepInput& in)
       : system_(system), contact_(contact), strategy_(strategy), in_(in), u_(in.u_free),
-        previous_(strategy.history().states), force_by_slot_(contact.num_slots(), 0.0) {
+        previous_(strategy.history().states), force_by_slot_(contact.num_slots(), 0.0),
+        slip_origin_(contact.num_slots()) {
     previous_.resize(contact.num_slots(), 0);
     // The step's starting set belongs to the last converged state, not to this step: a set
     // that returns to it (the predictor closed a row that the corrected state opens again) is
@@ -117,32 +119,9 @@ class ConstrainedStep {
     c << qp.gap0, -qp.eq_rhs;
     qp.gap0 += qp.gap_jacobian * u_;     // the gaps and equalities in terms of the step Δu
     qp.eq_rhs -= qp.eq_jacobian * u_;
-    if (qp.slip0.size() == qp.num_gaps()) {  // friction: the slip since the last step, and
-      qp.slip0 += qp.slip_jacobian * u_;      // the penalty's tangential spring force there
-      qp.tangent_force0 = VecX::Zero(qp.num_gaps());
-      const VecX& held = strategy_.history().tangent_force;
-      if (held.size() == contact_.num_slots())
-        for (int i = 0; i < qp.num_gaps(); ++i) qp.tangent_force0[i] = held[rows_[i].slot];
-      // A row that was open at the step's start slips from where it first closed: from the
-      // state of the outer iteration that found it closed, with the friction force it held
-      // there (a penalty's spring keeps its stretch). Its slip while it was still approaching
-      // is not slip: without this, a node entering contact in a step was charged the step's
-      // whole tangential motion (loading a Hertz contact with P and Q together made the newly
-      // touching edge nodes slip, where the analysis has none).
-      slip_since_.resize(contact_.num_slots(), std::nan(""));
-      force_since_.resize(contact_.num_slots(), 0.0);
-      for (int i = 0; i < qp.num_gaps(); ++i) {
-        const int k = rows_[i].slot;
-        const std::vector<char>& closed = strategy_.history().states;
-        if (static_cast<int>(closed.size()) > k && closed[k]) continue;
-        if (std::isnan(slip_since_[k]) && previous_[k]) {
-          slip_since_[k] = qp.slip0[i];
-          force_since_[k] = tangent_by_slot_.size() > k ? tangent_by_slot_[k] : 0.0;
-        }
-        if (std::isnan(slip_since_[k])) continue;
-        qp.slip0[i] -= slip_since_[k];
-        qp.tangent_force0[i] = force_since_[k];
-      }
+    if (qp.slip0.size() == qp.num_gaps()) {  // friction: the slip since the last step
+      qp.slip0 += qp.slip_jacobian * u_;
+      slip_origin_.apply(rows_, strategy_.history(), previous_, tangent_by_slot_, qp);
     }
     keep_local_stiffness(qp);
     warm_start(qp, rows_, previous_, force_by_slot_);
@@ -572,10 +551,7 @@ class ConstrainedStep {
   ActiveSetTracker sets_;  ///< the sets by slot of the outer iterations (cycle detection)
   std::vector<double> force_by_slot_;  ///< the last solve's row forces
   VecX tangent_by_slot_;               ///< friction: the held state's friction forces
-  /// Friction: per slot open at the step's start, its slip (from the last step) at the state
-  /// where it was first found closed; NaN while it has not closed.
-  std::vector<double> slip_since_;
-  std::vector<double> force_since_;  ///< and the friction force it held there
+  SlipOrigin slip_origin_;  ///< friction: where each row's slip starts in the step
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
   bool continued_ = false;  ///< a held solve that did not converge handed its state on
