@@ -311,3 +311,31 @@ TEST(ActiveSetTracker, CountsChangesAndDetectsARecurringSet) {
   c = t.record(a);
   EXPECT_TRUE(c.unchanged);
 }
+
+// Default penalties (ConstrainedProblem::gap_local_stiffness): one stiffness per area κ per
+// contact surface, the largest of its rows' local stiffness over their slave node's whole
+// area, times each row's share of the surface. Three rows on surface 0 (node areas 1, 2, 1;
+// local stiffnesses K_jj 4, 6, 2: κ = max(4, 3, 2) = 4), the last cut to a sliver of weight
+// 1e-6 by the master's end (its κ over that sliver would be 2e6); one row on surface 1 (κ = 5);
+// one of the seed's gap elements (no surface) keeps its own local stiffness.
+TEST(DefaultPenalties, OneStiffnessPerAreaOfEachSurface) {
+  ConstrainedProblem p;
+  p.stiffness = sparse(Eigen::Vector<double, 5>(4.0, 6.0, 2.0, 5.0, 7.0).asDiagonal().toDenseMatrix());
+  p.load = VecX::Zero(5);
+  p.gap_jacobian = sparse(Eigen::MatrixXd::Identity(5, 5));
+  p.gap0 = VecX::Zero(5);
+  p.eq_jacobian = SpMat(0, 5);
+  p.eq_rhs = VecX(0);
+  p.gap_node_area = (VecX(5) << 1.0, 2.0, 1.0, 1.0, 0.0).finished();
+  p.gap_area = (VecX(5) << 1.0, 2.0, 1e-6, 1.0, 0.0).finished();
+  p.gap_surface = {0, 0, 0, 1, -1};
+  const VecX k = p.gap_local_stiffness();
+  EXPECT_DOUBLE_EQ(k[0], 4.0);
+  EXPECT_DOUBLE_EQ(k[1], 8.0);   // twice the area, twice the stiffness: one penetration
+  EXPECT_DOUBLE_EQ(k[2], 4e-6);  // the sliver: its share, not a κ of its own
+  EXPECT_DOUBLE_EQ(k[3], 5.0);
+  EXPECT_DOUBLE_EQ(k[4], 7.0);
+  // Given per-row values (a load step keeps its first), they are used as they are.
+  p.gap_row_stiffness = VecX::Constant(5, 3.0);
+  EXPECT_DOUBLE_EQ(p.gap_local_stiffness()[2], 3.0);
+}
