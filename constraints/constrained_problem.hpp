@@ -94,12 +94,14 @@ struct ConstrainedProblem {
   /// assembled stiffness of the elements around the slave node (and its master nodes), the
   /// scale FEBio, Kratos and Tribol derive their default penalties from.
   VecX row_stiffness(const SpMat& rows) const;
+  /// The gap rows' local stiffness spread over each contact surface: one stiffness per area κ
+  /// (the largest of its rows' row_stiffness over their slave node's area) times each row's
+  /// area, so that a uniform pressure meets a uniform penetration and a penalty reproduces it
+  /// exactly (a row's own row_stiffness follows the mesh's topology node by node); rows without
+  /// a surface or an area keep their row_stiffness.
+  VecX surface_stiffness() const;
   /// The gap rows' local stiffness, the base of default penalties: gap_row_stiffness when
-  /// given; else, on each contact surface, one stiffness per area κ (the largest of its rows'
-  /// row_stiffness over their slave node's area) times each row's area, so that a uniform
-  /// pressure meets a uniform penetration and a penalty reproduces it exactly (a row's own
-  /// row_stiffness follows the mesh's topology node by node); rows without a surface or an
-  /// area keep their row_stiffness.
+  /// given, else surface_stiffness().
   VecX gap_local_stiffness() const;
 };
 

@@ -90,28 +90,27 @@ void ContactSet::add_gap_elements(const core::ExplicitModel& legacy) {
     pairs_.push_back(std::make_unique<NodeToNode>(std::move(gaps), static_cast<int>(spec_.pairs.size())));
 }
 
-std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain, bool curvature) const {
+std::vector<GapRow> ContactSet::detect_with(const VecX& u, bool small_strain, bool curvature,
+                                            bool gauges) const {
   const core::Mesh& mesh = model_.mesh;
   std::vector<Vec2> x(mesh.num_nodes());
   for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
   const Configuration c{x, mesh.nodes, small_strain, &u, curvature};
   std::vector<GapRow> rows;
-  for (size_t p = 0; p < pairs_.size(); ++p) pairs_[p]->detect(c, first_slot_[p], rows);
+  for (size_t p = 0; p < pairs_.size(); ++p) {
+    const bool gauge = gauges && p < gauges_.size() && gauges_[p];
+    (gauge ? *gauges_[p] : *pairs_[p]).detect(c, first_slot_[p], rows);
+  }
   return rows;
 }
 
+std::vector<GapRow> ContactSet::detect(const VecX& u, bool small_strain, bool curvature) const {
+  return detect_with(u, small_strain, curvature, false);
+}
+
 double ContactSet::nodal_penetration(const VecX& u) const {
-  const core::Mesh& mesh = model_.mesh;
-  std::vector<Vec2> x(mesh.num_nodes());
-  for (int n = 0; n < mesh.num_nodes(); ++n) x[n] = mesh.nodes[n] + u.segment<2>(2 * n);
-  const Configuration c{x, mesh.nodes, false, &u, false};
-  std::vector<GapRow> rows;
-  for (size_t p = 0; p < pairs_.size(); ++p) {
-    const ContactDiscretization& d = p < gauges_.size() && gauges_[p] ? *gauges_[p] : *pairs_[p];
-    d.detect(c, first_slot_[p], rows);
-  }
   double deepest = 0.0;
-  for (const GapRow& r : rows) deepest = std::max(deepest, -r.gap);
+  for (const GapRow& r : detect_with(u, false, false, true)) deepest = std::max(deepest, -r.gap);
   return deepest;
 }
 

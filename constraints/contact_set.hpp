@@ -173,12 +173,15 @@ class ContactSet {
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
+  /// The rows at X + u of every pair, or of its gauge where it has one (`gauges`).
+  std::vector<GapRow> detect_with(const VecX& u_full, bool small_strain, bool curvature,
+                                  bool gauges) const;
   /// The [[constraint]] rows' multipliers and residuals (contact_set_report.cpp).
   void report_equalities(const ConstraintSolution& s, ContactReport& r) const;
   /// The resultant of the rows' forces and its tangential part (contact_set_report.cpp).
   void add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
                      ContactReport& r) const;
-  /// Each slave node's share of the slave surface (tributary_).
+  /// Each slave node's share of the slave surface (tributary_) and its inward normal (inward_).
   void add_tributary();
   /// The tangential rows of `rows` and their friction laws into `p` (see ConstrainedProblem).
   void add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
@@ -200,11 +203,11 @@ class ContactSet {
   std::vector<char> side_edges(const std::map<int, int>& slot,
                                const std::vector<Vec2>& contact_normal,
                                const std::vector<ContactNodeResult>& nodes) const;
-  /// Arc length of the slave surface owned by active nodes (side edges left out).
   /// The length of the longest run of sticking nodes along the slave surface (the stick zone).
   double stick_zone_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
                            const std::vector<char>& side_edge,
                            const std::vector<ContactNodeResult>& sticking) const;
+  /// Arc length of the slave surface owned by active nodes (side edges left out).
   double contact_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
                         const std::vector<char>& side_edge,
                         const std::vector<ContactNodeResult>& nodes) const;
@@ -222,6 +225,9 @@ class ContactSet {
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;
   std::vector<double> tributary_;            ///< per node: ∫ N ds t over the slave edges
+  /// per node: the sum of its slave edges' normals into the body, each as long as its edge
+  /// (reference configuration; zero off the slave surface): the frame of the tangential force
+  std::vector<Vec2> inward_;
   double length_scale_ = 1.0;
   int num_slots_ = 0;
 };

@@ -238,14 +238,7 @@ void ContactSet::report_equalities(const ConstraintSolution& s, ContactReport& r
 void ContactSet::add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
                                ContactReport& r) const {
   // The frame of the tangential force: the slave surface's normals in the reference
-  // configuration (into the slave), weighted by the rows' forces.
-  const core::Mesh& mesh = model_.mesh;
-  std::map<int, Vec2> inward;
-  for (const MasterEdge& e : slave_edges_) {
-    const Vec2 t = mesh.nodes[e.nodes[1]] - mesh.nodes[e.nodes[0]];
-    const Vec2 in(-t.y(), t.x());  // the body lies left of its edges
-    for (int a = 0; a < e.count; ++a) inward.try_emplace(e.nodes[a], Vec2::Zero()).first->second += in;
-  }
+  // configuration (into the slave, inward_), weighted by the rows' forces.
   Vec2 normal_sum = Vec2::Zero();
   r.resultant = Vec2::Zero();
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -254,10 +247,8 @@ void ContactSet::add_resultant(const std::vector<GapRow>& rows, const Constraint
     const Vec2& n = rows[i].normal;
     const double lambda = s.contact_force.size() > k ? s.contact_force[k] : 0.0;
     const double q = s.tangent_force.size() > k ? -s.tangent_force[k] : 0.0;
-    const auto own = inward.find(rows[i].slave);
-    normal_sum += lambda * (own != inward.end() && own->second.norm() > 0
-                                ? Vec2(own->second.normalized())
-                                : n);
+    const Vec2& own = inward_[rows[i].slave];
+    normal_sum += lambda * (own.norm() > 0 ? Vec2(own.normalized()) : n);
     r.resultant += lambda * n + q * Vec2(n.y(), -n.x());
   }
   r.tangent_force = 0.0;
@@ -291,8 +282,7 @@ std::vector<char> ContactSet::side_edges(const std::map<int, int>& slot,
     const Vec2 n = contact_normal[nodes[a].active ? a : b];
     const Vec2 t = mesh.nodes[e.nodes[1]] - mesh.nodes[e.nodes[0]];
     if (n.squaredNorm() == 0.0 || t.squaredNorm() == 0.0) continue;
-    const Vec2 outward = Vec2(t.y(), -t.x()).normalized();  // the body lies left of its edges
-    side[k] = outward.dot(n.normalized()) > -kFacing;
+    side[k] = outward_normal(t).dot(n.normalized()) > -kFacing;  // the body lies left of its edges
   }
   return side;
 }
@@ -359,18 +349,13 @@ double ContactSet::stick_zone_length(const std::map<int, int>& slot,
   };
   for (size_t k = 0; k < slave_edges_.size(); ++k) {
     if (side_edge[k]) continue;
+    // A T3 edge joins its corners; a T6 edge's middle node joins each corner beside it, so
+    // a run passes a T6 edge through its middle.
     const MasterEdge& e = slave_edges_[k];
-    for (int a = 1; a < e.count; ++a) {
-      const int p = slot.at(e.nodes[0]), q = slot.at(e.nodes[a]);
-      const int m = e.count == 3 ? slot.at(e.nodes[2]) : q;  // a T6 edge's run passes its middle
-      if (sticking[p].active && sticking[q].active && sticking[m].active) root[find(p)] = find(q);
-    }
-    if (e.count == 3) {  // a middle node joins each sticking corner beside it
-      const int m = slot.at(e.nodes[2]);
-      for (int a = 0; a < 2; ++a) {
-        const int c = slot.at(e.nodes[a]);
-        if (sticking[m].active && sticking[c].active) root[find(m)] = find(c);
-      }
+    const int hub = slot.at(e.nodes[e.count == 3 ? 2 : 1]);
+    for (int a = 0; a < (e.count == 3 ? 2 : 1); ++a) {
+      const int c = slot.at(e.nodes[a]);
+      if (sticking[hub].active && sticking[c].active) root[find(hub)] = find(c);
     }
   }
   std::map<int, std::vector<ContactNodeResult>> runs;

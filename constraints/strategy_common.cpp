@@ -36,8 +36,11 @@ SpMat stack_rows(const SpMat& top, const SpMat& bottom) {
 }
 
 VecX ConstrainedProblem::gap_local_stiffness() const {
+  return gap_row_stiffness.size() == num_gaps() ? gap_row_stiffness : surface_stiffness();
+}
+
+VecX ConstrainedProblem::surface_stiffness() const {
   const int m = num_gaps();
-  if (gap_row_stiffness.size() == m) return gap_row_stiffness;
   VecX local = row_stiffness(gap_jacobian);
   if (gap_area.size() != m || gap_node_area.size() != m || static_cast<int>(gap_surface.size()) != m)
     return local;

@@ -108,8 +108,9 @@ class SurfaceCondensation {
   };
   /// Solves K u = f + Cᵀ w with the rows in `states`: a dense system on the held rows' forces
   /// and one auxiliary force ζ_q per regularising row (c_q·u − ζ_q/ρ_q = 0, which cancels
-  /// ρ_q c_q c_qᵀ exactly), eliminated in closed form where the row is held. `force` gets every row's force, `u` the displacement on the tail
-  /// (zero elsewhere; complete() gives the whole), `rcond` the dense block's condition estimate.
+  /// ρ_q c_q c_qᵀ exactly), eliminated in closed form where the row is held. `force` gets
+  /// every row's force, `u` the displacement on the tail (zero elsewhere; complete() gives the
+  /// whole), `rcond` the dense block's condition estimate.
   /// kSingular when that block is singular (dependent rows, an unsupported body).
   SolveStatus solve(const VecX& f, const RowStates& states, VecX& force, VecX& u, double& rcond);
   /// The whole u of the last solve (one back substitution).

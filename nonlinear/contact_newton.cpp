@@ -221,8 +221,7 @@ class ConstrainedStep {
 
   /// The rows' local stiffness (the base of default penalties) as the step first met each slot.
   void keep_local_stiffness(ConstrainedProblem& qp) {
-    qp.gap_row_stiffness = VecX();
-    qp.gap_row_stiffness = qp.gap_local_stiffness();
+    qp.gap_row_stiffness = qp.surface_stiffness();
     local_by_slot_.resize(contact_.num_slots(), 0.0);
     for (int i = 0; i < qp.num_gaps(); ++i) {
       double& kept = local_by_slot_[rows_[i].slot];
