@@ -22,6 +22,7 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
     const DiscretizationInfo* info = find_discretization(cs.detection);
     if (!info) throw InputError(cs.where + ": unknown detection '" + cs.detection + "'");
     add_slave_edges(cs, info->slave_surface);
+    add_master_normals(cs);
     pairs_.push_back(info->create({model, cs, spec_.obstacles, static_cast<int>(c)}));
     const DiscretizationInfo* nodal = find_discretization("node_to_segment");
     gauges_.push_back(cs.detection == nodal->name
@@ -61,6 +62,24 @@ void ContactSet::add_slave_edges(const ContactPairSpec& cs, bool required) {
     slave_edges_.push_back(to_master_edge(mesh.boundary_edges[id], mesh.order));
     slave_edge_thickness_.push_back(
         model_.materials[mesh.element_material[mesh.boundary_edges[id].element]].thickness);
+  }
+}
+
+void ContactSet::add_master_normals(const ContactPairSpec& cs) {
+  const core::Mesh& mesh = model_.mesh;
+  master_outward_.resize(mesh.num_nodes(), Vec2::Zero());
+  if (!cs.master) return;  // a rigid obstacle: its rows' normals are its own
+  std::vector<int> edges;
+  try {
+    edges = core::select_edges(model_, *cs.master);
+  } catch (const InputError&) {
+    return;  // a selection of nodes (node_to_node): its rows carry their direction
+  }
+  for (int id : edges) {
+    const MasterEdge e = to_master_edge(mesh.boundary_edges[id], mesh.order);
+    const Vec2 outward = outward_normal(mesh.nodes[e.nodes[1]] - mesh.nodes[e.nodes[0]]);
+    const double length = chord(mesh.nodes, e);
+    for (int a = 0; a < e.count; ++a) master_outward_[e.nodes[a]] += length * outward;
   }
 }
 

@@ -171,6 +171,9 @@ class ContactSet {
   /// The slave surface of one [[contact]] (for pressure recovery); a selection without boundary
   /// edges is refused when `required` (the discretization recovers pressure on the surface).
   void add_slave_edges(const ContactPairSpec& cs, bool required);
+  /// Adds the master surface's reference normals (out of the master body, toward the slave) of
+  /// a pair with a deformable master to master_outward_.
+  void add_master_normals(const ContactPairSpec& cs);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
   /// The rows at X + u of every pair, or of its gauge where it has one (`gauges`).
@@ -181,7 +184,7 @@ class ContactSet {
   /// The resultant of the rows' forces and its tangential part (contact_set_report.cpp).
   void add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
                      ContactReport& r) const;
-  /// Each slave node's share of the slave surface (tributary_) and its inward normal (inward_).
+  /// Each slave node's share of the slave surface (tributary_).
   void add_tributary();
   /// The tangential rows of `rows` and their friction laws into `p` (see ConstrainedProblem).
   void add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
@@ -225,9 +228,9 @@ class ContactSet {
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;
   std::vector<double> tributary_;            ///< per node: ∫ N ds t over the slave edges
-  /// per node: the sum of its slave edges' normals into the body, each as long as its edge
-  /// (reference configuration; zero off the slave surface): the frame of the tangential force
-  std::vector<Vec2> inward_;
+  /// per node: the sum of its master edges' normals out of the body, each as long as its edge
+  /// (reference configuration; zero off the master surfaces): the frame of the tangential force
+  std::vector<Vec2> master_outward_;
   double length_scale_ = 1.0;
   int num_slots_ = 0;
 };

@@ -15,11 +15,8 @@ void ContactSet::add_tributary() {
   // Each slave node's share of the slave surface (a Tresca bound is a traction over it).
   const core::Mesh& mesh = model_.mesh;
   tributary_.assign(mesh.num_nodes(), 0.0);
-  inward_.assign(mesh.num_nodes(), Vec2::Zero());
   for (size_t k = 0; k < slave_edges_.size(); ++k) {
     const MasterEdge& e = slave_edges_[k];
-    const Vec2 t = mesh.nodes[e.nodes[1]] - mesh.nodes[e.nodes[0]];
-    for (int a = 0; a < e.count; ++a) inward_[e.nodes[a]] += Vec2(-t.y(), t.x());  // body left
     const double a = chord(mesh.nodes, e) * slave_edge_thickness_[k];
     if (e.count == 3) {
       tributary_[e.nodes[0]] += a / 6, tributary_[e.nodes[1]] += a / 6;

@@ -237,8 +237,11 @@ void ContactSet::report_equalities(const ConstraintSolution& s, ContactReport& r
 
 void ContactSet::add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
                                ContactReport& r) const {
-  // The frame of the tangential force: the slave surface's normals in the reference
-  // configuration (into the slave, inward_), weighted by the rows' forces.
+  // The frame of the tangential force: the master surface's normal in the reference
+  // configuration, where each row meets it (its master nodes' normals, weighted by their
+  // coefficients; a rigid obstacle's or a node pair's own normal), averaged with the rows'
+  // forces. Neither the slave's normals (they tilt across a curved slave's contact zone) nor the
+  // deformed ones (they turn with the load) give the load a flat master carries.
   Vec2 normal_sum = Vec2::Zero();
   r.resultant = Vec2::Zero();
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -247,9 +250,13 @@ void ContactSet::add_resultant(const std::vector<GapRow>& rows, const Constraint
     const Vec2& n = rows[i].normal;
     const double lambda = s.contact_force.size() > k ? s.contact_force[k] : 0.0;
     const double q = s.tangent_force.size() > k ? -s.tangent_force[k] : 0.0;
-    const Vec2& own = inward_[rows[i].slave];
-    normal_sum += lambda * (own.norm() > 0 ? Vec2(own.normalized()) : n);
     r.resultant += lambda * n + q * Vec2(n.y(), -n.x());
+    Vec2 master = Vec2::Zero();
+    for (const auto& [node, c] : rows[i].terms)
+      if (node != rows[i].slave && master_outward_[node].squaredNorm() > 0)
+        master += c.norm() * master_outward_[node].normalized();
+    if (master.squaredNorm() == 0.0 || master.dot(n) <= 0.0) master = n;
+    normal_sum += lambda * master.normalized();
   }
   r.tangent_force = 0.0;
   if (normal_sum.norm() > 0) {

@@ -389,4 +389,6 @@ TEST(Friction, RigidFlatCattaneoStickZoneBesideGetFEM) {
   ASSERT_EQ(r.results.status, SolveStatus::kConverged) << r.results.message;
   EXPECT_NEAR(r.report.stick_length / (2 * b) / 0.4332, 1.0, 0.01);
   EXPECT_NEAR(r.report.resultant.x(), -150.0, 1e-6 * 1000.0);
+  // the load along the flat (the curved slave's own normals tilt across the zone: -149.15)
+  EXPECT_NEAR(r.report.tangent_force, -150.0, 1e-6 * 1000.0);
 }
