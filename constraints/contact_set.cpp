@@ -17,6 +17,7 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
                        const core::Scene& scene)
     : model_(model), spec_(spec) {
   const core::Mesh& mesh = model.mesh;
+  master_outward_.assign(mesh.num_nodes(), Vec2::Zero());
   for (size_t c = 0; c < spec.pairs.size(); ++c) {
     const ContactPairSpec& cs = spec.pairs[c];
     const DiscretizationInfo* info = find_discretization(cs.detection);
@@ -67,7 +68,6 @@ void ContactSet::add_slave_edges(const ContactPairSpec& cs, bool required) {
 
 void ContactSet::add_master_normals(const ContactPairSpec& cs) {
   const core::Mesh& mesh = model_.mesh;
-  master_outward_.resize(mesh.num_nodes(), Vec2::Zero());
   if (!cs.master) return;  // a rigid obstacle: its rows' normals are its own
   std::vector<int> edges;
   try {
