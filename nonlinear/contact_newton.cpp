@@ -359,10 +359,12 @@ class ConstrainedStep {
         it.newton.residual_norms = {norm};
         it.newton.last_step = inf_norm(s.u);
         add_newton(it);
-      } else if (!newton_with_set_held(sys, x, newton, it, true, !continued_)) {
+      } else if (!newton_with_set_held(sys, x, newton, it, true, !continued_,
+                                       cheap ? kStepDecrease * last_norm_ : 0.0)) {
         return false;
       } else {
-        satisfied_now = it.newton.status == SolveStatus::kConverged;
+        satisfied_now = it.newton.status == SolveStatus::kConverged &&
+                        it.newton.final_residual <= tolerance(sys, newton);
       }
     }
     last_norm_ = it.newton.final_residual;
@@ -413,14 +415,18 @@ class ConstrainedStep {
   bool satisfied(ActiveSetSystem& sys, const VecX& x, const NewtonOptions& newton,
                  ContactIteration& it, double& norm) const {
     VecX r;
-    const double floor = round_off_floor(sys);
     norm = sys.residual(x, r) ? inf_norm(r) : std::numeric_limits<double>::infinity();
-    if (!(norm <= std::max(newton.residual_tolerance * newton.residual_scale, floor)))
-      return false;
+    if (!(norm <= tolerance(sys, newton))) return false;
     it.newton.status = SolveStatus::kConverged;
     it.newton.final_residual = inf_norm(r);
     it.newton.residual_norms = {it.newton.final_residual};
     return true;
+  }
+
+  /// The residual a state must reach to satisfy the equations with the set held: the Newton
+  /// test, never below the residual's round-off floor.
+  double tolerance(const ActiveSetSystem& sys, const NewtonOptions& newton) const {
+    return std::max(newton.residual_tolerance * newton.residual_scale, round_off_floor(sys));
   }
 
   /// An iterate's Newton work (its factorisations, iterations, norms) into the step's.
@@ -445,17 +451,21 @@ class ConstrainedStep {
   /// KINSOL with the set held from x; false when it failed (out_ says why). With
   /// `from_method_step`, x is the method's step, counted as that Newton's first iteration.
   /// With `may_continue`, true also where it handed an unconverged state on (see below:
-  /// it.newton.status says so).
+  /// it.newton.status says so). Newton stops at a residual of `enough` when that is above the
+  /// test: the set it holds was decided at a state far from this one, and the method decides
+  /// it again once Newton is back in its quadratic range (the state's residual divided by
+  /// ten), rather than after Newton has converged with a set that may be about to change.
   bool newton_with_set_held(ActiveSetSystem& sys, VecX& x, const NewtonOptions& options,
                             ContactIteration& it, bool from_method_step,
-                            bool may_continue = false) {
+                            bool may_continue = false, double enough = 0.0) {
     // KINSOL's test is relative to the scale: never below what the rows' round-off allows (a
     // stiff penalty on an obstacle row otherwise leaves Newton stuck a decade above its test,
     // ending on a zero step).
     NewtonOptions newton = options;
     if (newton.residual_scale > 0)
       newton.residual_tolerance =
-          std::max(newton.residual_tolerance, round_off_floor(sys) / newton.residual_scale);
+          std::max({newton.residual_tolerance, round_off_floor(sys) / newton.residual_scale,
+                    std::isfinite(enough) ? enough / newton.residual_scale : 0.0});
     it.newton = solve_newton_with_fallback(sys, x, newton);
     if (from_method_step) {  // x is the method's step: Newton's first iteration
       ++it.newton.iterations;
