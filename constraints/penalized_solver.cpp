@@ -227,7 +227,13 @@ PenalizedSolver::Outcome PenalizedSolver::solve(const VecX& k_gap, const VecX& l
       out.message = solver_.report().message;
       return out;
     }
-    const VecX g = gaps(u);
+    VecX g = gaps(u);
+    // A held row on the condensed surface: its gap from its force, g = (λ̂ − w)/k, as its row
+    // of the block states it. From u, a stiff penalty's gap (1000 N / 1e20 N/mm) sits at the
+    // round-off of the tail's displacements, and its sign is noise.
+    if (surface_last_ && last_w_.size() == p_.num_equalities() + m)
+      for (int i = 0; i < m; ++i)
+        if (active[i]) g[i] = (lambda[i] - last_w_[p_.num_equalities() + i]) / k_gap[i];
     std::vector<char> next = active;
     next_normal_set(rule_, p_, VecX(), g, k_gap, lambda, 0.0, next);
     const auto change = tracker.record(next);
