@@ -25,6 +25,22 @@ if(NOT TARGET contact2d::suitesparse)
   unset(_c2d_suitesparse_libs)
 endif()
 
+# Eigen's dense products and triangular solves (the condensed contact surface's blocks) through
+# the system BLAS: libblas.so.3, OpenBLAS when libopenblas0-pthread is installed, whose kernels
+# are chosen for the CPU at run time, where Eigen's own are compiled for the baseline x86-64
+# (SSE2). Measured on Cattaneo-Mindlin (11k DOFs, one thread): 2.1 s -> 1.8 s for the process.
+# A compile definition of every translation unit that includes Eigen, so it travels with core.
+if(NOT TARGET contact2d::blas)
+  find_library(C2D_BLAS_LIBRARY NAMES blas)
+  if(NOT C2D_BLAS_LIBRARY)
+    list(APPEND contact2d_THIRD_PARTY_MISSING "BLAS (libblas.so)")
+  endif()
+  add_library(contact2d::blas INTERFACE IMPORTED)
+  set_target_properties(contact2d::blas PROPERTIES
+                        INTERFACE_LINK_LIBRARIES "${C2D_BLAS_LIBRARY}"
+                        INTERFACE_COMPILE_DEFINITIONS EIGEN_USE_BLAS)
+endif()
+
 if(NOT TARGET contact2d::gmsh)
   find_path(C2D_GMSH_INCLUDE_DIR gmsh.h)
   find_library(C2D_GMSH_LIBRARY gmsh)
