@@ -10,11 +10,12 @@
 //   3. keeps the step when the residual at u + Δu, with the set held and the rows re-detected
 //      there, is a tenth or less of the residual it set out to reduce (the larger of the last
 //      state's and the state's with what the step holds: the method's new set, its new friction
-//      forces), a Newton step; else finishes the iterate with
-//      KINSOL with the set held (the globalisation: penalty-type methods add the forces
-//      λ̂ − k g(u) of the active rows, exact methods the multipliers of the active rows as
-//      unknowns). The active set never changes inside a KINSOL solve, so its line search sees a
-//      smooth residual. Once an attempt, a KINSOL solve that runs out of iterations or stalls
+//      forces), a Newton step; else continues the iterate with KINSOL with the set held (the
+//      globalisation: penalty-type methods add the forces λ̂ − k g(u) of the active rows, exact
+//      methods the multipliers of the active rows as unknowns) until the residual is that
+//      tenth, and the method decides its set again from there (a method whose solve costs
+//      more than two factorisations, such as ipopt: until KINSOL has converged). The active set
+//      never changes inside a KINSOL solve, so its line search sees a smooth residual. Once an attempt, a KINSOL solve that runs out of iterations or stalls
 //      after halving the residual hands its state to the next iterate instead of failing the
 //      attempt (a node sliding past its master's free end cannot keep the set it was held in).
 // The step has converged when the strategy kept its set and the state, or the state its step
