@@ -54,8 +54,8 @@ bool ConstrainedStep::hold_set(const ConstrainedProblem& qp0, const VecX& c0,
   // The step: the strategy's solve of the problem linearised at u is a Newton step with the
   // sets updated. The step ends where the method kept its set at u and the state already
   // satisfies the equations with that set held, or its step reached such a state. A step
-  // that does not divide the residual by ten is finished by Newton with the set held
-  // (KINSOL, line search), the globalisation.
+  // that does not divide the residual by ten is continued by Newton with the set held
+  // (KINSOL, line search), the globalisation, until it has (newton_with_set_held's `enough`).
   double norm = 0.0;
   bool satisfied_now = false;  // x satisfies the equations with the set held
   if (same_set && satisfied(sys, x, newton, it, norm)) {
