@@ -754,14 +754,25 @@ TEST_P(HeldJacobian, MatchesFiniteDifferences) {
     ASSERT_TRUE(sys.residual(x - h * v, minus));
     ASSERT_TRUE(sys.solve((plus - minus) / (2 * h), w));
     const double err_u = (w - v).head(n).cwiseAbs().maxCoeff() / v.head(n).cwiseAbs().maxCoeff();
+    // The same check free of J's conditioning: w solves J w = b to round-off, so the residual's
+    // change along w must be b again, to J's consistency with the residual (a penalty's
+    // K + Gᵀ k G is ill-conditioned: its w above is 1e-8 from v at k = 1e3 × the local
+    // stiffness, 6e-10 at 10, where this backward figure is 1e-12 at 1e3).
+    VecX plus_w, minus_w;
+    ASSERT_TRUE(sys.residual(x + h * w, plus_w));
+    ASSERT_TRUE(sys.residual(x - h * w, minus_w));
+    const VecX b = (plus - minus) / (2 * h);
+    const double backward =
+        ((plus_w - minus_w) / (2 * h) - b).cwiseAbs().maxCoeff() / b.cwiseAbs().maxCoeff();
+    EXPECT_LT(backward, 1e-8) << "direction " << trial;
     EXPECT_LT(err_u, 1e-6) << "direction " << trial << ", displacements";
     if (extra > 0) {
       const double err_z =
           (w - v).tail(extra).cwiseAbs().maxCoeff() / v.tail(extra).cwiseAbs().maxCoeff();
       EXPECT_LT(err_z, 1e-6) << "direction " << trial << ", multipliers";
     }
-    std::printf("[ jacobian ] %-16s stick %d slip %d direction %d: error %.2e\n",
-                GetParam().c_str(), stick, slip, trial, err_u);
+    std::printf("[ jacobian ] %-16s stick %d slip %d direction %d: error %.2e, backward %.2e\n",
+                GetParam().c_str(), stick, slip, trial, err_u, backward);
   }
 }
 
