@@ -30,6 +30,8 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
                           ? nullptr
                           : nodal->create({model, cs, spec_.obstacles, static_cast<int>(c)}));
   }
+  for (Vec2& n : master_outward_)
+    if (n.squaredNorm() > 0) n.normalize();
   if (scene.explicit_model) add_gap_elements(*scene.explicit_model);
   add_equalities();
   check_plate_rows();

@@ -172,7 +172,8 @@ class ContactSet {
   /// edges is refused when `required` (the discretization recovers pressure on the surface).
   void add_slave_edges(const ContactPairSpec& cs, bool required);
   /// Adds the master surface's reference normals (out of the master body, toward the slave) of
-  /// a pair with a deformable master to master_outward_.
+  /// a pair with a deformable master to master_outward_, each as long as its edge (the
+  /// constructor makes the sums unit vectors once every pair is in).
   void add_master_normals(const ContactPairSpec& cs);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
@@ -206,14 +207,16 @@ class ContactSet {
   std::vector<char> side_edges(const std::map<int, int>& slot,
                                const std::vector<Vec2>& contact_normal,
                                const std::vector<ContactNodeResult>& nodes) const;
-  /// The length of the longest run of sticking nodes along the slave surface (the stick zone).
-  double stick_zone_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
-                           const std::vector<char>& side_edge,
-                           const std::vector<ContactNodeResult>& sticking) const;
-  /// Arc length of the slave surface owned by active nodes (side edges left out).
-  double contact_length(const std::map<int, int>& slot, const std::vector<char>& mortar_edge,
-                        const std::vector<char>& side_edge,
-                        const std::vector<ContactNodeResult>& nodes) const;
+  /// The length of the longest run of sticking nodes along the slave surface (the stick zone),
+  /// each node counting what it owns (`owned`, per report node).
+  double stick_zone_length(const std::map<int, int>& slot, const std::vector<char>& side_edge,
+                           const std::vector<ContactNodeResult>& sticking,
+                           const std::vector<double>& owned) const;
+  /// Per report node (`slot`), the arc length of the slave surface it owns (side edges left
+  /// out): the contact length is the sum over active nodes.
+  std::vector<double> owned_lengths(const std::map<int, int>& slot,
+                                    const std::vector<char>& mortar_edge,
+                                    const std::vector<char>& side_edge) const;
 
   const core::Model& model_;
   ContactSceneSpec spec_;
@@ -228,8 +231,9 @@ class ContactSet {
   std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
   std::vector<double> slave_edge_thickness_;
   std::vector<double> tributary_;            ///< per node: ∫ N ds t over the slave edges
-  /// per node: the sum of its master edges' normals out of the body, each as long as its edge
-  /// (reference configuration; zero off the master surfaces): the frame of the tangential force
+  /// per node: the unit mean of its master edges' normals out of the body, weighted by the
+  /// edges' lengths (reference configuration; zero off the master surfaces): the frame of the
+  /// tangential force
   std::vector<Vec2> master_outward_;
   double length_scale_ = 1.0;
   int num_slots_ = 0;

@@ -199,7 +199,10 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     r.p_max = std::max(r.p_max, cn.pressure);
   }
   add_resultant(rows, s, r);
-  r.length = contact_length(slot, mortar_edge, side, r.nodes);
+  const std::vector<double> owned = owned_lengths(slot, mortar_edge, side);
+  r.length = 0.0;
+  for (size_t i = 0; i < r.nodes.size(); ++i)
+    if (r.nodes[i].active) r.length += owned[i];
   if (r.friction) {  // the stick zone, measured as the contact zone is
     std::vector<ContactNodeResult> sticking = r.nodes;
     for (ContactNodeResult& cn : sticking) cn.active = cn.state == FrictionState::kStick;
@@ -209,7 +212,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
         sticking[slot.at(slave_edges_[k].nodes[2])].active =
             sticking[slot.at(slave_edges_[k].nodes[0])].active ||
             sticking[slot.at(slave_edges_[k].nodes[1])].active;
-    r.stick_length = stick_zone_length(slot, mortar_edge, side, sticking);
+    r.stick_length = stick_zone_length(slot, side, sticking, owned);
   }
   r.max_penetration = s.max_penetration;
   r.rows = static_cast<int>(rows.size());
@@ -254,7 +257,7 @@ void ContactSet::add_resultant(const std::vector<GapRow>& rows, const Constraint
     Vec2 master = Vec2::Zero();
     for (const auto& [node, c] : rows[i].terms)
       if (node != rows[i].slave && master_outward_[node].squaredNorm() > 0)
-        master += c.norm() * master_outward_[node].normalized();
+        master += c.norm() * master_outward_[node];
     if (master.squaredNorm() == 0.0 || master.dot(n) <= 0.0) master = n;
     normal_sum += lambda * master.normalized();
   }
@@ -340,9 +343,9 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
 }
 
 double ContactSet::stick_zone_length(const std::map<int, int>& slot,
-                                     const std::vector<char>& mortar_edge,
                                      const std::vector<char>& side_edge,
-                                     const std::vector<ContactNodeResult>& sticking) const {
+                                     const std::vector<ContactNodeResult>& sticking,
+                                     const std::vector<double>& owned) const {
   // The sticking nodes joined along the slave edges into runs; the longest run is the stick
   // zone. A node that first touched in the last increment has not slipped yet and sticks at
   // the edge of the contact zone, apart from the zone (Cattaneo–Mindlin on a rigid flat: two
@@ -365,33 +368,25 @@ double ContactSet::stick_zone_length(const std::map<int, int>& slot,
       if (sticking[hub].active && sticking[c].active) root[find(hub)] = find(c);
     }
   }
-  std::map<int, std::vector<ContactNodeResult>> runs;
-  double longest = 0.0;
-  for (int i = 0; i < n; ++i) {
-    if (!sticking[i].active) continue;
-    auto [it, fresh] = runs.try_emplace(find(i), sticking);
-    if (fresh)
-      for (int j = 0; j < n; ++j) it->second[j].active = sticking[j].active && find(j) == it->first;
-  }
-  for (const auto& [id, run] : runs)
-    longest = std::max(longest, contact_length(slot, mortar_edge, side_edge, run));
-  return longest;
+  std::vector<double> run(n, 0.0);  // by the run's root
+  for (int i = 0; i < n; ++i)
+    if (sticking[i].active) run[find(i)] += owned[i];
+  return n > 0 ? *std::max_element(run.begin(), run.end()) : 0.0;
 }
 
-double ContactSet::contact_length(const std::map<int, int>& slot,
-                                  const std::vector<char>& mortar_edge,
-                                  const std::vector<char>& side_edge,
-                                  const std::vector<ContactNodeResult>& nodes) const {
-  // Contact length: every slave node owns the part of its edges nearer to it than to the
-  // edge's other nodes (T3 edges split at the middle; T6 at the quarter points), and the length
-  // is the arc length owned by active nodes. Node-to-node contact only knows that the contact
-  // edge lies between the last active node and the first open one, and this puts it halfway:
-  // unbiased, within a quarter (T6) or half (T3) of the edge there. (The recovered pressure
-  // is positive up to the first open node's far side, so its support overestimated b by about
-  // one node spacing.) A mortar edge's multiplier is linear between its corners, so each
-  // corner owns half of it, T6 included.
+std::vector<double> ContactSet::owned_lengths(const std::map<int, int>& slot,
+                                              const std::vector<char>& mortar_edge,
+                                              const std::vector<char>& side_edge) const {
+  // Every slave node owns the part of its edges nearer to it than to the edge's other nodes
+  // (T3 edges split at the middle; T6 at the quarter points); the contact length is the arc
+  // length owned by active nodes. Node-to-node contact only knows that the contact edge lies
+  // between the last active node and the first open one, and this puts it halfway: unbiased,
+  // within a quarter (T6) or half (T3) of the edge there. (The recovered pressure is positive
+  // up to the first open node's far side, so its support overestimated b by about one node
+  // spacing.) A mortar edge's multiplier is linear between its corners, so each corner owns
+  // half of it, T6 included.
   const core::Mesh& mesh = model_.mesh;
-  double length = 0.0;
+  std::vector<double> owned(slot.size(), 0.0);
   for (size_t k = 0; k < slave_edges_.size(); ++k) {
     if (side_edge[k]) continue;  // a side of the body beside the zone (side_edges)
     const MasterEdge& e = slave_edges_[k];
@@ -405,15 +400,15 @@ double ContactSet::contact_length(const std::map<int, int>& slot,
     const double t6[3][2] = {{0.0, 0.25}, {0.75, 1.0}, {0.25, 0.75}};
     const bool halves = e.count == 2 || mortar_edge[k];
     for (int a = 0; a < (halves ? 2 : 3); ++a) {
-      if (!nodes[slot.at(e.nodes[a])].active) continue;
       const double s0 = halves ? t3[a][0] : t6[a][0], s1 = halves ? t3[a][1] : t6[a][1];
       constexpr int kSamples = 16;  // arc length of a curved T6 edge
-      for (int k = 0; k < kSamples; ++k)
-        length += (point(s0 + (s1 - s0) * (k + 1) / kSamples) -
-                   point(s0 + (s1 - s0) * k / kSamples)).norm();
+      double& length = owned[slot.at(e.nodes[a])];
+      for (int q = 0; q < kSamples; ++q)
+        length += (point(s0 + (s1 - s0) * (q + 1) / kSamples) -
+                   point(s0 + (s1 - s0) * q / kSamples)).norm();
     }
   }
-  return length;
+  return owned;
 }
 
 }  // namespace c2d::constraints
