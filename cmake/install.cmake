@@ -1,7 +1,9 @@
 # `cmake --install build --prefix P`: the libraries core, constraints and nonlinear (static),
-# their headers under P/include/contact2d/<module>/ (so `#include "core/model.hpp"` works as in
-# this tree), the contact2d program, and the CMake package P/lib/cmake/contact2d that gives
-# contact2d::core, contact2d::constraints and contact2d::nonlinear to find_package(contact2d).
+# and the run layer over them (app/run/run_scene.hpp: a whole run, its files and summary, as
+# `contact2d run` does it; with the report and process layers it uses), their headers under
+# P/include/contact2d/<module>/ (so `#include "core/model.hpp"` works as in this tree), the
+# contact2d program, and the CMake package P/lib/cmake/contact2d that gives contact2d::core,
+# contact2d::constraints, contact2d::nonlinear and contact2d::run to find_package(contact2d).
 include(CMakePackageConfigHelpers)
 
 # Installed under /usr by a package, libcore.a would be anybody's: the files carry the project.
@@ -11,7 +13,7 @@ endforeach()
 
 set(C2D_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/contact2d")
 
-install(TARGETS core constraints nonlinear EXPORT contact2dTargets
+install(TARGETS core constraints nonlinear app_process app_report app_run EXPORT contact2dTargets
         ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
         LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}"
         RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
@@ -23,6 +25,10 @@ foreach(_c2d_module core constraints nonlinear)
           DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/contact2d/${_c2d_module}"
           FILES_MATCHING PATTERN "*.hpp")
 endforeach()
+
+# The run layer's headers: app/*.hpp, app/report/ and app/run/ (not the command line's).
+install(DIRECTORY "${PROJECT_SOURCE_DIR}/app/" DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}/contact2d/app"
+        FILES_MATCHING PATTERN "*.hpp" PATTERN cli EXCLUDE PATTERN studies EXCLUDE)
 
 install(EXPORT contact2dTargets NAMESPACE contact2d:: DESTINATION "${C2D_INSTALL_CMAKEDIR}")
 configure_package_config_file(cmake/contact2dConfig.cmake.in

@@ -1,6 +1,6 @@
-// The Python module's compiled part, contact2d._contact2d: a scene (a file or a dict) solved in
-// this process, as `contact2d run` solves it, returned as the run's summary (a dict, the same
-// as summary.json) with its fields as NumPy arrays. The GIL is released while the scene is
+// The Python module's compiled part, contact2d._contact2d: a scene (a file or a dict) run in
+// this process through the entry point `contact2d run` uses (app/run/run_scene.hpp), returned
+// as the run's summary (a dict, the same as summary.json) with its fields as NumPy arrays. The GIL is released while the scene is
 // meshed and solved; bad input raises contact2d.InputError with the command line's located
 // message; a file of `out` that cannot be written (a full disk) raises OSError with its errno,
 // naming the output folder, and leaves no folder (the command line's exit 3). The pure-Python part
@@ -11,7 +11,6 @@
 
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <optional>
 #include <sstream>
@@ -20,9 +19,7 @@
 
 #include <toml++/toml.h>
 
-#include "app/report/summary.hpp"
-#include "app/run/run_output.hpp"
-#include "app/run/solve_scene.hpp"
+#include "app/run/run_scene.hpp"
 #include "core/errors.hpp"
 #include "core/interrupt.hpp"
 #include "core/scene.hpp"
@@ -213,60 +210,30 @@ class PythonInterrupt {
   PyObject *type_ = nullptr, *value_ = nullptr, *trace_ = nullptr;
 };
 
-/// The solve of contact2d.run, GIL released: the summary's text, the run in `solved`.
-std::string solve(const core::Scene& scene, const std::string& method,
-                  const std::optional<std::string>& out, std::unique_ptr<app::SceneRun>& solved) {
-  const auto t0 = app::RunOutput::Clock::now();
-  if (out) {  // the files of `contact2d run --out OUT`, written the same way
-    app::RunOutput output(scene, *out);
-    try {
-      solved = app::solve_scene(scene, method, {},
-                                [&](const nonlinear::StepRecord& s, const core::Model& m,
-                                    const core::Results& r) { output.write_step(s, m, r); });
-      output.write_results(*solved, t0);
-      std::string text = output.write_summary(*solved, nullptr).dump();
-      core::check_interrupt();  // the last chance: an interrupted run leaves nothing
-      output.commit();
-      return text;
-    } catch (const core::WriteError& e) {
-      // Named as the user named the folder: the work folder goes with `output`.
-      throw output.in_output_folder(e);
-    }
-  }
-  solved = app::solve_scene(scene, method, {});
-  solved->results.time.total =
-      std::chrono::duration<double>(app::RunOutput::Clock::now() - t0).count();
-  const app::SummaryParts parts{scene,
-                                &solved->model,
-                                &solved->results,
-                                app::run_status(solved->results),
-                                solved->contact ? &solved->contact_report : nullptr,
-                                solved->steps.empty() ? nullptr : &solved->steps,
-                                nlohmann::json()};
-  return app::make_summary(parts).dump();
-}
-
 /// contact2d.run: the summary dict, with the fields under "fields".
 py::dict run(const py::object& scene_in, const std::string& method,
              const std::vector<std::string>& sets, const std::optional<std::string>& out) {
   if (out && out->empty()) throw InputError("out: expected a folder name, found ''");
+  app::RunOptions options;
+  options.start = app::RunOutput::Clock::now();
   const core::Scene scene = load(scene_in, sets);
-  std::unique_ptr<app::SceneRun> solved;
-  std::string summary_text;
+  options.method = method;
+  options.out = out.value_or("");
+  app::RunResult result;
   PythonInterrupt interrupt;
   bool interrupted = false;
   {
     py::gil_scoped_release release;
     const core::InterruptPoll poll([&] { return interrupt.poll(); });
     try {
-      summary_text = solve(scene, method, out, solved);
+      result = app::run_scene(scene, options);
     } catch (const core::Interrupted&) {
       interrupted = true;
     }
   }
   if (interrupted) interrupt.raise();
-  py::dict summary = py::module_::import("json").attr("loads")(summary_text);
-  summary["fields"] = fields(*solved);
+  py::dict summary = py::module_::import("json").attr("loads")(result.summary.dump());
+  summary["fields"] = fields(*result.run);
   return summary;
 }
 

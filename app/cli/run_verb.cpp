@@ -1,48 +1,15 @@
-// `contact2d run`: solve a scene (once, or adaptively) and write its files through RunOutput.
+// `contact2d run`: a scene run through the library's entry point (app/run/run_scene.hpp), its
+// progress on the terminal.
 #include <unistd.h>
 
-#include <cstdio>
 #include <iostream>
-#include <memory>
-#include <sstream>
 
 #include "app/cli/verbs.hpp"
-#include "app/report/summary.hpp"
-#include "app/run/adapt.hpp"
-#include "app/run/run_output.hpp"
-#include "core/writers.hpp"
+#include "app/run/run_scene.hpp"
 
 namespace c2d::app {
 
 namespace {
-
-/// Progress and log: lines go to the terminal (unless quiet) and to run.log.
-class Reporter {
- public:
-  explicit Reporter(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO)) {}
-  void phase(const std::string& what) {
-    write_log(what + '\n');
-    if (!quiet_ && tty_) std::cerr << "  .. " << what << std::endl;
-  }
-  void line(const std::string& text) {
-    write_log(text);
-    if (!quiet_) std::cout << text << std::flush;
-  }
-  /// From now on run.log gets every line as it is printed (the earlier ones first).
-  void attach(RunOutput& output) {
-    output_ = &output;
-    output.log(early_.str());
-  }
-
- private:
-  void write_log(const std::string& text) {
-    if (output_) output_->log(text);
-    else early_ << text;
-  }
-  bool quiet_, tty_;
-  std::ostringstream early_;
-  RunOutput* output_ = nullptr;
-};
 
 /// The scene with --set and, for --adapt, the [adapt] overrides applied.
 core::Scene load_run_scene(const Options& o) {
@@ -57,63 +24,23 @@ core::Scene load_run_scene(const Options& o) {
   return scene;
 }
 
-std::string cycle_line(const AdaptCycle& c) {
-  char line[200];
-  std::snprintf(line, sizeof line,
-                "adapt %2d   %8d DOFs   xi_g %8.3g   max xi_e %8.3g   error %6.2f %%   %7.2f s\n",
-                c.cycle, c.dofs, c.global_parameter, c.max_local, 100 * c.relative_error,
-                c.seconds);
-  return line;
-}
-
-/// The run once its output folder is set up: solve, write, commit.
-int run_into(const Options& o, const core::Scene& scene, RunOutput& output, Reporter& rep,
-             RunOutput::Clock::time_point t0) {
-  rep.attach(output);
-  output.end_on_interrupt();
-  const auto phase = [&](const std::string& line) { rep.phase(line); };
-  std::unique_ptr<SceneRun> solved;
-  AdaptRun adapt;
-  if (scene.adapt.enabled) {
-    // Every cycle leaves its mesh and fields and a row of adapt.csv as soon as it is solved.
-    adapt = solve_adaptive(scene, o.method, phase, [&](const AdaptCycle& c, const SceneRun& r) {
-      output.write_cycle(c, r);
-      rep.line(cycle_line(c));
-    });
-    solved = std::move(adapt.last);
-  } else {
-    // A load-stepped run leaves every converged step as soon as it is solved.
-    solved = solve_scene(scene, o.method, phase,
-                         [&](const nonlinear::StepRecord& s, const core::Model& m,
-                             const core::Results& r) { output.write_step(s, m, r); });
-  }
-  rep.phase("writing results to " + output.dir());
-  const std::string chart_error = output.write_results(*solved, t0);
-  const nlohmann::json summary =
-      output.write_summary(*solved, scene.adapt.enabled ? &adapt : nullptr);
-  rep.line(terminal_summary(summary, output.dir(), output.work_dir()));
-  if (scene.adapt.enabled)
-    rep.line(std::string(adapt.reached ? "adapt      " : "warning    adapt: ") + adapt.stop +
-             " (adapt.csv, cycle_NN.vtu)\n");
-  if (!chart_error.empty()) rep.line("warning    chart not written: " + chart_error + "\n");
-  output.commit();
-  return solved->results.status == SolveStatus::kConverged ? kExitOk : kExitSolveFailed;
-}
-
 }  // namespace
 
 int cmd_run(const Options& o) {
   install_interrupt_handler();
-  const auto t0 = RunOutput::Clock::now();
-  Reporter rep(o.quiet);
-  rep.phase("reading " + o.scene);
+  RunOptions run;
+  run.start = RunOutput::Clock::now();
+  const bool tty = ::isatty(STDERR_FILENO);
+  // Phases on a terminal only (a log or a job's output keeps the lines that matter).
+  if (!o.quiet && tty)
+    run.progress = [](const std::string& what) { std::cerr << "  .. " << what << std::endl; };
+  if (!o.quiet) run.report = [](const std::string& text) { std::cout << text << std::flush; };
+  run.on_output = [](RunOutput& output) { output.end_on_interrupt(); };
+  if (run.progress) run.progress("reading " + o.scene);
   const core::Scene scene = load_run_scene(o);
-  RunOutput output(scene, default_out(o, scene));
-  try {
-    return run_into(o, scene, output, rep, t0);
-  } catch (const core::WriteError& e) {
-    throw output.in_output_folder(e);
-  }
+  run.method = o.method;
+  run.out = default_out(o, scene);
+  return run_scene(scene, run).converged() ? kExitOk : kExitSolveFailed;
 }
 
 }  // namespace c2d::app

@@ -27,6 +27,7 @@ endfunction()
 
 step("install" "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${prefix}")
 foreach(f include/contact2d/core/model.hpp include/contact2d/nonlinear/load_stepper.hpp
+          include/contact2d/app/run/run_scene.hpp
           lib/cmake/contact2d/contact2dConfig.cmake
           lib/cmake/contact2d/contact2dConfigVersion.cmake bin/contact2d
           lib/contact2d/libcontact2d_cli.so)
@@ -40,5 +41,5 @@ step("configure the consumer" "${CMAKE_COMMAND}" -S "${SOURCE_DIR}/tests/install
      "-DCMAKE_BUILD_TYPE=${BUILD_TYPE}" "-DCMAKE_PREFIX_PATH=${prefix}"
      "-DCMAKE_CXX_FLAGS=${EXTRA_FLAGS}" "-DCMAKE_EXE_LINKER_FLAGS=${EXTRA_FLAGS}")
 step("build the consumer" "${CMAKE_COMMAND}" --build "${consumer_build}")
-step("run the consumer" "${consumer_build}/plate_tension")
+step("run the consumer" "${consumer_build}/plate_tension" "${consumer_build}/plate_run")
 message(STATUS "${step_output}")

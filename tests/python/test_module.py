@@ -4,8 +4,10 @@ process, a dict scene against the closed form of a bar, located errors, compare 
 hertz_rigid_fast.toml: p_max = 383.51 MPa, b = 1.6609 mm (its [reference]); the run's own
 figures are asserted against the reference with the tolerances README states for it (0.5 %).
 """
+import json
 import math
 import os
+import subprocess
 import threading
 
 import numpy as np
@@ -110,6 +112,26 @@ def test_out_writes_the_run_files(tmp_path):
     assert s["status"] == "converged"
     for name in ("summary.json", "nodes.csv"):
         assert (out / name).exists()
+
+
+def test_adaptive_run_is_the_command_lines(tmp_path):
+    # contact2d.run and `contact2d run` share one entry point (app/run/run_scene.hpp): an
+    # [adapt] scene refines in process as on the command line, cycle for cycle, to its target.
+    scene = os.path.join(SOURCE, "examples", "hertz_rigid_coarse.toml")
+    s = contact2d.run(scene, set=["adapt.enabled=true"])
+    out = tmp_path / "cli"
+    subprocess.run([contact2d.executable(), "run", scene, "--adapt", "--quiet", "--out", str(out)],
+                   check=True)
+    with open(out / "summary.json") as f:
+        cli = json.load(f)
+    assert s["status"] == cli["status"] == "converged"
+    assert s["adapt"]["reached"] and cli["adapt"]["reached"]
+    ours, theirs = s["adapt"]["cycles"], cli["adapt"]["cycles"]
+    assert [c["dofs"] for c in ours] == [c["dofs"] for c in theirs]
+    assert len(ours) >= 2
+    for a, b in zip(ours, theirs):  # the same meshes and solves: the same estimate to round-off
+        assert a["relative_error"] == pytest.approx(b["relative_error"], rel=1e-9)
+    assert ours[-1]["relative_error"] <= s["adapt"]["target"]  # the scene's η = 2 %
 
 
 def test_runs_in_threads():
