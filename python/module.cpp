@@ -256,6 +256,11 @@ PYBIND11_MODULE(_contact2d, m) {
   m.def("run", &run, py::arg("scene"), py::arg("method") = "",
         py::arg("set") = std::vector<std::string>{}, py::arg("out") = std::nullopt,
         "Solves a scene (a path or a dict) and returns its summary with the fields.");
+  m.def("to_toml", [](const py::dict& scene) {
+        std::ostringstream text;
+        text << to_table(scene, "", 0);
+        return text.str();
+      }, py::arg("scene"), "A dict scene as the TOML text a scene file holds (for the studies).");
   m.def("executable", [] {
         // The environment's C2D_EXECUTABLE, else the build tree's program, else the installed.
         if (const char* env = std::getenv("C2D_EXECUTABLE"); env && *env) return std::string(env);

@@ -86,8 +86,8 @@ const char* kTraceHelp =
 
 const char* kCompareHelp =
     "usage: contact2d compare SCENE [--methods a,b,...] [--levels N] [--jobs J]\n"
-    "                        [--set key=value ...] [--out DIR] [--quiet] [--job-list]\n"
-    "                        [--case-timeout S]\n"
+    "                        [--metric KEY] [--set key=value ...] [--out DIR] [--quiet]\n"
+    "                        [--job-list] [--case-timeout S]\n"
     "\nRuns every chosen contact method (default: all six) on the same scene, on N meshes:\n"
     "level 0 is the scene's, each further level halves every mesh size (analysis.mesh_scale).\n"
     "Each run is a `contact2d run` in DIR/levelK/METHOD; J of them at a time (J > 1: then\n"
@@ -95,6 +95,10 @@ const char* kCompareHelp =
     "  compare.csv      one row per method and level: DOFs, status, iterations, times, p_max,\n"
     "                   contact length, force, penetration, errors against [reference]\n"
     "  compare.md       a verdict computed from the table, then the table\n"
+    "The verdict judges by --metric KEY (a reference error such as pressure_profile_l2 or\n"
+    "p_max, or a contact figure or probe measured against lagrange on the finest level;\n"
+    "default: the scene's reference) and does not rank a method whose observed order is\n"
+    "negative, near zero or erratic.\n"
     "  accuracy_time    accuracy against solve time, one line per method (PNG, SVG)\n"
     "  pressure_profiles  every method's pressure on the finest level (with Hertz's)\n"
     "  penetration      largest penetration per method and level\n"
@@ -103,8 +107,8 @@ const char* kCompareHelp =
 
 const char* kSweepHelp =
     "usage: contact2d sweep SCENE --set key=a:b:log:n [--method M] [--accuracy 0.01]\n"
-    "                      [--jobs J] [--set key=value ...] [--out DIR] [--quiet] [--job-list]\n"
-    "                      [--case-timeout S]\n"
+    "                      [--metric KEY] [--jobs J] [--set key=value ...] [--out DIR]\n"
+    "                      [--quiet] [--job-list] [--case-timeout S]\n"
     "\nRuns SCENE once per value of one key (a:b:log:n, a:b:lin:n or v1,v2,...), e.g.\n"
     "  contact2d sweep examples/hertz_rigid.toml --method penalty \\\n"
     "      --set contact.penalty.k=1e3:1e13:log:11\n"
@@ -117,6 +121,9 @@ const char* kSweepHelp =
     "  sweep.md    the range of values that converge with |p_max error| <= accuracy, and (for\n"
     "              penalty.k) where the seed's rule k = 1e4 max|K_ij| falls; then the table\n"
     "  sweep.png   error, penetration, iterations, time and pivot ratio against the value\n"
+    "Judged by --metric KEY (default p_max). A penalty or augmentation key also runs lagrange\n"
+    "on the same mesh once (DIR/baseline): the verdict gives the values within the accuracy of\n"
+    "it, and the chart draws it, so the penalty is not blamed for the mesh's error.\n"
     "@JOBLIST@";
 
 const char* kBenchHelp =

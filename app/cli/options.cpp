@@ -82,6 +82,11 @@ const ValueOption kValueOptions[] = {
      [](Options& o, const std::string&, const std::string& v) {
        o.case_timeout = parse_case_timeout(o, v);
      }},
+    {"--metric", true,
+     [](Options& o, const std::string&, const std::string& v) {
+       if (v.empty()) throw InputError("--metric: expected a reference key or a probe, found ''");
+       o.metric = v;
+     }},
     {"--accuracy", false,
      [](Options& o, const std::string&, const std::string& v) { o.accuracy = parse_accuracy(v); }},
     {"--field", false,

@@ -16,6 +16,7 @@ struct Options {
   std::string verb, scene;
   std::vector<std::string> sets;
   std::string out, method, methods, data;
+  std::string metric;  // compare, sweep: what to judge the runs by (study_metric.hpp)
   std::vector<std::string> fits;
   int levels = 1, jobs = 1;
   double accuracy = 0.01;

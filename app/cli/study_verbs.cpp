@@ -22,6 +22,7 @@ void fill_study(const Options& o, StudyOptions& s) {
   s.out = o.out;
   s.quiet = o.quiet;
   s.job_list = o.job_list;
+  s.metric = o.metric;
 }
 
 /// For the verbs that run cases: their time limit, and SIGINT and SIGTERM passed on to them (a

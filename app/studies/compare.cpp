@@ -54,11 +54,7 @@ CompareStudy plan_compare(const CompareOptions& o) {
   s.case_timeout_s = o.case_timeout_s;
   s.hertz = hertz_reference(scene);
   s.units = scene.units;
-  // A frictional Hertz case (Cattaneo–Mindlin) is judged on its shear profile, which depends
-  // on the stick and slip zones as well as the pressure.
-  s.metric = s.hertz ? "profile"
-             : scene.reference_kind == "cattaneo_mindlin" ? "shear"
-             : scene.reference.count("p_max") ? "p_max" : "";
+  s.metric = choose_metric(scene, o.metric);
   const std::string scene_path = fs::absolute(o.scene).lexically_normal().string();
   for (int level = 0; level < o.levels; ++level) {
     const double scale = scene.analysis.mesh_scale / std::pow(2.0, level);
@@ -86,7 +82,7 @@ void write_compare_files(const CompareStudy& s) {
   const nlohmann::json options = {{"scene", s.scene},
                                   {"methods", s.methods},
                                   {"levels", s.levels},
-                                  {"metric", s.metric},
+                                  {"metric", s.metric.to_json()},
                                   {"units", s.units},
                                   {"hertz", hertz}};
   std::vector<nlohmann::json> keys;
@@ -102,10 +98,7 @@ CompareStudy compare_from_manifest(const StudyManifest& m) {
   if (options.has("units")) s.units = options["units"].text();
   s.methods = options["methods"].texts();
   s.levels = options["levels"].integer();
-  s.metric = options["metric"].text();
-  if (s.metric != "" && s.metric != "profile" && s.metric != "shear" && s.metric != "p_max")
-    throw InputError(m.file + ": options.metric: expected profile, shear, p_max or \"\", found '" +
-                     s.metric + "'");
+  s.metric = StudyMetric::from_json(options["metric"].json(), m.file);
   if (!options["hertz"].json().is_null())
     s.hertz = HertzReference{options["hertz"]["p0"].number(), options["hertz"]["b"].number()};
   s.out = m.dir;
@@ -135,11 +128,13 @@ int run_compare(const CompareOptions& o) {
   if (!o.quiet)
     std::cout << "compare    " << s.methods.size() << " methods x " << o.levels
               << " levels = " << s.cases.size() << " runs, " << o.jobs << " at a time -> " << s.out
-              << "\n";
+              << "\n"
+              << "metric     " << (s.metric.empty() ? "none" : s.metric.key) << " ("
+              << s.metric.why << ")\n";
   size_t finished = 0;
   run_cases(s.cases, s.out, o.jobs, o.case_timeout_s, [&](size_t i, const CaseOutcome& c) {
     CompareRow& r = s.rows[i];
-    read_row(r, c, s.out + "/" + s.cases[i].folder, s.hertz);
+    read_row(r, c, s.out + "/" + s.cases[i].folder, s);
     ++finished;
     core::write_file_atomic(s.out + "/compare.csv", compare_csv(s.rows));
     if (!o.quiet)
@@ -160,7 +155,7 @@ int merge_compare(const StudyManifest& m, bool quiet) {
   CompareStudy s = compare_from_manifest(m);
   const std::vector<size_t> missing =
       read_finished_cases(s.cases, s.out, [&](size_t i, const CaseOutcome& c) {
-        read_row(s.rows[i], c, s.out + "/" + s.cases[i].folder, s.hertz);
+        read_row(s.rows[i], c, s.out + "/" + s.cases[i].folder, s);
       });
   return report_compare(s, missing, quiet);
 }

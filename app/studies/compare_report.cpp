@@ -49,25 +49,86 @@ std::string compare_csv(const std::vector<CompareRow>& rows) {
 
 namespace {
 
-/// The accuracy a row reached on the study's metric (NaN when it has none).
-double accuracy(const CompareRow& r, const std::string& metric) {
-  if (!r.converged()) return std::nan("");
-  if (metric == "profile") return r.err_profile;
-  if (metric == "shear") return r.err_shear;
-  if (metric == "p_max") return std::abs(r.err_p0);
-  return std::nan("");
+/// A metric without reference is judged against one run: the exact method's on the finest
+/// level it converged (lagrange, else ssn, else the first method listed).
+const CompareRow* metric_baseline(const CompareStudy& s) {
+  if (s.metric.empty() || s.metric.reference) return nullptr;
+  std::vector<std::string> order{"lagrange", "ssn"};
+  order.insert(order.end(), s.methods.begin(), s.methods.end());
+  for (const std::string& m : order) {
+    const CompareRow* best = nullptr;
+    for (const auto& r : s.rows)
+      if (r.method == m && r.converged() && std::isfinite(r.metric) &&
+          (!best || r.level > best->level))
+        best = &r;
+    if (best) return best;
+  }
+  return nullptr;
 }
 
-std::string metric_name(const std::string& metric) {
-  return metric == "profile" ? "relative L2 error of the pressure profile"
-         : metric == "shear" ? "relative L2 error of the shear profile (Cattaneo–Mindlin)"
-                             : "relative error of p_max";
+/// The accuracy a row reached on the study's metric (NaN when it has none). Against a baseline
+/// run, the rows of the baseline's level have none: there the difference is between methods on
+/// one mesh, not a discretisation error (method_spread reports it).
+double accuracy(const CompareStudy& s, const CompareRow& r) {
+  if (!r.converged() || s.metric.empty()) return std::nan("");
+  if (s.metric.reference) return std::abs(r.metric);
+  const CompareRow* base = metric_baseline(s);
+  if (!base || r.level == base->level) return std::nan("");
+  return std::abs(relative_to(r.metric, base->metric));
 }
 
-/// The verdict, computed from the table: the accuracy every converged method reached, and who
-/// got there fastest (solve time).
-std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
-                    const std::string& metric) {
+/// Against a baseline run: how far the other methods' values on the baseline's level are from
+/// it, as a sentence ("" without a baseline or another method there).
+std::string method_spread(const CompareStudy& s) {
+  const CompareRow* base = metric_baseline(s);
+  if (!base) return "";
+  const CompareRow* widest = nullptr;
+  double spread = 0.0;
+  for (const auto& r : s.rows) {
+    if (&r == base || r.level != base->level || !r.converged()) continue;
+    const double d = std::abs(relative_to(r.metric, base->metric));
+    if (std::isfinite(d) && (!widest || d > spread)) widest = &r, spread = d;
+  }
+  if (!widest) return "";
+  return " On level " + std::to_string(base->level) + " the other methods' values are within " +
+         percent_text(spread) + " of " + base->method + "'s (the widest: " + widest->method + ").";
+}
+
+std::string metric_name(const CompareStudy& s) {
+  std::string name = s.metric.label();
+  if (const CompareRow* base = metric_baseline(s))
+    name += " (" + base->method + ", level " + std::to_string(base->level) + ")";
+  return name;
+}
+
+/// The observed order of convergence of a method on the study's metric over its converged
+/// levels (h ∝ mesh_scale).
+ObservedOrder method_order(const CompareStudy& s, const std::string& method) {
+  std::vector<std::pair<double, double>> points;
+  for (const auto& r : s.rows)
+    if (r.method == method) points.emplace_back(r.mesh_scale, accuracy(s, r));
+  return observed_order(points);
+}
+
+/// The methods whose error does not converge under refinement, with why; they are not ranked
+/// (their smallest error may be a lucky level's).
+std::string untrusted_orders(const CompareStudy& s, std::vector<std::string>& trusted) {
+  std::string list;
+  for (const auto& m : s.methods) {
+    const ObservedOrder q = method_order(s, m);
+    if (q.points >= 2 && !q.flag.empty())
+      list += (list.empty() ? "" : "; ") + m + " (order " + order_text(q.order) + ", " + q.flag + ")";
+    else
+      trusted.push_back(m);
+  }
+  return list;
+}
+
+/// The verdict, computed from the table: the metric, the accuracy every converged method whose
+/// error converges reached, who got there fastest (solve time), and the methods whose error
+/// does not converge under refinement.
+std::string verdict(const CompareStudy& s) {
+  const std::vector<CompareRow>& rows = s.rows;
   std::ostringstream os;
   std::vector<std::string> failed;
   int finest = -1;  // of the finished cases (a merge may lack some)
@@ -78,8 +139,9 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
       failed.push_back(r.method + " at level " + std::to_string(r.level) + " (" + r.status + ")");
   }
   if (finest < 0) return "No case has finished yet.";
-  if (metric.empty()) {
-    os << "The scene has no Hertz or p_max reference, so accuracy cannot be measured; ";
+  if (s.metric.empty()) {
+    os << "The scene has no reference and no --metric was given, so accuracy cannot be "
+          "measured; ";
     double best_t = 1e300;
     std::string best;
     for (const auto& r : rows)
@@ -89,16 +151,20 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
       os << "on the finest level the fastest converged method was " << best << " ("
          << seconds_text(best_t) << " solve).";
   } else {
+    os << "Judged by the " << metric_name(s) << " (" << s.metric.why << "). ";
+    std::vector<std::string> ranked;
+    const std::string untrusted = untrusted_orders(s, ranked);
     std::map<std::string, double> best;
-    for (const auto& m : methods) {
+    for (const auto& m : ranked) {
       double e = 1e300;
       for (const auto& r : rows)
-        if (r.method == m && std::isfinite(accuracy(r, metric)))
-          e = std::min(e, accuracy(r, metric));
+        if (r.method == m && std::isfinite(accuracy(s, r))) e = std::min(e, accuracy(s, r));
       if (e < 1e300) best[m] = e;
     }
     if (best.empty()) {
-      os << "No method converged on any level.";
+      os << (untrusted.empty() ? "No method converged on any level."
+                               : "No method's error converges under refinement on these levels, "
+                                 "so no fastest method is named.");
     } else {
       double target = 0.0;
       for (const auto& [m, e] : best) target = std::max(target, e);
@@ -106,17 +172,16 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
       for (const auto& [m, e] : best) {
         const CompareRow* fastest = nullptr;
         for (const auto& r : rows)
-          if (r.method == m && accuracy(r, metric) <= target * (1 + 1e-9) &&
+          if (r.method == m && accuracy(s, r) <= target * (1 + 1e-9) &&
               (!fastest || r.t_solve < fastest->t_solve))
             fastest = &r;
         ranking.emplace_back(fastest->t_solve, m, fastest);
       }
       std::sort(ranking.begin(), ranking.end());
       const CompareRow* w = std::get<2>(ranking.front());
-      os << "Every method that converged reached a " << metric_name(metric) << " of "
-         << percent_text(target) << "; the fastest to it was **" << w->method << "** ("
-         << seconds_text(w->t_solve) << " solve, level " << w->level << ", "
-         << static_cast<long>(w->dofs) << " DOFs)";
+      os << "Every method ranked reached " << percent_text(target) << "; the fastest to it was **"
+         << w->method << "** (" << seconds_text(w->t_solve) << " solve, level " << w->level
+         << ", " << static_cast<long>(w->dofs) << " DOFs)";
       for (size_t i = 1; i < ranking.size(); ++i) {
         const CompareRow* r = std::get<2>(ranking[i]);
         os << (i == 1 ? ", then " : ", ") << r->method << " (" << seconds_text(r->t_solve)
@@ -131,6 +196,11 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
       else
         os << ". The smallest error, " << percent_text(best[most]) << ", was " << most << "'s.";
     }
+    os << method_spread(s);
+    if (!untrusted.empty())
+      os << " **Not ranked**, their error does not converge under refinement (a smallest error "
+            "could be a lucky level's): "
+         << untrusted << ".";
   }
   if (!failed.empty()) {
     os << " Not converged: ";
@@ -140,46 +210,29 @@ std::string verdict(const std::vector<CompareRow>& rows, const std::vector<std::
   return os.str();
 }
 
-/// The observed order of convergence of a method: the least-squares slope of log(error)
-/// against log(h) over its converged levels (h ∝ mesh_scale); NaN with fewer than 2 levels.
-double observed_order(const std::vector<CompareRow>& rows, const std::string& method,
-                      const std::string& metric) {
-  std::vector<std::pair<double, double>> points;
-  for (const auto& r : rows) {
-    const double e = accuracy(r, metric);
-    if (r.method == method && std::isfinite(e) && e > 0 && r.mesh_scale > 0)
-      points.emplace_back(std::log(r.mesh_scale), std::log(e));
-  }
-  if (points.size() < 2) return std::nan("");
-  double mx = 0, my = 0;
-  for (const auto& [x, y] : points) mx += x, my += y;
-  mx /= points.size(), my /= points.size();
-  double sxy = 0, sxx = 0;
-  for (const auto& [x, y] : points) sxy += (x - mx) * (y - my), sxx += (x - mx) * (x - mx);
-  return sxx > 0 ? sxy / sxx : std::nan("");
-}
-
-/// orders.csv and compare.md's table: one line per method.
-std::string orders_csv(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
-                       const std::string& metric) {
+/// orders.csv and compare.md's table: one line per method, with why an order is not trusted.
+std::string orders_csv(const CompareStudy& s) {
   std::ostringstream os;
-  os << "method,metric,order\n";
-  for (const auto& m : methods)
-    os << m << ',' << metric << ',' << cell(observed_order(rows, m, metric)) << '\n';
+  os << "method,metric,order,flag\n";
+  for (const auto& m : s.methods) {
+    const ObservedOrder q = method_order(s, m);
+    os << m << ',' << s.metric.key << ',' << cell(q.order) << ",\"" << q.flag << "\"\n";
+  }
   return os.str();
 }
 
-std::string orders_md(const std::vector<CompareRow>& rows, const std::vector<std::string>& methods,
-                      const std::string& metric) {
-  if (metric.empty()) return "";
+std::string orders_md(const CompareStudy& s) {
+  if (s.metric.empty()) return "";
   std::ostringstream os;
-  os << "Observed order of convergence (slope of log " << metric_name(metric)
+  os << "Observed order of convergence (slope of log " << metric_name(s)
      << " against log h over the converged levels; each level halves every element size, the "
-        "graded zone's included):\n\n| method | order |\n|---|---|\n";
-  for (const auto& m : methods) {
-    const double q = observed_order(rows, m, metric);
-    os << "| " << m << " | " << (std::isfinite(q) ? csv_number(std::round(q * 100) / 100) : "–")
-       << " |\n";
+        "graded zone's included):\n\n| method | order | level to level | note |\n"
+        "|---|---|---|---|\n";
+  for (const auto& m : s.methods) {
+    const ObservedOrder q = method_order(s, m);
+    os << "| " << m << " | " << order_text(q.order) << " | "
+       << (q.points >= 3 ? order_text(q.low) + " to " + order_text(q.high) : "–") << " | "
+       << (q.flag.empty() ? "" : "**" + q.flag + "**") << " |\n";
   }
   return os.str() + "\n";
 }
@@ -202,9 +255,9 @@ std::string compare_md(const CompareStudy& s, const std::vector<size_t>& missing
   const std::vector<CompareRow>& rows = s.rows;
   std::ostringstream os;
   os << "# " << compare_title(s) << "\n\n"
-     << verdict(rows, s.methods, s.metric) << "\n\n"
+     << verdict(s) << "\n\n"
      << missing_cases_md(s.cases, missing) << timed_out_cases_md(s.cases, figures_of(rows))
-     << orders_md(rows, s.methods, s.metric) << times_note(s) << kFitNote;
+     << orders_md(s) << times_note(s) << kFitNote;
   os << "| level | method | DOFs | status | iterations | solve | total | p_max | contact length | "
         "total force | max penetration | p_max error | length error | profile L2 error | "
         "fitted p0 | fitted b | fitted b error |\n"
@@ -229,38 +282,36 @@ HtmlReport compare_html(const CompareStudy& s, const std::vector<size_t>& missin
   HtmlReport h;
   h.title = compare_title(s);
   h.intro_md = times_note(s);
-  h.verdict_md = verdict(s.rows, s.methods, s.metric);
+  h.verdict_md = verdict(s);
   h.notes_md = missing_cases_md(s.cases, missing) +
                timed_out_cases_md(s.cases, figures_of(s.rows)) +
-               orders_md(s.rows, s.methods, s.metric) + (s.hertz ? kFitNote : "");
+               orders_md(s) + (s.hertz ? kFitNote : "");
   h.csv_name = "compare.csv";
   h.csv = compare_csv(s.rows);
   h.charts = charts;
   return h;
 }
 
-std::string chart_commands_accuracy(const std::string& dir, const std::vector<CompareRow>& rows,
-                                    const std::vector<std::string>& methods,
-                                    const std::string& metric, std::string& data_text) {
+std::string chart_commands_accuracy(const CompareStudy& s, std::string& data_text) {
   std::ostringstream data, plot;
   int block = 0;
   plot << "set title "
-       << gp_text("Accuracy against solve time (" + metric_name(metric) +
+       << gp_text("Accuracy against solve time (" + metric_name(s) +
                   "; one point per refinement level)")
-       << "\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(metric))
-       << "\nset logscale xy\nset grid\nset key outside right\nplot ";
-  for (const auto& m : methods) {
+       << " noenhanced\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(s))
+       << " noenhanced\nset logscale xy\nset grid\nset key outside right\nplot ";
+  for (const auto& m : s.methods) {
     std::ostringstream block_data;
     int points = 0;
-    for (const auto& r : rows) {
-      const double e = accuracy(r, metric);
+    for (const auto& r : s.rows) {
+      const double e = accuracy(s, r);
       if (r.method != m || !std::isfinite(e) || !(e > 0) || !(r.t_solve > 0)) continue;
       block_data << r.t_solve << ' ' << e << ' ' << r.level << '\n';
       ++points;
     }
     if (!points) continue;
     data << block_data.str() << "\n\n";
-    plot << (block ? ", \\\n     " : "") << gp_file(dir + "/accuracy.dat") << " index " << block
+    plot << (block ? ", \\\n     " : "") << gp_file(s.out + "/accuracy.dat") << " index " << block
          << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
     ++block;
   }
@@ -287,7 +338,7 @@ std::string chart_accuracy_time(const CompareStudy& s, std::vector<ReportChart>&
   if (s.metric.empty())
     return add_chart(charts, kCompareCharts[0], "the scene has no reference to measure against");
   std::string data;
-  const std::string cmd = chart_commands_accuracy(s.out, s.rows, s.methods, s.metric, data);
+  const std::string cmd = chart_commands_accuracy(s, data);
   if (cmd.empty())
     return add_chart(charts, kCompareCharts[0], "no converged run has an error and a time above 0");
   return add_chart(charts, kCompareCharts[0], "",
@@ -384,9 +435,11 @@ std::string draw_compare_charts(const CompareStudy& s, std::vector<ReportChart>&
 /// A finished case's row: its figures, and for a converged run its pressure profile, with the
 /// Hertz form fitted to it. False when the case left no summary (a crash).
 bool read_row(CompareRow& r, const CaseOutcome& c, const std::string& dir,
-              const std::optional<HertzReference>& hertz) {
+              const CompareStudy& s) {
   if (!r.read(c)) return false;
   if (!r.converged()) return true;
+  if (!s.metric.empty()) r.metric = metric_reading(c.summary, s.metric);
+  const std::optional<HertzReference>& hertz = s.hertz;
   r.profile = read_pressure_profile(dir);
   // The run computed it from its own nodes (summary.json); the profile is read for the chart
   // and the fit.
@@ -409,16 +462,16 @@ int report_compare(const CompareStudy& s, const std::vector<size_t>& missing, bo
   core::write_file_atomic(s.out + "/compare.md", compare_md(s, missing, markdown_images(charts)));
   write_html_report(s.out, "compare.html", compare_html(s, missing, charts));
   if (!s.metric.empty())
-    core::write_file_atomic(s.out + "/orders.csv", orders_csv(s.rows, s.methods, s.metric));
+    core::write_file_atomic(s.out + "/orders.csv", orders_csv(s));
   if (!quiet) {
     std::string drawn;
     for (const auto& c : charts)
       if (c.written()) drawn += ", " + c.stem;
     std::cout << "\n"
-              << verdict(s.rows, s.methods, s.metric) << "\n\n"
+              << verdict(s) << "\n\n"
               << missing_cases_text(s.cases, missing)
               << timed_out_cases_text(s.cases, figures_of(s.rows))
-              << orders_md(s.rows, s.methods, s.metric) << "wrote " << s.out
+              << orders_md(s) << "wrote " << s.out
               << "/compare.csv, compare.md, compare.html"
               << (s.metric.empty() ? "" : ", orders.csv")
               << (drawn.empty() ? "" : drawn + " (.png/.svg)") << "\n";

@@ -12,6 +12,7 @@
 
 #include "app/report/hertz.hpp"
 #include "app/studies/study.hpp"
+#include "app/studies/study_metric.hpp"
 
 namespace c2d::app {
 
@@ -23,17 +24,18 @@ struct CompareRow : RunFigures {
   double fit_p0 = std::nan(""), fit_b = std::nan(""), err_fit_p0 = std::nan(""),
          err_fit_b = std::nan("");  ///< Hertz form fitted to the nodal pressures (Ceres)
   std::vector<std::pair<double, double>> profile;
+  double metric = std::nan("");  ///< the run's reading of the study's metric (study_metric.hpp)
 };
 
 /// What the steps of a comparison share: the scene (as given, for titles), the chosen methods
-/// and levels, the metric the scene's reference allows, how its times were taken, the cases
+/// and levels, the metric it is judged by, how its times were taken, the cases
 /// and their rows (one per method and level, in the same order).
 struct CompareStudy {
   std::string scene;
   std::vector<std::string> methods;
   int levels = 1;
   std::optional<HertzReference> hertz;
-  std::string metric;  ///< "profile", "shear", "p_max" or "" (no reference)
+  StudyMetric metric;  ///< empty: the scene has no reference and none was asked for
   std::string units;   ///< the scene's `units` (axis labels)
   std::string out;
   std::string timing;  ///< timing_note() or merged_timing_note()
@@ -48,7 +50,7 @@ std::string compare_csv(const std::vector<CompareRow>& rows);
 /// A finished case's row: its figures, and for a converged run its pressure profile, with the
 /// Hertz form fitted to it. False when the case left no summary (a crash).
 bool read_row(CompareRow& r, const CaseOutcome& c, const std::string& dir,
-              const std::optional<HertzReference>& hertz);
+              const CompareStudy& s);
 
 /// Writes compare.csv, compare.md, orders.csv and the charts from the finished rows, listing
 /// the `missing` and the timed-out cases; prints the verdict unless quiet. Returns the exit

@@ -191,6 +191,7 @@ struct StudyOptions {
   bool quiet = false;
   bool job_list = false;  ///< write the cases as a job list (job_list.hpp) instead of running them
   double case_timeout_s = kDefaultCaseTimeout;  ///< per case; 0: none
+  std::string metric;  ///< compare, sweep: --metric (study_metric.hpp); empty: the default
 };
 
 /// The study's output folder, created: --out, else out/<verb>_<scene file stem>.

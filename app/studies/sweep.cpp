@@ -12,6 +12,9 @@
 #include "app/report/units.hpp"
 #include "app/report/html_report.hpp"
 #include "app/studies/job_list.hpp"
+#include "app/studies/study_metric.hpp"
+#include "constraints/contact_scene.hpp"
+#include "constraints/method_registry.hpp"
 #include "core/errors.hpp"
 #include "core/scene.hpp"
 #include "core/writers.hpp"
@@ -70,22 +73,8 @@ std::string cell(double v) { return csv_number(v); }
 
 struct SweepRow : RunFigures {
   double value = 0.0;
+  double metric = std::nan("");  ///< the run's reading of the study's metric
 };
-
-std::string sweep_csv(const std::string& key, const std::vector<SweepRow>& rows) {
-  std::ostringstream os;
-  os << "value,key,status,exit_code,dofs,iterations,time_solve,p_max,error_p_max,"
-        "max_penetration,total_force,pivot_ratio,penalty_max,stiffness_max\n";
-  for (const auto& r : rows) {
-    if (!r.done) continue;
-    os << cell(r.value) << ',' << key << ',' << r.csv_status() << ',' << r.exit_code << ','
-       << cell(r.dofs) << ',' << cell(r.iterations) << ',' << cell(r.t_solve) << ','
-       << cell(r.p_max) << ',' << cell(r.err_p0) << ',' << cell(r.penetration) << ','
-       << cell(r.force) << ',' << cell(r.pivot) << ',' << cell(r.penalty) << ','
-       << cell(r.stiffness_max) << '\n';
-  }
-  return os.str();
-}
 
 /// The one ranged --set of a sweep and the fixed overrides beside it.
 struct SweptKey {
@@ -145,15 +134,77 @@ std::vector<StudyCase> sweep_cases(const SweepOptions& o, const SweptKey& k,
 }
 
 /// What the steps of a sweep share: the scene (as given, for titles), the swept key, the
-/// accuracy asked for, how its times were taken, the cases and their rows (same order).
+/// metric and accuracy it is judged by, how its times were taken, the cases and their rows
+/// (same order), and the baseline: the exact method on the same mesh, the last case when the
+/// swept key is a regularisation's parameter.
 struct SweepStudy {
   std::string scene, key, out, timing;
   std::string units;  ///< the scene's `units` (the penetration panel's label)
+  StudyMetric metric;
   double accuracy = 0.01;
   double case_timeout_s = 0;  ///< the per-case limit (for the job list; 0: none)
   std::vector<StudyCase> cases;
   std::vector<SweepRow> rows;
+  std::string baseline_method;  ///< "" without a baseline
+  SweepRow baseline;
+
+  /// The row of case i (the baseline's after the swept values').
+  SweepRow& row(size_t i) { return i < rows.size() ? rows[i] : baseline; }
 };
+
+/// The exact method a regularised sweep is held against.
+constexpr const char* kBaselineMethod = "lagrange";
+
+/// Whether the swept key is a regularisation's parameter (penalty stiffness or factor,
+/// augmentation factor): then the exact method on the same mesh shows the error the
+/// discretisation alone leaves, which no value of the key can remove.
+bool has_baseline(const std::string& key, const std::string& method) {
+  if (!method.empty() && constraints::is_exact_method(method)) return false;
+  return key.find("penalty") != std::string::npos || key.find("auglag") != std::string::npos;
+}
+
+bool is_profile(const std::string& key) {
+  return key == "pressure_profile_l2" || key == "shear_profile_l2";
+}
+
+/// A row's metric against the baseline's (the regularisation's own error, the mesh's taken
+/// out): relative difference of the values, of (1 + relative error) for a reference figure,
+/// the excess L2 error for a profile; NaN without a converged baseline.
+double own_error(const SweepStudy& s, const SweepRow& r) {
+  if (s.baseline_method.empty() || !s.baseline.converged() || !r.converged()) return std::nan("");
+  const double b = s.baseline.metric, v = r.metric;
+  if (!s.metric.reference) return relative_to(v, b);
+  return is_profile(s.metric.key) ? v - b : relative_to(1 + v, 1 + b);
+}
+
+/// What a row is judged by against the accuracy: its reference error, else its own error.
+double judged_error(const SweepStudy& s, const SweepRow& r) {
+  if (!r.converged() || s.metric.empty()) return std::nan("");
+  return std::abs(s.metric.reference ? r.metric : own_error(s, r));
+}
+
+/// "|p_max error|", or "|tip / lagrange's - 1|".
+std::string judged_name(const SweepStudy& s) {
+  if (s.metric.reference) return "|" + s.metric.key + " error|";
+  return "|" + s.metric.key + " / " + s.baseline_method + "'s - 1|";
+}
+
+std::string sweep_csv(const SweepStudy& s) {
+  std::ostringstream os;
+  os << "value,key,status,exit_code,dofs,iterations,time_solve,p_max,error_p_max,"
+        "max_penetration,total_force,pivot_ratio,penalty_max,stiffness_max,metric,metric_value,"
+        "error_vs_baseline\n";
+  for (const auto& r : s.rows) {
+    if (!r.done) continue;
+    os << cell(r.value) << ',' << s.key << ',' << r.csv_status() << ',' << r.exit_code << ','
+       << cell(r.dofs) << ',' << cell(r.iterations) << ',' << cell(r.t_solve) << ','
+       << cell(r.p_max) << ',' << cell(r.err_p0) << ',' << cell(r.penetration) << ','
+       << cell(r.force) << ',' << cell(r.pivot) << ',' << cell(r.penalty) << ','
+       << cell(r.stiffness_max) << ',' << s.metric.key << ',' << cell(r.metric) << ','
+       << cell(own_error(s, r)) << '\n';
+  }
+  return os.str();
+}
 
 /// The seed's rule k = 1e4 max|K_ij|, shown when the swept key is a penalty stiffness and a run
 /// reported max|K_ij|.
@@ -174,21 +225,58 @@ SeedRule seed_rule(const std::string& key, const std::vector<SweepRow>& rows) {
 /// The verdict paragraph: the range that converges and meets the accuracy, the failed values
 /// grouped by their status word (the full messages are in the table), where the seed's rule
 /// falls.
-std::string sweep_verdict(double accuracy, const std::string& key,
-                          const std::vector<SweepRow>& rows, const SeedRule& seed) {
-  std::ostringstream md;
+/// The swept values whose `error` meets the accuracy: [lo, hi] (NaN when none).
+std::pair<double, double> accurate_range(const SweepStudy& s,
+                                         double (*error)(const SweepStudy&, const SweepRow&)) {
   double lo = std::nan(""), hi = std::nan("");
-  bool has_error = false;
-  bool any = false;
-  for (const auto& r : rows) {
-    any = any || r.done;
-    has_error = has_error || std::isfinite(r.err_p0);
-    if (r.converged() && std::isfinite(r.err_p0) && std::abs(r.err_p0) <= accuracy) {
+  for (const auto& r : s.rows) {
+    const double e = std::abs(error(s, r));
+    if (r.converged() && std::isfinite(e) && e <= s.accuracy) {
       lo = std::isfinite(lo) ? std::min(lo, r.value) : r.value;
       hi = std::isfinite(hi) ? std::max(hi, r.value) : r.value;
     }
   }
+  return {lo, hi};
+}
+
+/// The baseline's sentence: its own reading, and the values within the accuracy of it.
+std::string baseline_verdict(const SweepStudy& s) {
+  if (s.baseline_method.empty()) return "";
+  if (!s.baseline.done) return "The baseline (" + s.baseline_method + ") has not finished. ";
+  if (!s.baseline.converged())
+    return "The baseline (" + s.baseline_method + " on the same mesh) did not converge (" +
+           s.baseline.status + "). ";
+  if (!s.metric.reference)
+    return "The baseline, " + s.baseline_method + " on the same mesh, gives " + s.metric.key +
+           " = " + cell(s.baseline.metric) + ". ";
+  std::ostringstream md;
+  md << "Against " << s.baseline_method << " on the same mesh (exact: the discretisation's "
+     << "error alone; its " << s.metric.key << " "
+     << (s.metric.reference ? "error " + percent_text(s.baseline.metric)
+                            : "= " + cell(s.baseline.metric))
+     << "): ";
+  const auto [lo, hi] = accurate_range(s, &own_error);
+  if (std::isfinite(lo))
+    md << "within " << percent_text(s.accuracy, 2) << " of it for " << s.key << " from "
+       << cell(lo) << " to " << cell(hi) << ". ";
+  else
+    md << "no swept value came within " << percent_text(s.accuracy, 2) << " of it. ";
+  return md.str();
+}
+
+std::string sweep_verdict(const SweepStudy& s, const SeedRule& seed) {
+  const std::vector<SweepRow>& rows = s.rows;
+  const std::string& key = s.key;
+  const double accuracy = s.accuracy;
+  std::ostringstream md;
+  bool any = false, has_error = false;
+  for (const auto& r : rows) {
+    any = any || r.done;
+    has_error = has_error || std::isfinite(judged_error(s, r));
+  }
   if (!any) return "No case has finished yet.";
+  const auto [lo, hi] = accurate_range(s, &judged_error);
+  md << "Judged by " << judged_name(s) << " (" << s.metric.why << "). ";
   std::map<std::string, std::string> by_status;
   for (const auto& r : rows) {
     if (!r.done || r.converged()) continue;
@@ -199,12 +287,14 @@ std::string sweep_verdict(double accuracy, const std::string& key,
     list += (list.empty() ? "" : ", ") + cell(r.value);
   }
   if (!has_error)
-    md << "The scene has no p_max reference, so no accuracy range is reported. ";
+    md << "The scene has no reference for " << s.metric.key
+       << " and there is no baseline, so no accuracy range is reported. ";
   else if (std::isfinite(lo))
-    md << "Converged with |p_max error| <= " << percent_text(accuracy, 2) << " for " << key
-       << " from " << cell(lo) << " to " << cell(hi) << " (of the values swept). ";
+    md << "Converged with " << judged_name(s) << " <= " << percent_text(accuracy, 2) << " for "
+       << key << " from " << cell(lo) << " to " << cell(hi) << " (of the values swept). ";
   else
-    md << "No swept value met |p_max error| <= " << percent_text(accuracy, 2) << ". ";
+    md << "No swept value met " << judged_name(s) << " <= " << percent_text(accuracy, 2) << ". ";
+  md << baseline_verdict(s);
   if (!by_status.empty()) {
     std::string failed;
     for (const auto& [word, list] : by_status)
@@ -228,42 +318,55 @@ std::string sweep_verdict(double accuracy, const std::string& key,
   return md.str();
 }
 
-std::string sweep_table(const std::string& key, const std::vector<SweepRow>& rows) {
+std::string sweep_table(const SweepStudy& s) {
   std::ostringstream md;
-  md << "| " << key
+  md << "| " << s.key
      << " | status | iterations | solve | p_max | p_max error | max penetration | "
-        "pivot ratio |\n|---|---|---|---|---|---|---|---|\n";
-  for (const auto& r : rows)
-    if (r.done)
-      md << "| " << cell(r.value) << " | " << r.status << " | " << cell(r.iterations) << " | "
-         << seconds_text(r.t_solve) << " | " << cell(r.p_max) << " | " << percent_text(r.err_p0)
-         << " | " << cell(r.penetration) << " | " << cell(r.pivot) << " |\n";
+        "pivot ratio | " << s.metric.key << " |\n|---|---|---|---|---|---|---|---|---|\n";
+  const auto line = [&](const std::string& first, const SweepRow& r) {
+    md << "| " << first << " | " << r.status << " | " << cell(r.iterations) << " | "
+       << seconds_text(r.t_solve) << " | " << cell(r.p_max) << " | " << percent_text(r.err_p0)
+       << " | " << cell(r.penetration) << " | " << cell(r.pivot) << " | "
+       << (s.metric.reference ? percent_text(r.metric) : cell(r.metric)) << " |\n";
+  };
+  for (const auto& r : s.rows)
+    if (r.done) line(cell(r.value), r);
+  if (s.baseline.done) line(s.baseline_method + " (baseline)", s.baseline);
   return md.str();
 }
 
-/// sweep.png/svg: five panels against the swept value, failed values as red dashed lines;
-/// nothing when no value converged. Returns "" or the chart's failure; `drawn` says whether
-/// there was anything to draw.
-std::string chart_sweep(const std::string& out, const std::string& key, const std::string& units,
-                        const std::vector<SweepRow>& rows, const SeedRule& seed, bool& drawn) {
+/// The metric panel's value of a row: |relative error| (log scale) for a reference metric, the
+/// value itself otherwise.
+double plotted_metric(const SweepStudy& s, const SweepRow& r) {
+  return s.metric.reference ? std::max(std::abs(r.metric), 1e-12) : r.metric;
+}
+
+/// sweep.png/svg: five panels against the swept value (the metric's with the baseline as a
+/// black dashed line), failed values as red dashed lines; nothing when no value converged.
+/// Returns "" or the chart's failure; `drawn` says whether there was anything to draw.
+std::string chart_sweep(const SweepStudy& s, const SeedRule& seed, bool& drawn) {
+  const std::string& key = s.key;
+  const std::vector<SweepRow>& rows = s.rows;
   std::ostringstream data;
   data << std::setprecision(12);
-  bool has_error = false, has_pivot = false, log_x = true;
+  bool has_metric = false, has_pivot = false, log_x = true;
   for (const auto& r : rows) {
-    has_error = has_error || std::isfinite(r.err_p0);
+    has_metric = has_metric || (r.converged() && std::isfinite(r.metric));
     // gnuplot refuses a panel without a point (a nonlinear run reports no pivot ratio).
     has_pivot = has_pivot || (r.converged() && std::isfinite(r.pivot));
     log_x = log_x && r.value > 0;
     if (r.converged())
-      data << r.value << ' ' << std::max(std::abs(r.err_p0), 1e-12) << ' '
-           << std::max(r.penetration, 1e-20) << ' ' << r.iterations << ' ' << r.t_solve << ' '
+      data << r.value << ' ' << plotted_metric(s, r) << ' ' << std::max(r.penetration, 1e-20)
+           << ' ' << r.iterations << ' ' << r.t_solve << ' '
            << (std::isfinite(r.pivot) ? std::max(r.pivot, 1e-30) : std::nan("")) << '\n';
   }
-  const std::string data_path = out + "/sweep.dat";
+  const bool baseline = s.baseline.converged() && std::isfinite(s.baseline.metric);
+  const std::string data_path = s.out + "/sweep.dat";
   std::ostringstream plot;
   plot << "set multiplot layout 3,2 title "
        << gp_text(key + " sweep (red: not converged" +
-                  (seed.shown ? "; green: the seed rule 1e4 max|K_ij|" : "") + ")")
+                  (seed.shown ? "; green: the seed rule 1e4 max|K_ij|" : "") +
+                  (baseline ? "; black: " + s.baseline_method + " on the same mesh" : "") + ")")
        << " noenhanced\nset grid\nunset key\n"
        << (log_x ? "set logscale x\n" : "") << "set format x '10^{%L}'\n";
   for (const auto& r : rows)
@@ -280,46 +383,78 @@ std::string chart_sweep(const std::string& out, const std::string& key, const st
          << " noenhanced\nplot " << gp_file(data_path) << " using 1:" << col
          << " with linespoints pt 7 lw 2\n";
   };
-  if (has_error) panel(2, "|p_max error|", true);
-  panel(3, axis_label("max penetration", parse_units(units).length), true);
+  if (has_metric) {
+    if (baseline)  // tag 100: this panel's only
+      plot << "set arrow 100 from graph 0, first " << plotted_metric(s, s.baseline)
+           << " to graph 1, first " << plotted_metric(s, s.baseline)
+           << " nohead lc rgb 'black' dt 2 lw 1.5\n";
+    panel(2, s.metric.reference ? "|" + s.metric.key + " error|" : s.metric.key,
+          s.metric.reference);
+    if (baseline) plot << "unset arrow 100\n";
+  }
+  panel(3, axis_label("max penetration", parse_units(s.units).length), true);
   panel(4, "iterations", false);
   panel(5, "solve time (s)", false);
   if (has_pivot) panel(6, "pivot ratio (conditioning)", true);
   plot << "unset multiplot\n";
   drawn = !data.str().empty();
-  return drawn ? plot_with_data(out, "sweep", plot.str(), {{data_path, data.str()}}) : "";
+  return drawn ? plot_with_data(s.out, "sweep", plot.str(), {{data_path, data.str()}}) : "";
+}
+
+/// A finished case's row, with its reading of the study's metric.
+void read_sweep_row(const SweepStudy& s, SweepRow& r, const CaseOutcome& c) {
+  r.read(c);
+  if (r.converged()) r.metric = metric_reading(c.summary, s.metric);
 }
 
 /// Validates the options against the scene (once, with the first value) and lays out a case per
-/// value.
+/// value, and the baseline's case after them.
 SweepStudy plan_sweep(const SweepOptions& o) {
   const SweptKey k = swept_key(o.sets);
   const std::vector<double> values = parse_range(k.spec, "--set " + k.key);
   std::vector<std::string> first = k.fixed;
   first.push_back(k.key + "=" + cell(values.front()));
-  const std::string units = core::load_scene(o.scene, first).units;
+  const core::Scene scene = core::load_scene(o.scene, first);
   if (o.jobs < 1)
     throw InputError("--jobs: expected an integer >= 1, found " + std::to_string(o.jobs));
   SweepStudy s;
   s.scene = o.scene;
   s.key = k.key;
   s.accuracy = o.accuracy;
-  s.units = units;
+  // A sweep is judged by p_max unless --metric says otherwise (against the reference when the
+  // scene has one, else against the baseline).
+  s.metric = choose_metric(scene, o.metric.empty() ? "p_max" : o.metric);
+  if (o.metric.empty()) s.metric.why = "sweep's default";
+  s.units = scene.units;
   s.out = study_out(o, "sweep");
   s.timing = timing_note(o.jobs);
   s.case_timeout_s = o.case_timeout_s;
   s.cases = sweep_cases(o, k, values);
   s.rows.resize(values.size());
   for (size_t i = 0; i < values.size(); ++i) s.rows[i].value = values[i];
+  const std::string method =
+      o.method.empty() ? constraints::parse_contact_scene(scene).options.method : o.method;
+  if (has_baseline(k.key, method)) {
+    s.baseline_method = kBaselineMethod;
+    StudyCase c;
+    c.folder = "baseline";
+    c.args = {fs::absolute(o.scene).lexically_normal().string(), "--method", kBaselineMethod};
+    for (const auto& set : k.fixed) c.args.insert(c.args.end(), {"--set", set});
+    s.cases.push_back(c);
+  }
   return s;
 }
 
 /// study.json's options and case keys: what the report needs besides the case folders.
 void write_sweep_files(const SweepStudy& s) {
-  const nlohmann::json options = {
-      {"scene", s.scene}, {"key", s.key}, {"accuracy", s.accuracy}, {"units", s.units}};
+  const nlohmann::json options = {{"scene", s.scene},
+                                  {"key", s.key},
+                                  {"accuracy", s.accuracy},
+                                  {"units", s.units},
+                                  {"metric", s.metric.to_json()}};
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows) keys.push_back({{"value", r.value}});
+  if (!s.baseline_method.empty()) keys.push_back({{"baseline", s.baseline_method}});
   write_study_files(s.out, "sweep", options, s.cases, keys, s.case_timeout_s);
 }
 
@@ -330,11 +465,23 @@ SweepStudy sweep_from_manifest(const StudyManifest& m) {
   s.key = options["key"].text();
   if (options.has("units")) s.units = options["units"].text();
   s.accuracy = options["accuracy"].number();
+  // Studies written before --metric were judged by p_max's reference error.
+  s.metric = StudyMetric::from_json(
+      options.has("metric") ? options["metric"].json() : nlohmann::json("p_max"), m.file);
   s.out = m.dir;
   s.timing = merged_timing_note();
   s.cases = m.cases;
-  s.rows.resize(m.cases.size());
-  for (size_t i = 0; i < m.cases.size(); ++i) s.rows[i].value = m.case_keys(i)["value"].number();
+  for (size_t i = 0; i < m.cases.size(); ++i) {
+    const ManifestNode keys = m.case_keys(i);
+    if (keys.has("baseline")) {
+      if (i + 1 != m.cases.size())
+        throw InputError(m.file + ": cases[" + std::to_string(i) +
+                         "]: expected the baseline as the last case, found it before others");
+      s.baseline_method = keys["baseline"].text();
+    } else {
+      s.rows.emplace_back().value = keys["value"].number();
+    }
+  }
   return s;
 }
 
@@ -342,15 +489,16 @@ SweepStudy sweep_from_manifest(const StudyManifest& m) {
 /// cases and those that timed out; the verdict on the terminal unless quiet. Returns 1 when a
 /// case crashed, timed out or is missing or the chart failed, else 0.
 int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool quiet) {
-  const std::string csv = sweep_csv(s.key, s.rows);
+  const std::string csv = sweep_csv(s);
   core::write_file_atomic(s.out + "/sweep.csv", csv);
   const SeedRule seed = seed_rule(s.key, s.rows);
-  const std::string verdict = sweep_verdict(s.accuracy, s.key, s.rows, seed);
+  const std::string verdict = sweep_verdict(s, seed);
   bool drawn = false;
-  const std::string chart_error = chart_sweep(s.out, s.key, s.units, s.rows, seed, drawn);
-  ReportChart chart{
-      "sweep", "p_max error, penetration, iterations, solve time and pivot ratio against " + s.key,
-      chart_error};
+  const std::string chart_error = chart_sweep(s, seed, drawn);
+  ReportChart chart{"sweep",
+                    s.metric.key + ", penetration, iterations, solve time and pivot ratio against " +
+                        s.key,
+                    chart_error};
   if (chart_error.empty() && !drawn)
     chart.not_written = "no swept value converged, so there is nothing to draw";
   const std::string title = "contact2d sweep: " + s.key + " on " + s.scene;
@@ -359,7 +507,7 @@ int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool q
       missing_cases_md(s.cases, missing) + timed_out_cases_md(s.cases, figures_of(s.rows));
   core::write_file_atomic(s.out + "/sweep.md",
                           "# " + title + "\n\n" + verdict + "\n\n" + unfinished + timing +
-                              sweep_table(s.key, s.rows) +
+                              sweep_table(s) +
                               (chart.written() ? "\n" + markdown_images({chart}) : ""));
   write_html_report(s.out, "sweep.html",
                     {title, "", timing, verdict, unfinished, "sweep.csv", csv, {chart}});
@@ -372,7 +520,9 @@ int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool q
               << "\n";
     if (!chart_error.empty()) std::cout << "warning    chart not written: " << chart_error << "\n";
   }
-  return any_case_failed(figures_of(s.rows)) || !missing.empty() || !chart_error.empty() ? 1 : 0;
+  std::vector<const RunFigures*> all = figures_of(s.rows);
+  if (s.baseline.done) all.push_back(&s.baseline);
+  return any_case_failed(all) || !missing.empty() || !chart_error.empty() ? 1 : 0;
 }
 
 }  // namespace
@@ -391,13 +541,15 @@ int run_sweep(const SweepOptions& o) {
               << o.jobs << " at a time -> " << s.out << "\n";
   size_t finished = 0;
   run_cases(s.cases, s.out, o.jobs, o.case_timeout_s, [&](size_t i, const CaseOutcome& c) {
-    SweepRow& r = s.rows[i];
-    r.read(c);
+    SweepRow& r = s.row(i);
+    read_sweep_row(s, r, c);
     ++finished;
-    core::write_file_atomic(s.out + "/sweep.csv", sweep_csv(s.key, s.rows));
+    core::write_file_atomic(s.out + "/sweep.csv", sweep_csv(s));
     if (!o.quiet)
-      std::cout << "[" << finished << "/" << s.cases.size() << "] " << s.key << " = " << std::left
-                << std::setw(12) << cell(r.value) << std::right << r.status
+      std::cout << "[" << finished << "/" << s.cases.size() << "] "
+                << (i < s.rows.size() ? s.key + " = " : std::string("baseline ")) << std::left
+                << std::setw(12) << (i < s.rows.size() ? cell(r.value) : s.baseline_method)
+                << std::right << r.status
                 << (r.timed_out() ? " after " + seconds_text(r.wall) : std::string())
                 << (std::isfinite(r.err_p0) ? ", p_max error " + percent_text(r.err_p0)
                                             : std::string())
@@ -405,15 +557,17 @@ int run_sweep(const SweepOptions& o) {
                                                  : std::string())
                 << std::endl;
   });
-  retime_cases(s.cases, s.out, o.jobs, o.case_timeout_s, timed_out_rows(s.rows), o.quiet,
-               [&](size_t i, const RunFigures& f) { take_times(s.rows[i], f); });
+  std::vector<size_t> skip = timed_out_rows(s.rows);
+  if (s.baseline.timed_out()) skip.push_back(s.rows.size());
+  retime_cases(s.cases, s.out, o.jobs, o.case_timeout_s, skip, o.quiet,
+               [&](size_t i, const RunFigures& f) { take_times(s.row(i), f); });
   return report_sweep(s, {}, o.quiet);
 }
 
 int merge_sweep(const StudyManifest& m, bool quiet) {
   SweepStudy s = sweep_from_manifest(m);
   const std::vector<size_t> missing = read_finished_cases(
-      s.cases, s.out, [&](size_t i, const CaseOutcome& c) { s.rows[i].read(c); });
+      s.cases, s.out, [&](size_t i, const CaseOutcome& c) { read_sweep_row(s, s.row(i), c); });
   return report_sweep(s, missing, quiet);
 }
 

@@ -21,10 +21,10 @@ import shutil
 import subprocess
 import tempfile
 
-from ._contact2d import InputError, executable
+from ._contact2d import InputError, executable, to_toml
 from ._contact2d import run as _run
 
-__all__ = ["run", "compare", "sweep", "InputError", "executable"]
+__all__ = ["run", "compare", "sweep", "InputError", "executable", "to_toml"]
 
 
 def _sets(set):
@@ -65,11 +65,17 @@ def _read_table(path):
 
 
 def _study(verb, scene, args, out, table, report):
-    if isinstance(scene, dict):
-        raise InputError(verb + ": expected a scene file (studies run the command line on it)")
     keep = out is not None
     folder = os.fspath(out) if keep else tempfile.mkdtemp(prefix="contact2d_" + verb + "_")
     try:
+        if isinstance(scene, dict):
+            # The study's cases run the command line on a file: the dict written as TOML into
+            # the study's folder, where its job list can find it again.
+            text = to_toml(scene)
+            os.makedirs(folder, exist_ok=True)
+            scene = os.path.join(folder, "scene.toml")
+            with open(scene, "w") as f:
+                f.write(text)
         p = subprocess.run([executable(), verb, os.fspath(scene), *args, "--out", folder,
                             "--quiet"], capture_output=True, text=True)
         if p.returncode == 2:
@@ -90,13 +96,17 @@ def _study(verb, scene, args, out, table, report):
             shutil.rmtree(folder, ignore_errors=True)
 
 
-def compare(scene, methods=None, levels=1, jobs=1, set=(), out=None):
+def compare(scene, methods=None, levels=1, jobs=1, set=(), out=None, metric=None):
     """`contact2d compare`: every chosen method (default: all) on `levels` meshes.
 
+    `scene` is a path or a dict (written as scene.toml into the study's folder). `metric`: what
+    to judge by (a reference key, a contact figure or a probe; default: the scene's reference).
     Returns {"table": compare.csv as columns, "report": compare.md (verdict first),
     "exit_code": ..., "out": the folder when `out` is given}.
     """
     args = ["--levels", str(levels), "--jobs", str(jobs)]
+    if metric:
+        args += ["--metric", metric]
     if methods:
         args += ["--methods", ",".join(methods)]
     for s in _sets(set):
@@ -104,13 +114,17 @@ def compare(scene, methods=None, levels=1, jobs=1, set=(), out=None):
     return _study("compare", scene, args, out, "compare.csv", "compare.md")
 
 
-def sweep(scene, key, values, method=None, jobs=1, set=(), out=None):
+def sweep(scene, key, values, method=None, jobs=1, set=(), out=None, metric=None):
     """`contact2d sweep`: one run per value of `key` (a list of numbers, or "a:b:log:n").
 
+    `scene` is a path or a dict; `metric` as for compare (default: p_max). A penalty or
+    augmentation key is also run once with lagrange on the same mesh, the baseline.
     Returns {"table": sweep.csv as columns, "report": sweep.md, "exit_code": ..., "out": ...}.
     """
     spec = values if isinstance(values, str) else ",".join(repr(float(v)) for v in values)
     args = ["--set", key + "=" + spec, "--jobs", str(jobs)]
+    if metric:
+        args += ["--metric", metric]
     if method:
         args += ["--method", method]
     for s in _sets(set):

@@ -311,11 +311,15 @@ TEST(JobList, SweepRunByParallelMergesToTheSameTable) {
   args.insert(args.end(), {"--job-list", "--out", dir.string()});
   ASSERT_EQ(contact2d(args, &output), 0) << output;
   const std::vector<std::string> jobs = lines_of(read_text(dir / "jobs.txt"));
-  ASSERT_EQ(jobs.size(), 3u);
+  // Three values, then the baseline: lagrange on the same mesh, without the swept key.
+  ASSERT_EQ(jobs.size(), 4u);
   EXPECT_NE(jobs[2].find("'--set' 'contact.penalty.k=1e+10' '--out' 'case2' '--quiet'"),
             std::string::npos)
       << jobs[2];
-  EXPECT_NE(read_text(dir / "slurm.sh").find("#SBATCH --array=1-3\n"), std::string::npos);
+  EXPECT_NE(jobs[3].find("'--method' 'lagrange'"), std::string::npos) << jobs[3];
+  EXPECT_NE(jobs[3].find("'--out' 'baseline'"), std::string::npos) << jobs[3];
+  EXPECT_EQ(jobs[3].find("contact.penalty.k"), std::string::npos) << jobs[3];
+  EXPECT_NE(read_text(dir / "slurm.sh").find("#SBATCH --array=1-4\n"), std::string::npos);
 
   double seconds = 0;
   ASSERT_NO_FATAL_FAILURE(run_with_parallel(dir, &seconds));

@@ -9,6 +9,7 @@ import math
 import os
 import subprocess
 import threading
+import tomllib
 
 import numpy as np
 import pytest
@@ -134,6 +135,26 @@ def test_adaptive_run_is_the_command_lines(tmp_path):
     assert ours[-1]["relative_error"] <= s["adapt"]["target"]  # the scene's η = 2 %
 
 
+def test_studies_take_dict_scenes_and_a_metric(tmp_path):
+    # A dict scene runs as the file it was read from: the same p_max to round-off, judged by the
+    # metric asked for (a probe without a reference: against lagrange on the finest level).
+    with open(HERTZ, "rb") as f:
+        scene = tomllib.load(f)
+    scene["probe"] = scene.get("probe", []) + [
+        {"name": "top", "quantity": "uy", "at": [0.0, 500.0]}]
+    from_dict = contact2d.compare(scene, methods=["lagrange", "penalty"], levels=2,
+                                  set=["analysis.mesh_scale=2"], metric="top",
+                                  out=tmp_path / "dict")
+    from_file = contact2d.compare(HERTZ, methods=["lagrange", "penalty"], levels=2,
+                                  set=["analysis.mesh_scale=2"])
+    assert (tmp_path / "dict" / "scene.toml").exists()
+    assert from_dict["table"]["p_max"] == pytest.approx(from_file["table"]["p_max"], rel=1e-12)
+    assert "Judged by the relative difference of probe top" in from_dict["report"]
+    assert "(lagrange, level 1)" in from_dict["report"]
+    with pytest.raises(contact2d.InputError):
+        contact2d.sweep(scene, "contact.penalty.factor", [1e2, 1e4], metric="nonsense")
+
+
 def test_runs_in_threads():
     # The GIL is released while solving: two threads run their scenes at once (gmsh, which is
     # process-wide, meshes one body at a time), each to the exact answer.
@@ -159,13 +180,18 @@ def test_compare_and_sweep_tables():
     assert t["method"] == ["lagrange", "ssn"]
     assert all(st == "converged" for st in t["status"])
     assert abs(t["p_max"][0] / t["p_max"][1] - 1) < 1e-9
-    assert "Every method that converged" in c["report"]
+    assert "Every method ranked reached" in c["report"]
+    assert "Judged by the relative L2 error of the pressure profile" in c["report"]
     s = contact2d.sweep(HERTZ, "contact.penalty.factor", [1e2, 1e4], method="penalty",
                         set=["analysis.mesh_scale=2"])
     t = s["table"]
     assert len(t["status"]) == 2 and all(st == "converged" for st in t["status"])
     # A stiffer penalty penetrates less.
     assert t["max_penetration"][1] < t["max_penetration"][0]
+    # The penalty factor is held against lagrange on the same mesh (the baseline): the stiffer
+    # penalty's p_max is closer to it.
+    assert abs(t["error_vs_baseline"][1]) < abs(t["error_vs_baseline"][0])
+    assert "Against lagrange on the same mesh" in s["report"]
     with pytest.raises(contact2d.InputError):
         contact2d.compare(HERTZ, methods=["newton"])
     assert not math.isnan(t["p_max"][1])
