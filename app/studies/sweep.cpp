@@ -151,6 +151,7 @@ struct SweepStudy {
   std::string units;  ///< the scene's `units` (the penetration panel's label)
   double accuracy = 0.01;
   double case_timeout_s = 0;  ///< the per-case limit (for the job list; 0: none)
+  SlurmSettings slurm;        ///< slurm.sh's #SBATCH lines (for the job list)
   std::vector<StudyCase> cases;
   std::vector<SweepRow> rows;
 };
@@ -308,6 +309,7 @@ SweepStudy plan_sweep(const SweepOptions& o) {
   s.out = study_out(o, "sweep");
   s.timing = timing_note(o.jobs);
   s.case_timeout_s = o.case_timeout_s;
+  s.slurm = o.slurm;
   s.cases = sweep_cases(o, k, values);
   s.rows.resize(values.size());
   for (size_t i = 0; i < values.size(); ++i) s.rows[i].value = values[i];
@@ -320,7 +322,7 @@ void write_sweep_files(const SweepStudy& s) {
       {"scene", s.scene}, {"key", s.key}, {"accuracy", s.accuracy}, {"units", s.units}};
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows) keys.push_back({{"value", r.value}});
-  write_study_files(s.out, "sweep", options, s.cases, keys, s.case_timeout_s);
+  write_study_files(s.out, "sweep", options, s.cases, keys, s.case_timeout_s, s.slurm);
 }
 
 SweepStudy sweep_from_manifest(const StudyManifest& m) {
