@@ -169,13 +169,14 @@ def end_descendants(grace=10):
 
 
 def wait_for(condition, seconds, what, logs=()):
-    """Polls `condition` until it holds; fails after `seconds` naming `what`, with the logs."""
+    """Polls `condition` until it holds; fails after `seconds` naming `what`, with the logs
+    (`logs` may be a function that lists them then, for logs written while waiting)."""
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         if condition():
             return
         time.sleep(0.2)
-    fail(f"{what}: not within {seconds} s", logs)
+    fail(f"{what}: not within {seconds} s", logs() if callable(logs) else logs)
 
 
 def run(argv, what, timeout, logs=(), **kwargs):

@@ -24,6 +24,7 @@ import sys
 import tempfile
 import time
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from ecosystem import (Daemon, Study, TestFailure, become_subreaper, end_descendants,  # noqa: E402
                        fail, free_port, raise_on_termination, run, stop_all, utc_now, wait_for)
@@ -100,7 +101,8 @@ PartitionName={PARTITION} Nodes={self.host} Default=NO MaxTime=15 State=UP
         self.daemons.append(Daemon("munged", [
             "munged", "--foreground", "--socket", str(self.socket),
             "--key-file", str(r / "munge" / "munge.key"), "--seed-file", str(r / "munge" / "seed"),
-            "--pid-file", str(r / "run" / "munged.pid"), "--log-file", str(r / "log" / "munged.log")],
+            "--pid-file", str(r / "run" / "munged.pid"),
+            "--log-file", str(r / "log" / "munged.log")],
             r / "log" / "munged.out"))
         wait_for(lambda: self.socket.exists() or not self.daemons[0].running(), 15,
                  "munged's socket", self.logs[:1])
@@ -159,10 +161,15 @@ PartitionName={PARTITION} Nodes={self.host} Default=NO MaxTime=15 State=UP
             stop_all(self.daemons)
 
 
-def check_tasks(records, cases, job):
+def task_logs(cluster, study):
+    """The daemons' logs and each task's output (slurm.sh's --output)."""
+    return [*cluster.logs, *sorted(study.dir.glob("slurm-*.out"))]
+
+
+def check_tasks(records, cases, job, logs):
     """Every task of the array completed, with what slurm.sh asked for."""
     if len(records) != cases:
-        fail(f"job {job}: {len(records)} array tasks known to slurmctld, {cases} expected")
+        fail(f"job {job}: {len(records)} array tasks known to slurmctld, {cases} expected", logs)
     wanted = {"JobState": "COMPLETED", "ExitCode": "0:0", "Partition": PARTITION,
               "TimeLimit": f"00:{TASK_TIME_MIN:02d}:00", "MinMemoryNode": f"{TASK_MEM_MB}M",
               "CPUs/Task": "1"}
@@ -170,10 +177,10 @@ def check_tasks(records, cases, job):
         for key, value in wanted.items():
             if r.get(key) != value:
                 fail(f"job {job} task {r.get('ArrayTaskId')}: {key}={r.get(key)}, expected "
-                     f"{value}: {r}")
+                     f"{value}: {r}", logs)
     ids = sorted(int(r["ArrayTaskId"]) for r in records)
     if ids != list(range(1, cases + 1)):
-        fail(f"job {job}: array tasks {ids}, expected 1..{cases}")
+        fail(f"job {job}: array tasks {ids}, expected 1..{cases}", logs)
 
 
 def run_array(cluster, study, cases):
@@ -184,8 +191,9 @@ def run_array(cluster, study, cases):
               logs=cluster.logs, cwd=study.dir, env=cluster.env).strip().split(";")[0]
     print(f"{utc_now()} submitted job {job} ({cases} array tasks)", flush=True)
     cluster.job = job
-    wait_for(lambda: cluster.array_done(job), ARRAY_DEADLINE_S, f"job {job}'s {cases} tasks finished",
-             [*cluster.logs, *sorted(study.dir.glob("slurm-*.out"))])
+    wait_for(lambda: cluster.array_done(job), ARRAY_DEADLINE_S,
+             f"job {job}'s {cases} tasks finished",
+             lambda: task_logs(cluster, study))
     seconds = time.monotonic() - t0
     print(f"{utc_now()} job {job} finished: {seconds:.1f} s from sbatch", flush=True)
     return job, seconds
@@ -210,7 +218,7 @@ def main(binary, scene):
                                           "--slurm-cpus-per-task", "1"]))
         cluster.start()
         job, slurm_s = run_array(cluster, study, cases)
-        check_tasks(cluster.task_records(job), cases, job)
+        check_tasks(cluster.task_records(job), cases, job, task_logs(cluster, study))
     finally:
         try:
             cluster.stop()

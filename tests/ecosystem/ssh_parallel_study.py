@@ -25,6 +25,7 @@ import sys
 import tempfile
 import time
 
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from ecosystem import (Daemon, Study, TestFailure, become_subreaper, end_descendants,  # noqa: E402
                        fail, free_port, raise_on_termination, run, stop_all, utc_now, wait_for)
