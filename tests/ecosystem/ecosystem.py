@@ -81,10 +81,13 @@ class Daemon:
 
     def __init__(self, name, argv, log, env=None):
         self.name, self.log = name, pathlib.Path(log)
-        with open(self.log, "ab") as out:
-            self.process = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out,
-                                            stderr=subprocess.STDOUT, env=env,
-                                            preexec_fn=_die_with_parent)
+        try:
+            with open(self.log, "ab") as out:
+                self.process = subprocess.Popen(argv, stdin=subprocess.DEVNULL, stdout=out,
+                                                stderr=subprocess.STDOUT, env=env,
+                                                preexec_fn=_die_with_parent)
+        except FileNotFoundError as e:
+            fail(f"{name}: {argv[0]} is not installed ({e}); scripts/bootstrap.sh installs it")
         self.pid = self.process.pid
         self.started = time.monotonic()
         print(f"{utc_now()} started {name} (pid {self.pid}, log {self.log})", flush=True)
