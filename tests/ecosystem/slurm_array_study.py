@@ -4,8 +4,8 @@ sbatch array; `contact2d merge` must then write the table of the same study run 
 
 The cluster lives in a temporary folder under $TMPDIR: its own munge key and socket (munged),
 a slurm.conf naming this host as controller and compute node on two free ports, and the
-state, spool, pid and log files of slurmctld and slurmd. Nothing of the system's Slurm or munge
-setup (/etc/slurm, /etc/munge, /run/munge) is read or written, and no systemd is needed: every
+state, spool, pid and log files of slurmctld and slurmd. The system's Slurm and munge setup
+(/etc/slurm, /etc/munge, /run/munge) is neither used nor changed, and no systemd is needed: every
 daemon runs in the foreground as this script's child and is stopped by its recorded pid
 whatever happens (a job still queued is cancelled first).
 

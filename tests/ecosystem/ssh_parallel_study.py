@@ -6,9 +6,9 @@ in-process.
 
 Everything lives in a temporary folder under $TMPDIR: a throwaway host key and user key, the
 sshd_config (this port, loopback only, public key only, that key alone authorised), the
-client's ssh_config and known_hosts, and the sshloginfile. Nothing in ~/.ssh or /etc/ssh is
-read or written. sshd runs in the foreground as this script's child and is stopped by its
-recorded pid whatever happens.
+client's ssh_config and known_hosts, and the sshloginfile. The configs and keys in ~/.ssh and
+/etc/ssh are neither used nor changed. sshd runs in the foreground as this script's child and
+is stopped by its recorded pid whatever happens.
 
 Every job goes through ssh, not the local shell: each one writes the SSH_CONNECTION its shell
 was given, which must name this sshd's port and a client port for which sshd logged a session.
