@@ -9,6 +9,8 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   parallel  # GNU parallel: runs a study's jobs.txt (README; tests/app/job_list_test.cpp)
   chromium chromium-driver python3-selenium  # opens the studies' HTML pages (tests/browser)
+  slurmctld slurmd slurm-client munge  # a one-node Slurm runs slurm.sh (tests/ecosystem/slurm_array_study.py)
+  openssh-server openssh-client  # GNU parallel over ssh runs jobs.txt (tests/ecosystem/ssh_parallel_study.py)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -181,7 +181,14 @@ const char* kJobListHelp =
     "                cd DIR && parallel -j 4 < jobs.txt       (GNU parallel)\n"
     "                cd DIR && sbatch slurm.sh                (Slurm: task K runs line K)\n"
     "              then `contact2d merge DIR` writes the report from the finished cases.\n"
-    "              DIR must not hold the case folders yet.\n";
+    "              DIR must not hold the case folders yet.\n"
+    "slurm.sh asks the cluster, per task (one case), with these #SBATCH lines:\n"
+    "  --slurm-partition P     --partition=P (default: none, the cluster's default partition)\n"
+    "  --slurm-time T          --time=T, Slurm's format (minutes, H:M:S, D-H:M:S; default: the\n"
+    "                          --case-timeout rounded up to minutes, one more to start)\n"
+    "  --slurm-mem M           --mem=M (default 4G: the bench's largest case peaks at 3.4 GB)\n"
+    "  --slurm-cpus-per-task K --cpus-per-task=K (default 1), also the case's BLAS and OpenMP\n"
+    "                          threads\n";
 
 const char* kMergeHelp =
     "usage: contact2d merge DIR [--quiet]\n"

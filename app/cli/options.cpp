@@ -1,6 +1,7 @@
 #include "app/cli/options.hpp"
 
 #include <cstdlib>
+#include <regex>
 #include <sstream>
 
 #include "constraints/method_registry.hpp"
@@ -26,11 +27,17 @@ double parse_accuracy(const std::string& text) {
   return v;
 }
 
-/// --case-timeout: seconds, 0 for no limit; only the verbs that run cases take it.
-double parse_case_timeout(const Options& o, const std::string& text) {
+/// Only the verbs that run cases and write slurm.sh (compare, sweep, bench) take --case-timeout
+/// and the --slurm-* options.
+void require_study_verb(const Options& o, const std::string& flag) {
   if (o.verb != "compare" && o.verb != "sweep" && o.verb != "bench")
-    throw InputError("--case-timeout: unknown option for " + o.verb +
+    throw InputError(flag + ": unknown option for " + o.verb +
                      " (compare, sweep and bench take it; see --help)");
+}
+
+/// --case-timeout: seconds, 0 for no limit.
+double parse_case_timeout(const Options& o, const std::string& text) {
+  require_study_verb(o, "--case-timeout");
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   // A year bounds it: the limit becomes a deadline on a steady clock.
@@ -38,6 +45,16 @@ double parse_case_timeout(const Options& o, const std::string& text) {
     throw InputError("--case-timeout: expected seconds from 0 (no limit) to 3.2e7, found '" + text +
                      "'");
   return v;
+}
+
+/// A value for an #SBATCH line of slurm.sh: it must match `pattern` (`expected` says what that
+/// is), which also keeps line breaks, spaces and shell syntax out of the script.
+std::string slurm_value(const Options& o, const std::string& flag, const std::string& text,
+                        const char* pattern, const std::string& expected) {
+  require_study_verb(o, flag);
+  if (!std::regex_match(text, std::regex(pattern)))
+    throw InputError(flag + ": expected " + expected + ", found '" + text + "'");
+  return text;
 }
 
 void append_list(std::vector<std::string>& to, const std::string& text) {
@@ -86,6 +103,28 @@ const ValueOption kValueOptions[] = {
      [](Options& o, const std::string&, const std::string& v) {
        if (v.empty()) throw InputError("--metric: expected a reference key or a probe, found ''");
        o.metric = v;
+     }},
+    {"--slurm-partition", true,
+     [](Options& o, const std::string& f, const std::string& v) {
+       o.slurm.partition = slurm_value(o, f, v, "[A-Za-z0-9_.-]+(,[A-Za-z0-9_.-]+)*",
+                                       "a partition name or a comma-separated list of them");
+     }},
+    {"--slurm-time", true,
+     [](Options& o, const std::string& f, const std::string& v) {
+       o.slurm.time =
+           slurm_value(o, f, v, "[0-9]+-[0-9]+(:[0-9]+){0,2}|[0-9]+(:[0-9]+){0,2}",
+                       "a Slurm time limit (minutes, M:S, H:M:S, D-H, D-H:M or D-H:M:S)");
+     }},
+    {"--slurm-mem", true,
+     [](Options& o, const std::string& f, const std::string& v) {
+       o.slurm.mem =
+           slurm_value(o, f, v, "[1-9][0-9]*[KMGT]?",
+                       "a memory size per task (megabytes, or a number with K, M, G or T)");
+     }},
+    {"--slurm-cpus-per-task", true,
+     [](Options& o, const std::string& f, const std::string& v) {
+       require_study_verb(o, f);
+       o.slurm.cpus_per_task = parse_count(f, v);
      }},
     {"--accuracy", false,
      [](Options& o, const std::string&, const std::string& v) { o.accuracy = parse_accuracy(v); }},

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "app/studies/slurm_settings.hpp"
+
 namespace c2d::app {
 
 /// Exit codes (DESIGN §5): ok, a solve failed (results so far kept), bad input, the output
@@ -34,6 +36,8 @@ struct Options {
   // compare, sweep, bench: each case's time limit in seconds (0: none; negative: the studies'
   // default, kDefaultCaseTimeout)
   double case_timeout = -1;
+  // compare, sweep, bench: what slurm.sh asks of the cluster per task
+  SlurmSettings slurm;
   // bench
   bool quick = false;
   std::string examples;

@@ -23,6 +23,7 @@ void fill_study(const Options& o, StudyOptions& s) {
   s.quiet = o.quiet;
   s.job_list = o.job_list;
   s.metric = o.metric;
+  s.slurm = o.slurm;
 }
 
 /// For the verbs that run cases: their time limit, and SIGINT and SIGTERM passed on to them (a
@@ -67,6 +68,7 @@ int cmd_bench(const Options& o) {
   b.examples = o.examples.empty() ? C2D_EXAMPLES_DIR : o.examples;
   b.quiet = o.quiet;
   b.job_list = o.job_list;
+  b.slurm = o.slurm;
   limit_cases(o, b.case_timeout_s);
   return run_bench(b);
 }

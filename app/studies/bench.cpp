@@ -210,6 +210,7 @@ void print_row(size_t finished, const std::vector<BenchRow>& rows, const BenchRo
 struct BenchStudy {
   bool quick = false;
   double case_timeout_s = 0;      ///< per run; 0: none
+  SlurmSettings slurm;            ///< slurm.sh's #SBATCH lines (for the job list)
   std::string out, timing, runs;  ///< runs: "44 runs in 660 s" or what a merge knows
   std::vector<StudyCase> cases;
   std::vector<BenchRow> rows;
@@ -320,7 +321,8 @@ void write_bench_files(const BenchStudy& s) {
                     {"mesh_scale", r.c.mesh_scale},
                     {"nominal", r.c.nominal},
                     {"sets", r.c.sets}});
-  write_study_files(s.out, "bench", {{"quick", s.quick}}, s.cases, keys, s.case_timeout_s);
+  write_study_files(s.out, "bench", {{"quick", s.quick}}, s.cases, keys, s.case_timeout_s,
+                    s.slurm);
 }
 
 BenchStudy bench_from_manifest(const StudyManifest& m) {
@@ -381,6 +383,7 @@ int run_bench(const BenchOptions& o) {
   BenchStudy s;
   s.quick = o.quick;
   s.case_timeout_s = o.case_timeout_s;
+  s.slurm = o.slurm;
   s.out = o.out.empty() ? "out/bench" : o.out;
   s.timing = "The Hertz rungs below 1M DOFs ran three times, each row the fastest (least solve "
              "time). " + timing_note(1);

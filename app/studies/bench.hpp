@@ -20,6 +20,7 @@ struct BenchOptions {
   bool quiet = false;
   bool job_list = false;  ///< write the ladder as a job list (job_list.hpp) instead of running it
   double case_timeout_s = kDefaultCaseTimeout;  ///< per run; 0: none
+  SlurmSettings slurm;                          ///< slurm.sh's #SBATCH lines
 };
 
 /// One `contact2d run` of the ladder.

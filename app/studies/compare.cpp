@@ -52,6 +52,7 @@ CompareStudy plan_compare(const CompareOptions& o) {
   s.out = study_out(o, "compare");
   s.timing = timing_note(o.jobs);
   s.case_timeout_s = o.case_timeout_s;
+  s.slurm = o.slurm;
   s.hertz = hertz_reference(scene);
   s.units = scene.units;
   s.metric = choose_metric(scene, o.metric);
@@ -88,7 +89,7 @@ void write_compare_files(const CompareStudy& s) {
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows)
     keys.push_back({{"level", r.level}, {"method", r.method}, {"mesh_scale", r.mesh_scale}});
-  write_study_files(s.out, "compare", options, s.cases, keys, s.case_timeout_s);
+  write_study_files(s.out, "compare", options, s.cases, keys, s.case_timeout_s, s.slurm);
 }
 
 CompareStudy compare_from_manifest(const StudyManifest& m) {

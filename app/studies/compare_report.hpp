@@ -40,6 +40,7 @@ struct CompareStudy {
   std::string out;
   std::string timing;  ///< timing_note() or merged_timing_note()
   double case_timeout_s = 0;  ///< the per-case limit (for the job list; 0: none)
+  SlurmSettings slurm;        ///< slurm.sh's #SBATCH lines (for the job list)
   std::vector<StudyCase> cases;
   std::vector<CompareRow> rows;
 };

@@ -28,32 +28,60 @@ std::string slurm_time(double seconds) {
   return text;
 }
 
-/// slurm.sh: an array job whose task K runs line K of jobs.txt from the study folder.
-std::string slurm_script(const std::string& verb, size_t cases, double case_timeout_s) {
-  const std::string time = slurm_time(case_timeout_s);
+/// The time limit of each task: the one asked for, else the study's per-case limit.
+std::string task_time(const SlurmSettings& slurm, double case_timeout_s) {
+  return slurm.time.empty() ? slurm_time(case_timeout_s) : slurm.time;
+}
+
+/// slurm.sh's opening comment: what it runs, how to submit it, where its settings come from.
+std::string slurm_comment(const std::string& verb, size_t cases, const std::string& time,
+                          double case_timeout_s, const SlurmSettings& slurm) {
   std::ostringstream sh;
-  sh << "#!/bin/bash\n"
-     << "# Slurm array job of a contact2d " << verb << " study: task K runs line K of jobs.txt\n"
+  sh << "# Slurm array job of a contact2d " << verb << " study: task K runs line K of jobs.txt\n"
      << "# (" << cases << " cases), each writing its own case folder here.\n"
      << "# Submit from this folder (jobs.txt and the case folders are relative to it):\n"
      << "#   cd STUDY_FOLDER && sbatch slurm.sh\n"
-     << "# Adapt to your cluster by adding lines such as\n"
-     << "#   #SBATCH --partition=NAME   #SBATCH --mem=4G\n"
-     << "# and, for K threads per case (BLAS, OpenMP), #SBATCH --cpus-per-task=K.\n"
-     << (time.empty() ? "# The study set no per-case time limit (--case-timeout 0).\n"
-                      : "# --time: the study's per-case limit (--case-timeout " +
-                            csv_number(case_timeout_s) +
-                            " s) and a minute to start;\n"
-                            "# Slurm ends a task over it with SIGTERM, then SIGKILL (its\n"
-                            "# summary.json then says \"interrupted\").\n")
-     << "# Rerun chosen cases with sbatch --array=2,5 slurm.sh (the jobs.txt lines that\n"
+     << "# The program, the scene and this folder must be at the same paths on the compute\n"
+     << "# nodes (a shared filesystem). The #SBATCH lines below come from the study's\n"
+     << "# --slurm-partition, --slurm-time, --slurm-mem and --slurm-cpus-per-task; edit them\n"
+     << "# here or give sbatch the same options, which override them.\n"
+     << (slurm.partition.empty() ? "# No --partition: the cluster's default partition.\n" : "");
+  if (time.empty())
+    sh << "# No --time: the study set no per-case limit (--case-timeout 0).\n";
+  else if (slurm.time.empty())
+    sh << "# --time: the study's per-case limit (--case-timeout " << csv_number(case_timeout_s)
+       << " s) and a minute to start;\n";
+  if (!time.empty())
+    sh << "# Slurm ends a task over its --time with SIGTERM, then SIGKILL (its\n"
+       << "# summary.json then says \"interrupted\").\n";
+  sh << "# Rerun chosen cases with sbatch --array=2,5 slurm.sh (the jobs.txt lines that\n"
      << "# `contact2d merge` lists as missing). When the tasks have finished:\n"
-     << "#   contact2d merge STUDY_FOLDER\n"
-     << "#SBATCH --job-name=c2d-" << verb << "\n"
-     << "#SBATCH --array=1-" << cases << "\n"
-     << (time.empty() ? "" : "#SBATCH --time=" + time + "\n")
-     << "#SBATCH --output=slurm-%A_%a.out\n"
-     << "set -euo pipefail\n"
+     << "#   contact2d merge STUDY_FOLDER\n";
+  return sh.str();
+}
+
+/// slurm.sh's #SBATCH lines: what each task (one case) asks of the cluster.
+std::string sbatch_lines(const std::string& verb, size_t cases, const std::string& time,
+                         const SlurmSettings& slurm) {
+  std::ostringstream sh;
+  sh << "#SBATCH --job-name=c2d-" << verb << "\n";
+  sh << "#SBATCH --array=1-" << cases << "\n";
+  if (!slurm.partition.empty()) sh << "#SBATCH --partition=" << slurm.partition << "\n";
+  if (!time.empty()) sh << "#SBATCH --time=" << time << "\n";
+  sh << "#SBATCH --mem=" << slurm.mem << "\n";
+  sh << "#SBATCH --cpus-per-task=" << slurm.cpus_per_task << "\n";
+  sh << "#SBATCH --output=slurm-%A_%a.out\n";
+  return sh.str();
+}
+
+/// slurm.sh: an array job whose task K runs line K of jobs.txt from the study folder.
+std::string slurm_script(const std::string& verb, size_t cases, double case_timeout_s,
+                         const SlurmSettings& slurm) {
+  const std::string time = task_time(slurm, case_timeout_s);
+  std::ostringstream sh;
+  sh << "#!/bin/bash\n"
+     << slurm_comment(verb, cases, time, case_timeout_s, slurm)
+     << sbatch_lines(verb, cases, time, slurm) << "set -euo pipefail\n"
      << "if [ ! -f jobs.txt ]; then\n"
      << "  echo \"slurm.sh: no jobs.txt in $(pwd); submit from the study folder\" >&2\n"
      << "  exit 2\n"
@@ -95,7 +123,8 @@ std::string job_line(const std::string& exe, const StudyCase& c) {
 
 void write_study_files(const std::string& dir, const std::string& verb,
                        const nlohmann::json& options, const std::vector<StudyCase>& cases,
-                       const std::vector<nlohmann::json>& case_keys, double case_timeout_s) {
+                       const std::vector<nlohmann::json>& case_keys, double case_timeout_s,
+                       const SlurmSettings& slurm) {
   const std::string exe = this_executable();
   std::string jobs;
   nlohmann::json entries = nlohmann::json::array();
@@ -113,7 +142,8 @@ void write_study_files(const std::string& dir, const std::string& verb,
                                    {"case_timeout_s", case_timeout_s},
                                    {"cases", entries}};
   core::write_file_atomic(dir + "/jobs.txt", jobs);
-  core::write_file_atomic(dir + "/slurm.sh", slurm_script(verb, cases.size(), case_timeout_s));
+  core::write_file_atomic(dir + "/slurm.sh",
+                          slurm_script(verb, cases.size(), case_timeout_s, slurm));
   fs::permissions(dir + "/slurm.sh", fs::perms::owner_exec | fs::perms::group_exec,
                   fs::perm_options::add);
   core::write_file_atomic(dir + "/study.json", manifest.dump(2) + "\n");

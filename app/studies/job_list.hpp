@@ -2,8 +2,9 @@
 // from. Every study writes, into its folder:
 //   jobs.txt    one `contact2d run` command line per case, to be run from the study folder
 //               (each writes its own case folder, relative to it), e.g. by GNU parallel
-//   slurm.sh    an sbatch array script: task K runs line K of jobs.txt, with the study's
-//               per-case time limit as the task's (#SBATCH --time)
+//   slurm.sh    an sbatch array script: task K runs line K of jobs.txt, with the partition,
+//               time limit, memory and CPUs per task of SlurmSettings (#SBATCH lines); the
+//               time limit, unless set, is the study's per-case limit
 //   study.json  the manifest: the verb, its options, this executable, and every case's folder,
 //               arguments and the verb's keys for its row; all `contact2d merge` needs
 // This program never runs these lines (it starts its cases with an argument vector): they are
@@ -15,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "app/studies/slurm_settings.hpp"
 #include "app/studies/study.hpp"
 
 namespace c2d::app {
@@ -31,12 +33,14 @@ std::string job_line(const std::string& exe, const StudyCase& c);
 
 /// Writes DIR/jobs.txt, DIR/slurm.sh and DIR/study.json: the verb, its `options`, this
 /// executable, and per case its folder, its arguments and `case_keys[i]` (the verb's own).
-/// `case_timeout_s` (0: none), the study's per-case limit, becomes each Slurm task's time
-/// limit and study.json's case_timeout_s; jobs.txt's lines stay a plain `contact2d run` (a
-/// runner sets its own limit, e.g. `parallel --timeout`).
+/// `case_timeout_s` (0: none), the study's per-case limit, becomes study.json's
+/// case_timeout_s and, unless `slurm` sets a time, each Slurm task's time limit; `slurm` gives
+/// slurm.sh's other #SBATCH lines. jobs.txt's lines stay a plain `contact2d run` (a runner
+/// sets its own limit, e.g. `parallel --timeout`).
 void write_study_files(const std::string& dir, const std::string& verb,
                        const nlohmann::json& options, const std::vector<StudyCase>& cases,
-                       const std::vector<nlohmann::json>& case_keys, double case_timeout_s);
+                       const std::vector<nlohmann::json>& case_keys, double case_timeout_s,
+                       const SlurmSettings& slurm);
 
 /// A job list goes into a folder without the case folders it names: until its job has run, a
 /// merge would report an earlier result as this study's. Throws InputError naming the first

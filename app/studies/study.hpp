@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "app/studies/slurm_settings.hpp"
+
 namespace c2d::app {
 
 /// One `contact2d run` of a study.
@@ -192,6 +194,7 @@ struct StudyOptions {
   bool job_list = false;  ///< write the cases as a job list (job_list.hpp) instead of running them
   double case_timeout_s = kDefaultCaseTimeout;  ///< per case; 0: none
   std::string metric;  ///< compare, sweep: --metric (study_metric.hpp); empty: the default
+  SlurmSettings slurm;                          ///< slurm.sh's #SBATCH lines
 };
 
 /// The study's output folder, created: --out, else out/<verb>_<scene file stem>.

@@ -143,6 +143,7 @@ struct SweepStudy {
   StudyMetric metric;
   double accuracy = 0.01;
   double case_timeout_s = 0;  ///< the per-case limit (for the job list; 0: none)
+  SlurmSettings slurm;        ///< slurm.sh's #SBATCH lines (for the job list)
   std::vector<StudyCase> cases;
   std::vector<SweepRow> rows;
   std::string baseline_method;  ///< "" without a baseline
@@ -429,6 +430,7 @@ SweepStudy plan_sweep(const SweepOptions& o) {
   s.out = study_out(o, "sweep");
   s.timing = timing_note(o.jobs);
   s.case_timeout_s = o.case_timeout_s;
+  s.slurm = o.slurm;
   s.cases = sweep_cases(o, k, values);
   s.rows.resize(values.size());
   for (size_t i = 0; i < values.size(); ++i) s.rows[i].value = values[i];
@@ -455,7 +457,7 @@ void write_sweep_files(const SweepStudy& s) {
   std::vector<nlohmann::json> keys;
   for (const auto& r : s.rows) keys.push_back({{"value", r.value}});
   if (!s.baseline_method.empty()) keys.push_back({{"baseline", s.baseline_method}});
-  write_study_files(s.out, "sweep", options, s.cases, keys, s.case_timeout_s);
+  write_study_files(s.out, "sweep", options, s.cases, keys, s.case_timeout_s, s.slurm);
 }
 
 SweepStudy sweep_from_manifest(const StudyManifest& m) {

@@ -342,6 +342,88 @@ TEST(JobList, SweepRunByParallelMergesToTheSameTable) {
   EXPECT_EQ(read_table(dir / "sweep.csv").rows.size(), 2u);
 }
 
+namespace {
+
+/// The #SBATCH lines of slurm.sh, in order.
+std::vector<std::string> sbatch_lines(const fs::path& study) {
+  std::vector<std::string> lines;
+  for (const auto& line : lines_of(read_text(study / "slurm.sh")))
+    if (line.rfind("#SBATCH ", 0) == 0) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace
+
+TEST(JobList, SlurmScriptCarriesTheClusterSettings) {
+  // What a real cluster asks of a job (tests/ecosystem/slurm_array_study.py submits one):
+  // partition, time limit, memory and CPUs per task, from the --slurm-* options or defaults.
+  const fs::path root = fs::temp_directory_path() / "c2d_job_list_slurm";
+  fs::remove_all(root);
+  const std::string scene = std::string(C2D_SOURCE_DIR) + "/examples/hertz_rigid_fast.toml";
+  const auto job_list = [&](const std::string& name, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"compare",    scene,     "--methods", "lagrange,penalty",
+                                     "--job-list", "--quiet", "--out",     (root / name).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    std::string output;
+    return std::make_pair(contact2d(args, &output), output);
+  };
+  // Defaults: the cluster's default partition (no line), the case timeout (1800 s) in whole
+  // minutes and one more, 4G (the bench's largest case peaks at 3.4 GB), one CPU.
+  ASSERT_EQ(job_list("defaults", {}).first, 0);
+  EXPECT_EQ(
+      sbatch_lines(root / "defaults"),
+      (std::vector<std::string>{"#SBATCH --job-name=c2d-compare", "#SBATCH --array=1-2",
+                                "#SBATCH --time=0-00:31:00", "#SBATCH --mem=4G",
+                                "#SBATCH --cpus-per-task=1", "#SBATCH --output=slurm-%A_%a.out"}));
+  // Every option, the forms of --name value and --name=value.
+  ASSERT_EQ(job_list("set", {"--slurm-partition", "short,debug", "--slurm-time=1-02:30:00",
+                             "--slurm-mem", "512M", "--slurm-cpus-per-task=3"})
+                .first,
+            0);
+  EXPECT_EQ(
+      sbatch_lines(root / "set"),
+      (std::vector<std::string>{"#SBATCH --job-name=c2d-compare", "#SBATCH --array=1-2",
+                                "#SBATCH --partition=short,debug", "#SBATCH --time=1-02:30:00",
+                                "#SBATCH --mem=512M", "#SBATCH --cpus-per-task=3",
+                                "#SBATCH --output=slurm-%A_%a.out"}));
+  // The task's threads follow --cpus-per-task.
+  EXPECT_NE(read_text(root / "set" / "slurm.sh")
+                .find("export OPENBLAS_NUM_THREADS=\"${SLURM_CPUS_PER_TASK:-1}\""),
+            std::string::npos);
+  // Without a per-case limit and no --slurm-time: no --time line (the partition's limit).
+  ASSERT_EQ(job_list("unlimited", {"--case-timeout", "0"}).first, 0);
+  for (const auto& line : sbatch_lines(root / "unlimited"))
+    EXPECT_EQ(line.find("--time"), std::string::npos) << line;
+  ASSERT_EQ(job_list("minutes", {"--case-timeout", "0", "--slurm-time", "45"}).first, 0);
+  EXPECT_EQ(sbatch_lines(root / "minutes")[2], "#SBATCH --time=45");
+
+  // A value that is not what Slurm takes, or that would put a line of its own into the script,
+  // is refused as bad input (exit 2) naming the option; no study folder is written.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> refused = {
+      {{"--slurm-partition", "a\n#SBATCH --wrap=id"}, "--slurm-partition: expected a partition"},
+      {{"--slurm-partition", "a b"}, "--slurm-partition: expected a partition"},
+      {{"--slurm-partition", ""}, "--slurm-partition: expected a partition"},
+      {{"--slurm-time", "1h"}, "--slurm-time: expected a Slurm time limit"},
+      {{"--slurm-time", "1:2:3:4"}, "--slurm-time: expected a Slurm time limit"},
+      {{"--slurm-mem", "0"}, "--slurm-mem: expected a memory size"},
+      {{"--slurm-mem", "4GB"}, "--slurm-mem: expected a memory size"},
+      {{"--slurm-cpus-per-task", "0"}, "--slurm-cpus-per-task: expected a positive integer"}};
+  for (size_t i = 0; i < refused.size(); ++i) {
+    const auto [code, output] = job_list("refused" + std::to_string(i), refused[i].first);
+    EXPECT_EQ(code, 2) << output;
+    EXPECT_NE(output.find(refused[i].second), std::string::npos) << output;
+    EXPECT_FALSE(fs::exists(root / ("refused" + std::to_string(i)))) << refused[i].second;
+  }
+  // Only the verbs that write slurm.sh take them; the help names each.
+  std::string output;
+  EXPECT_EQ(contact2d({"run", scene, "--slurm-mem", "4G"}, &output), 2);
+  EXPECT_NE(output.find("--slurm-mem: unknown option for run"), std::string::npos) << output;
+  EXPECT_EQ(contact2d({"sweep", "--help"}, &output), 0);
+  for (const char* option :
+       {"--slurm-partition", "--slurm-time", "--slurm-mem", "--slurm-cpus-per-task"})
+    EXPECT_NE(output.find(option), std::string::npos) << option;
+}
+
 TEST(JobList, BenchWritesItsLadderAndAMergeListsWhatHasNotRun) {
   // The quick ladder as a job list: a line per rung; merged before anything ran, every case is
   // listed as missing and bench.md still names every target.
