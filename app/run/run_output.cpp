@@ -342,15 +342,19 @@ std::string RunOutput::write_results(SceneRun& run, Clock::time_point start) {
   return chart_error;
 }
 
-nlohmann::json RunOutput::write_summary(const SceneRun& run, const AdaptRun* adapt) {
-  const SummaryParts parts{scene_,
+nlohmann::json run_summary(const core::Scene& scene, const SceneRun& run, const AdaptRun* adapt) {
+  const SummaryParts parts{scene,
                            &run.model,
                            &run.results,
                            run_status(run.results),
                            run.contact ? &run.contact_report : nullptr,
                            run.steps.empty() ? nullptr : &run.steps,
-                           adapt ? adapt_summary(scene_.adapt, *adapt) : nlohmann::json()};
-  const nlohmann::json summary = make_summary(parts);
+                           adapt ? adapt_summary(scene.adapt, *adapt) : nlohmann::json()};
+  return make_summary(parts);
+}
+
+nlohmann::json RunOutput::write_summary(const SceneRun& run, const AdaptRun* adapt) {
+  const nlohmann::json summary = run_summary(scene_, run, adapt);
   core::write_file_atomic(dir_ + "/summary.json", summary.dump(2) + "\n");
   return summary;
 }

@@ -23,6 +23,9 @@ namespace c2d::app {
 /// place first. Install it before any work, so an early interrupt also exits 130.
 void install_interrupt_handler();
 
+/// summary.json's content for a solved run (`adapt` for adaptive runs, else null).
+nlohmann::json run_summary(const core::Scene& scene, const SceneRun& run, const AdaptRun* adapt);
+
 class RunOutput {
  public:
   using Clock = std::chrono::steady_clock;

@@ -69,14 +69,7 @@ nlohmann::json summary_in_memory(const core::Scene& scene, SceneRun& run, const 
                                  RunOutput::Clock::time_point start) {
   run.results.time.total =
       std::chrono::duration<double>(RunOutput::Clock::now() - start).count();
-  const SummaryParts parts{scene,
-                           &run.model,
-                           &run.results,
-                           run_status(run.results),
-                           run.contact ? &run.contact_report : nullptr,
-                           run.steps.empty() ? nullptr : &run.steps,
-                           adapt ? adapt_summary(scene.adapt, *adapt) : nlohmann::json()};
-  return make_summary(parts);
+  return run_summary(scene, run, adapt);
 }
 
 /// The closing lines: the summary as a reader takes it in, the adaptive loop's end, a chart

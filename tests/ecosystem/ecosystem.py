@@ -15,6 +15,7 @@ import os
 import pathlib
 import signal
 import socket
+import sys
 import subprocess
 import time
 
@@ -169,6 +170,38 @@ def end_descendants(grace=10):
         except ChildProcessError:
             break
     return running
+
+
+def stop_then_end_leftovers(stop, what):
+    """Calls `stop` (the test's daemons), then ends whatever still runs below this process,
+    whatever `stop` did; fails naming what outlived `what`."""
+    try:
+        stop()
+    finally:
+        leftovers = end_descendants()
+    if leftovers:
+        fail(f"processes still running after {what} stopped (now ended): {leftovers}")
+
+
+def merge_and_report(study, route, route_s, cases, in_process_s):
+    """Merges the study's case folders, checks the table against the in-process one and prints
+    the times."""
+    study.merge()
+    merged = study.check_merged_table()
+    print(f"in-process study {in_process_s:.1f} s, through {route} {route_s:.1f} s "
+          f"({cases} cases, {len(merged[1])} rows merged and equal)")
+
+
+def script_main(main, doc):
+    """A test script's entry: main(binary, source_dir); exit 1 with FAILED on a TestFailure."""
+    if len(sys.argv) != 3:
+        sys.exit(doc)
+    try:
+        main(sys.argv[1], sys.argv[2])
+    except TestFailure as e:
+        print(f"FAILED: {e}", file=sys.stderr)
+        sys.exit(1)
+    print("PASSED")
 
 
 def wait_for(condition, seconds, what, logs=()):

@@ -26,8 +26,9 @@ import time
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from ecosystem import (Daemon, Study, TestFailure, become_subreaper, end_descendants,  # noqa: E402
-                       fail, free_port, raise_on_termination, run, stop_all, utc_now, wait_for)
+from ecosystem import (Daemon, Study, TestFailure, become_subreaper,  # noqa: E402
+                       fail, free_port, merge_and_report, raise_on_termination, run,
+                       script_main, stop_all, stop_then_end_leftovers, utc_now, wait_for)
 
 PARTITION = "c2dtest"
 TASK_MEM_MB = 512        # --slurm-mem: two tasks side by side on the node's 1024 MB
@@ -220,24 +221,9 @@ def main(binary, scene):
         job, slurm_s = run_array(cluster, study, cases)
         check_tasks(cluster.task_records(job), cases, job, task_logs(cluster, study))
     finally:
-        try:
-            cluster.stop()
-        finally:
-            leftovers = end_descendants()
-    if leftovers:
-        fail(f"processes still running after the cluster stopped (now ended): {leftovers}")
-    study.merge()
-    merged = study.check_merged_table()
-    print(f"in-process study {in_process_s:.1f} s, through Slurm {slurm_s:.1f} s "
-          f"({cases} cases, {len(merged[1])} rows merged and equal)")
+        stop_then_end_leftovers(cluster.stop, "the cluster")
+    merge_and_report(study, "Slurm", slurm_s, cases, in_process_s)
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    try:
-        main(sys.argv[1], sys.argv[2])
-    except TestFailure as e:
-        print(f"FAILED: {e}", file=sys.stderr)
-        sys.exit(1)
-    print("PASSED")
+    script_main(main, __doc__)

@@ -27,8 +27,9 @@ import time
 
 sys.dont_write_bytecode = True  # no __pycache__ in the source tree
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from ecosystem import (Daemon, Study, TestFailure, become_subreaper, end_descendants,  # noqa: E402
-                       fail, free_port, raise_on_termination, run, stop_all, utc_now, wait_for)
+from ecosystem import (Daemon, Study, become_subreaper,  # noqa: E402
+                       fail, free_port, merge_and_report, raise_on_termination, run,
+                       script_main, stop_all, stop_then_end_leftovers, utc_now, wait_for)
 
 SSHD = "/usr/sbin/sshd"  # sshd refuses to start by a relative path
 # sshd's privilege separation directory (Debian's build: /run/sshd), which its init script
@@ -183,24 +184,9 @@ def main(binary, scene):
         joblog, ssh_s = run_jobs(sshd, study, jobs)
         check_every_job_went_through_ssh(sshd, study, jobs, joblog)
     finally:
-        try:
-            sshd.stop()
-        finally:
-            leftovers = end_descendants()
-    if leftovers:
-        fail(f"processes still running after sshd stopped (now ended): {leftovers}")
-    study.merge()
-    merged = study.check_merged_table()
-    print(f"in-process study {in_process_s:.1f} s, through ssh {ssh_s:.1f} s "
-          f"({len(jobs)} cases, {len(merged[1])} rows merged and equal)")
+        stop_then_end_leftovers(sshd.stop, "sshd")
+    merge_and_report(study, "ssh", ssh_s, len(jobs), in_process_s)
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit(__doc__)
-    try:
-        main(sys.argv[1], sys.argv[2])
-    except TestFailure as e:
-        print(f"FAILED: {e}", file=sys.stderr)
-        sys.exit(1)
-    print("PASSED")
+    script_main(main, __doc__)
