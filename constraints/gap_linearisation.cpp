@@ -3,6 +3,7 @@
 #include <ceres/jet.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -295,10 +296,12 @@ LocalGap obstacle_gap(const Obstacle& o, int slave, const Positions& x, bool hes
   return hessian ? obstacle<Jets<1>::J2>(o, slave, x) : obstacle<FirstOrder<1>>(o, slave, x);
 }
 
-void mortar_point(const MasterEdge& slave, SegmentEnd a, SegmentEnd b, double s,
-                  const MasterEdge* master, double eta0, const Obstacle* obstacle,
-                  const Positions& x, LocalGap measure[2], LocalGap weighted[2]) {
-  using J = Jets<8>::J2;
+namespace {
+
+template <class J>
+void mortar_point_with(const MasterEdge& slave, SegmentEnd a, SegmentEnd b, double s,
+                       const MasterEdge* master, double eta0, const Obstacle* obstacle,
+                       const Positions& x, LocalGap measure[2], LocalGap weighted[2]) {
   Variables<J> v(x);
   const auto end = [&](const SegmentEnd& e) {
     return e.vertex < 0 ? constant<J>(e.xi) : closest_parameter(slave, v, v.at(e.vertex), e.xi);
@@ -320,6 +323,51 @@ void mortar_point(const MasterEdge& slave, SegmentEnd a, SegmentEnd b, double s,
     measure[r] = v.result(mr);
     weighted[r] = v.result(mr * g);
   }
+}
+
+/// The distinct nodes a mortar point depends on: the slave edge's, the master edge's and the
+/// master vertices that cut the segment.
+int mortar_point_nodes(const MasterEdge& slave, SegmentEnd a, SegmentEnd b,
+                       const MasterEdge* master) {
+  std::array<int, 8> nodes{};
+  int n = 0;
+  const auto add = [&](int node) {
+    if (node >= 0 && std::find(nodes.begin(), nodes.begin() + n, node) == nodes.begin() + n)
+      nodes[n++] = node;
+  };
+  for (int k = 0; k < slave.count; ++k) add(slave.nodes[k]);
+  if (master)
+    for (int k = 0; k < master->count; ++k) add(master->nodes[k]);
+  add(a.vertex);
+  add(b.vertex);
+  return n;
+}
+
+}  // namespace
+
+void mortar_point(const MasterEdge& slave, SegmentEnd a, SegmentEnd b, double s,
+                  const MasterEdge* master, double eta0, const Obstacle* obstacle,
+                  const Positions& x, LocalGap measure[2], LocalGap weighted[2], bool hessian) {
+  // A Jet of Jets costs the square of its size per operation: sized to the point's nodes (a
+  // quadratic slave edge on a quadratic master edge whose corners cut the segment: 6, not 8),
+  // and first order where only the value and gradient are asked for (a residual).
+  if (!hessian) {
+    mortar_point_with<FirstOrder<8>>(slave, a, b, s, master, eta0, obstacle, x, measure,
+                                     weighted);
+    for (int r = 0; r < 2; ++r) {  // zero curvature, in the shape the accumulation expects
+      const int n = 2 * static_cast<int>(measure[r].nodes.size());
+      measure[r].hessian = Eigen::MatrixXd::Zero(n, n);
+      weighted[r].hessian = Eigen::MatrixXd::Zero(n, n);
+    }
+    return;
+  }
+  const int nodes = mortar_point_nodes(slave, a, b, master);
+  if (nodes <= 4)
+    mortar_point_with<Jets<4>::J2>(slave, a, b, s, master, eta0, obstacle, x, measure, weighted);
+  else if (nodes <= 6)
+    mortar_point_with<Jets<6>::J2>(slave, a, b, s, master, eta0, obstacle, x, measure, weighted);
+  else
+    mortar_point_with<Jets<8>::J2>(slave, a, b, s, master, eta0, obstacle, x, measure, weighted);
 }
 
 LocalGap quotient(const LocalGap& a, const LocalGap& w) {

@@ -68,9 +68,11 @@ struct SegmentEnd {
 /// measure[r] · g, with g the gap along the slave normal to the master edge's curve at the
 /// ray's parameter (eta0: its converged value) or, without a master, to the obstacle. The
 /// segment's ends move with the positions, so the quadrature is differentiated as it is.
+/// Without `hessian`, the value and gradient only (the Hessians zero): what a residual needs.
 void mortar_point(const MasterEdge& slave, SegmentEnd a, SegmentEnd b, double s,
                   const MasterEdge* master, double eta0, const Obstacle* obstacle,
-                  const Positions& x, LocalGap measure[2], LocalGap weighted[2]);
+                  const Positions& x, LocalGap measure[2], LocalGap weighted[2],
+                  bool hessian = true);
 
 /// a / w with its exact derivatives (a mortar row: the weighted gap over the row's weight).
 LocalGap quotient(const LocalGap& a, const LocalGap& w);

@@ -237,6 +237,21 @@ TEST(GapLinearisation, ContactSetRowsMatchFiniteDifferences) {
         // Central differences with h = 1e-6 are good to about 1e-8 here.
         EXPECT_LT(e.gradient, 1e-6) << name;
         EXPECT_LT(e.hessian, 1e-6) << name;
+        // Without the curvature (a residual's detection: first-order Jets, mortar included):
+        // the same rows, gaps and terms.
+        const std::vector<GapRow> full = contact.detect(u, false, true);
+        const std::vector<GapRow> first = contact.detect(u, false, false);
+        ASSERT_EQ(first.size(), full.size()) << name;
+        for (size_t i = 0; i < full.size(); ++i) {
+          EXPECT_EQ(first[i].slot, full[i].slot) << name;
+          EXPECT_NEAR(first[i].gap, full[i].gap, 1e-13) << name;
+          ASSERT_EQ(first[i].terms.size(), full[i].terms.size()) << name;
+          for (size_t k = 0; k < full[i].terms.size(); ++k) {
+            EXPECT_EQ(first[i].terms[k].first, full[i].terms[k].first) << name;
+            EXPECT_LT((first[i].terms[k].second - full[i].terms[k].second).cwiseAbs().maxCoeff(),
+                      1e-12) << name;
+          }
+        }
       }
 }
 
