@@ -9,6 +9,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
   parallel  # GNU parallel: runs a study's jobs.txt (README; tests/app/job_list_test.cpp)
   chromium chromium-driver python3-selenium  # opens the studies' HTML pages (tests/browser)
+  python3-vtk9 python3-gmsh  # VTK's and gmsh's own readers on the outputs (Ecosystem.VtkReadsOutputs, Ecosystem.GmshReadsMsh)
 )
 missing=()
 for p in "${packages[@]}"; do
