@@ -10,6 +10,7 @@ packages=(
   parallel  # GNU parallel: runs a study's jobs.txt (README; tests/app/job_list_test.cpp)
   chromium chromium-driver python3-selenium  # opens the studies' HTML pages (tests/browser)
   python3-vtk9 python3-gmsh  # VTK's and gmsh's own readers on the outputs (Ecosystem.VtkReadsOutputs, Ecosystem.GmshReadsMsh)
+  python3-nbclient python3-nbformat python3-ipykernel  # runs examples/notebooks (Ecosystem.NotebookCompareMethods)
 )
 missing=()
 for p in "${packages[@]}"; do
