@@ -11,6 +11,8 @@ packages=(
   chromium chromium-driver python3-selenium  # opens the studies' HTML pages (tests/browser)
   slurmctld slurmd slurm-client munge  # a one-node Slurm runs slurm.sh (tests/ecosystem/slurm_array_study.py)
   openssh-server openssh-client  # GNU parallel over ssh runs jobs.txt (tests/ecosystem/ssh_parallel_study.py)
+  python3-vtk9 python3-gmsh  # VTK's and gmsh's own readers on the outputs (Ecosystem.VtkReadsOutputs, Ecosystem.GmshReadsMsh)
+  python3-nbclient python3-nbformat python3-ipykernel  # runs examples/notebooks (Ecosystem.NotebookCompareMethods)
 )
 missing=()
 for p in "${packages[@]}"; do
