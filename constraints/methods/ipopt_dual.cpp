@@ -384,19 +384,11 @@ void SurfaceDual::report(ConstraintSolution& s) const {
   s.pivot_ratio = surface_->report().pivot_ratio;
 }
 
-/// The interior point's tolerance when the exact solves finish from its set.
-constexpr double kSetFindingTolerance = 1e-4;
-
 bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows,
                           const StrategyOptions& o, const SetRule& rule, ConstraintSolution& s) {
   const auto dual = SurfaceDual::build(p, rows, false, s);
   if (!dual) return false;
-  // Here the interior point only finds the contact set: the exact solves of settle() give the
-  // answer from it (and correct a row it got wrong). Its last digits buy nothing but
-  // iterations: on hertz_rigid_fast 12 at 1e-10, 6 at 1e-4, the same p_max to the last digit.
-  StrategyOptions set_finding = o;
-  set_finding.ipopt_tolerance = std::max(o.ipopt_tolerance, kSetFindingTolerance);
-  const QpOutcome out = dual->solve(VecX(), {}, set_finding, s);
+  const QpOutcome out = dual->solve(VecX(), {}, o, s);
   s.iterations = out.iterations;
   s.status = out.status;
   s.message = out.message;
