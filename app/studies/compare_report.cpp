@@ -235,6 +235,21 @@ HtmlReport compare_html(const CompareStudy& s, const std::vector<size_t>& missin
                orders_md(s.rows, s.methods, s.metric) + (s.hertz ? kFitNote : "");
   h.csv_name = "compare.csv";
   h.csv = compare_csv(s.rows);
+  // What a reader compares first: each case's errors against the reference, then its times;
+  // the status (long when a run failed) and the raw figures after.
+  h.lead_columns = {"level",
+                    "method",
+                    "dofs",
+                    "error_p_max",
+                    "error_contact_length",
+                    "error_profile_l2",
+                    "error_fit_p0",
+                    "error_fit_b",
+                    "error_stick_length",
+                    "error_shear_profile_l2",
+                    "time_solve",
+                    "time_total",
+                    "status"};
   h.charts = charts;
   return h;
 }

@@ -362,7 +362,7 @@ int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool q
                               sweep_table(s.key, s.rows) +
                               (chart.written() ? "\n" + markdown_images({chart}) : ""));
   write_html_report(s.out, "sweep.html",
-                    {title, "", timing, verdict, unfinished, "sweep.csv", csv, {chart}});
+                    {title, "", timing, verdict, unfinished, "sweep.csv", csv, {chart}, {}});
   if (!quiet) {
     std::cout << "\n"
               << verdict << "\n\n"
