@@ -276,7 +276,7 @@ std::string chart_commands_accuracy(const std::string& dir, const std::vector<Co
     if (!points) continue;
     data << block_data.str() << "\n\n";
     plot << (block ? ", \\\n     " : "") << gp_file(dir + "/accuracy.dat") << " index " << block
-         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
+         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m);
     ++block;
   }
   if (!block) return "";
@@ -338,7 +338,7 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest,
     const std::string path = s.out + "/profile_" + r.method + ".dat";
     files.push_back({path, d.str()});
     plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt " << 4 + n
-         << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
+         << " ps 0.7 title " << gp_text(r.method);
     ++n;
   }
   if (s.hertz) {
@@ -370,7 +370,7 @@ std::string chart_penetration(const CompareStudy& s, std::vector<ReportChart>& c
     if (!points) continue;
     d << block.str() << "\n\n";
     plot << (n ? ", \\\n     " : "") << gp_file(s.out + "/penetration.dat") << " index " << n
-         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
+         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m);
     ++n;
   }
   plot << "\n";
