@@ -57,7 +57,7 @@ const std::vector<FieldDef>& field_defs() {
       {"p2", "minor principal stress (smoothed)", "s2_smoothed", -1, false},
       {"ux", "displacement u_x", "displacement", 0, false},
       {"uy", "displacement u_y", "displacement", 1, false},
-      {"error", "ZZ local parameter xi_e", "zz_local_parameter", -1, true},
+      {"error", "ZZ local parameter ξ_e", "zz_local_parameter", -1, true},
   };
   return defs;
 }

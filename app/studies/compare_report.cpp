@@ -360,7 +360,9 @@ std::string chart_penetration(const CompareStudy& s, std::vector<ReportChart>& c
           "1e-20)'\n"
        << "set xlabel 'refinement level'\nset ylabel "
        << gp_text(axis_label("max penetration", parse_units(s.units).length)) << "\nset logscale y\n"
-       << "set format y '10^{%L}'\nset grid\nset key outside right\nset xtics 1\nplot ";
+       << "set format y '10^{%L}'\nset grid\nset key outside right\nset xtics 1\n"
+       // Half a level either side: the first and last levels' points clear of the border.
+       << "set xrange [-0.5:" << s.levels - 0.5 << "]\nplot ";
   for (const auto& m : s.methods) {
     std::ostringstream block;
     int points = 0;
