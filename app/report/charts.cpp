@@ -101,7 +101,7 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
               (finite_strain ? ", finite strain" : "") + "), coloured by von Mises (smoothed)") +
       "\n" + gp_palette() + "set cbrange [*:*]\nset format cb '%g'\nunset key\nset xlabel " +
       gp_text(axis_label("x", u.length)) + "\nset ylabel " + gp_text(axis_label("y", u.length)) +
-      "\nset cblabel " + gp_text(axis_label("von Mises", u.stress)) + "\nplot " +
+      "\nset cblabel " + gp_text(axis_label("von Mises", u.stress)) + " offset 2,0\nplot " +
       gp_file(data_path) + " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n     " +
       gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
   return plot_with_data(dir, "deformed", commands,
