@@ -70,10 +70,11 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
 }
 
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
-                                const core::Results& r, const std::string& units) {
+                                const core::Results& r, const std::string& units,
+                                bool finite_strain) {
   const core::Mesh& mesh = model.mesh;
   const double umax = r.displacement.size() ? r.displacement.cwiseAbs().maxCoeff() : 0.0;
-  const double scale = umax > 0 ? 0.08 * model.model_size / umax : 0.0;
+  const double scale = displacement_scale(umax, model.model_size, finite_strain);
   // One filled triangle per element (corner nodes) coloured by element-average von Mises.
   std::ostringstream data;
   data << std::setprecision(9);
@@ -93,19 +94,15 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
     outline << mesh.nodes[be.nodes[0]].x() << ' ' << mesh.nodes[be.nodes[0]].y() << '\n'
             << mesh.nodes[be.nodes[1]].x() << ' ' << mesh.nodes[be.nodes[1]].y() << "\n\n";
   const std::string data_path = dir + "/deformed.dat", outline_path = dir + "/outline.dat";
-  std::ostringstream scale_text;
-  scale_text << std::setprecision(3) << scale;
+  const Units u = parse_units(units);
   const std::string commands =
-      "set size ratio -1\nset title 'Deformed mesh (displacements x " + scale_text.str() +
-      "), coloured by von Mises (smoothed)'\n"
-      "set palette rgb 33,13,10\nset cbrange [*:*]\nunset key\n"
-      "set xlabel " + gp_text(axis_label("x", parse_units(units).length)) + "\nset ylabel " +
-      gp_text(axis_label("y", parse_units(units).length)) + "\nset cblabel " +
-      gp_text(axis_label("von Mises", parse_units(units).stress)) + "\n"
-      "plot " +
-      gp_file(data_path) +
-      " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n"
-      "     " +
+      "set size ratio -1\nset title " +
+      gp_text("Deformed mesh (" + deformation_text(scale) +
+              (finite_strain ? ", finite strain" : "") + "), coloured by von Mises (smoothed)") +
+      "\n" + gp_palette() + "set cbrange [*:*]\nset format cb '%g'\nunset key\nset xlabel " +
+      gp_text(axis_label("x", u.length)) + "\nset ylabel " + gp_text(axis_label("y", u.length)) +
+      "\nset cblabel " + gp_text(axis_label("von Mises", u.stress)) + " offset 2,0\nplot " +
+      gp_file(data_path) + " using 1:2:3 with filledcurves closed fc palette z lw 0.3, \\\n     " +
       gp_file(outline_path) + " using 1:2 with lines lc rgb '#555555' dt 2\n";
   return plot_with_data(dir, "deformed", commands,
                         {{data_path, data.str()}, {outline_path, outline.str()}});
@@ -164,8 +161,8 @@ std::string chart_contact_zone(const std::string& dir, const std::string& vtu_pa
                                  center.y() + half};
   o.deformed = 1.0;
   o.units = units;
-  o.title = "Contact zone, true scale: von Mises (smoothed)" +
-            std::string(obstacles.empty() ? "" : "; rigid obstacles in black");
+  o.title = "Contact zone, von Mises (smoothed)";
+  if (!obstacles.empty()) o.note = "rigid obstacles in black";
   for (const auto& ob : obstacles) o.overlay.push_back(obstacle_line(ob, center, half));
   try {
     return plot_field(read_vtu(vtu_path), o, dir, "contact_zone").error;

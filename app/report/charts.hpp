@@ -16,11 +16,13 @@ namespace c2d::app {
 std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
                                    const core::Scene& scene);
 
-/// Deformed mesh (scaled) over the undeformed outline, coloured by smoothed von Mises.
-/// Axes labelled with the length and stress units the scene's `units` names (empty: none).
-/// Writes DIR/deformed.png and DIR/deformed.svg; returns "" or the failure reason.
+/// Deformed mesh over the undeformed outline, coloured by smoothed von Mises: at true scale for
+/// finite strain (`finite_strain`, the scene's geometric nonlinearity), else magnified by
+/// displacement_scale. Axes labelled with the length and stress units the scene's `units`
+/// names (empty: none). Writes DIR/deformed.png and DIR/deformed.svg; "" or the failure reason.
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
-                                const core::Results& results, const std::string& units = "");
+                                const core::Results& results, const std::string& units = "",
+                                bool finite_strain = false);
 
 /// The contact zone: von Mises under the surface in a square window of three contact lengths
 /// around the active slave nodes (Hertz's subsurface maximum, at 0.70 b, shows), drawn at true

@@ -57,20 +57,28 @@ const std::vector<FieldDef>& field_defs() {
       {"p2", "minor principal stress (smoothed)", "s2_smoothed", -1, false},
       {"ux", "displacement u_x", "displacement", 0, false},
       {"uy", "displacement u_y", "displacement", 1, false},
-      {"error", "ZZ local parameter xi_e", "zz_local_parameter", -1, true},
+      {"error", "ZZ local parameter ξ_e", "zz_local_parameter", -1, true},
   };
   return defs;
+}
+
+/// The unit of a field's values: a length for displacements, else a stress ("" for the error
+/// map, or when the scene names none).
+std::string field_unit(const PlotOptions& o, const FieldDef& def) {
+  if (def.cell) return "";
+  const Units u = parse_units(o.units);
+  return def.array == "displacement" ? u.length : u.stress;
 }
 
 /// Axis and colour-bar labels with the scene's units (none without units).
 std::string axis_commands(const PlotOptions& o, const FieldDef& def) {
   if (o.units.empty()) return "";
   const Units u = parse_units(o.units);
-  const bool length = def.array == "displacement";
   std::string out = "set xlabel " + gp_text(axis_label("x", u.length)) + "\nset ylabel " +
                     gp_text(axis_label("y", u.length)) + "\n";
+  // (gnuplot places the colour bar's label over tick labels of three digits or more.)
   if (!def.cell)
-    out += "set cblabel " + gp_text(axis_label(def.name, length ? u.length : u.stress)) + "\n";
+    out += "set cblabel " + gp_text(axis_label(def.name, field_unit(o, def))) + " offset 2,0\n";
   return out;
 }
 
@@ -144,6 +152,46 @@ std::vector<Vec2> clip_band(const std::array<Vec2, 3>& x, const std::array<doubl
   return result;
 }
 
+double nice_step(double raw) {
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {1.0, 2.0, 2.5, 5.0})
+    if (m * decade >= raw * (1 - 1e-9)) return m * decade;
+  return 10 * decade;
+}
+
+ColourScale colour_scale(double lo, double hi, int levels) {
+  ColourScale c;
+  // Ticks at multiples of the step; the first step with at most 10 intervals over the range.
+  for (double tick = nice_step((hi - lo) / 10);; tick = nice_step(tick * 1.01)) {
+    c.lo = tick * std::floor(lo / tick + 1e-9), c.hi = tick * std::ceil(hi / tick - 1e-9);
+    c.tick = tick;
+    if (std::lround((c.hi - c.lo) / tick) <= 10) break;
+  }
+  const int intervals = std::max(1, static_cast<int>(std::lround((c.hi - c.lo) / c.tick)));
+  // 1, 2 or 5 bands per tick interval (bands of round width too), the count nearest `levels`.
+  int per_tick = 1;
+  for (const int d : {2, 5})
+    if (std::abs(intervals * d - levels) < std::abs(intervals * per_tick - levels)) per_tick = d;
+  c.band = c.tick / per_tick;
+  c.bands = intervals * per_tick;
+  return c;
+}
+
+double displacement_scale(double umax, double size, bool finite_strain) {
+  if (finite_strain) return 1.0;
+  if (!(umax > 0)) return 0.0;
+  const double raw = 0.08 * size / umax;
+  if (raw <= 1) return 1.0;
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (const double m : {5.0, 2.0, 1.0})
+    if (m * decade <= raw * (1 + 1e-9)) return m * decade;
+  return decade;
+}
+
+std::string deformation_text(double scale) {
+  return scale == 1.0 ? "true scale" : "displacements ×" + rounded_text(scale);
+}
+
 namespace {
 
 /// One field of a VTU: its definition and values, per point (per cell for the error map).
@@ -184,7 +232,7 @@ FieldValues field_values(const VtuData& vtu, const std::string& field) {
 }
 
 /// Positions drawn: the reference ones, or deformed by the displacement times `scale` (< 0:
-/// 8 % of the model's diagonal over the largest displacement; set to the scale used).
+/// displacement_scale over the model's diagonal; set to the scale used).
 std::vector<Vec2> drawn_positions(const VtuData& vtu, double& scale) {
   std::vector<Vec2> x = vtu.points;
   const auto disp = vtu.point_data.find("displacement");
@@ -204,16 +252,21 @@ std::vector<Vec2> drawn_positions(const VtuData& vtu, double& scale) {
       lo_x = std::min(lo_x, x[i].x()), hi_x = std::max(hi_x, x[i].x());
       lo_y = std::min(lo_y, x[i].y()), hi_y = std::max(hi_y, x[i].y());
     }
-    scale = umax > 0 ? 0.08 * std::hypot(hi_x - lo_x, hi_y - lo_y) / umax : 0.0;
+    scale = displacement_scale(umax, std::hypot(hi_x - lo_x, hi_y - lo_y), false);
   }
   for (size_t i = 0; i < x.size(); ++i) x[i] += scale * Vec2(u(i, 0), u(i, 1));
   return x;
 }
 
+/// A picture's title around the values it shows: "HEAD: <values>TAIL".
+struct Title {
+  std::string head, tail;
+};
+
 /// The seed's map: elements with ξ_e <= 1 (the error there meets the target) and > 1.
 void draw_error_map(const VtuData& vtu, const std::vector<Vec2>& x, const FieldValues& value,
-                    const PlotOptions& o, const std::string& title, std::ostream& data,
-                    std::ostream& cmd, PlotSummary& sum) {
+                    const PlotOptions& o, const Title& title, std::ostream& data, std::ostream& cmd,
+                    PlotSummary& sum) {
   sum.min = 1e300, sum.max = -1e300;
   for (size_t c = 0; c < vtu.cells.size(); ++c) {
     const auto& n = vtu.cells[c];
@@ -228,17 +281,20 @@ void draw_error_map(const VtuData& vtu, const std::vector<Vec2>& x, const FieldV
       data << '\n';
     }
   }
-  cmd << "set title \"" << title << ": " << sum.above_one << " of " << sum.elements
-      << " elements above 1 (max " << sum.max << ")\"\n"
-      << "set cbrange [0:2]\nset palette defined (0 '#9ecae1', 1 '#9ecae1', 1 '#de2d26', 2 "
-         "'#de2d26')\n"
-      << "set cbtics ('xi_e <= 1' 0.5, 'xi_e > 1' 1.5)\n";
+  cmd << "set title "
+      << gp_text(title.head + ": " + std::to_string(sum.above_one) + " of " +
+                 std::to_string(sum.elements) + " elements above 1 (max " + rounded_text(sum.max) +
+                 ")" + title.tail)
+      << "\nset cbrange [0:2]\n"
+      // Two classes, not a scale: light blue and red tell apart for every colour vision.
+      << "set palette defined (0 '#9ecae1', 1 '#9ecae1', 1 '#de2d26', 2 '#de2d26')\n"
+      << "set cbtics ('ξ_e ≤ 1' 0.5, 'ξ_e > 1' 1.5)\n";
 }
 
 /// Filled contours: colour range over the nodes in view, isobands between uniform levels.
 void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldValues& value,
-                   const PlotOptions& o, const std::string& title, std::ostream& data,
-                   std::ostream& cmd, PlotSummary& sum) {
+                   const PlotOptions& o, const Title& title, std::ostream& data, std::ostream& cmd,
+                   PlotSummary& sum) {
   double lo = 1e300, hi = -1e300;
   for (size_t c = 0; c < vtu.cells.size(); ++c)
     for (const auto& t : sub_triangles(vtu, static_cast<int>(c)))
@@ -249,12 +305,14 @@ void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldVa
       lo = std::min(lo, value(i)), hi = std::max(hi, value(i));
   }
   sum.min = lo, sum.max = hi;
-  const int levels = std::max(2, o.levels);
   if (hi - lo <= 1e-12 * std::max(std::abs(hi), std::abs(lo))) {
     lo -= 0.5 * std::max(std::abs(lo), 1e-30);
     hi += 0.5 * std::max(std::abs(hi), 1e-30);
   }
-  const double step = (hi - lo) / levels;
+  const ColourScale scale = colour_scale(lo, hi, std::max(2, o.levels));
+  const int levels = scale.bands;
+  lo = scale.lo;
+  const double step = scale.band;
   for (size_t c = 0; c < vtu.cells.size(); ++c)
     for (const auto& t : sub_triangles(vtu, static_cast<int>(c))) {
       const std::array<Vec2, 3> p = {x[t[0]], x[t[1]], x[t[2]]};
@@ -275,11 +333,13 @@ void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldVa
         data << '\n';
       }
     }
-  std::ostringstream heading;
-  heading << title << ": " << sum.min << " to " << sum.max;
-  cmd << "set title " << gp_text(heading.str()) << "\n"
-      << "set cbrange [" << lo << ":" << hi << "]\nset palette rgb 33,13,10 maxcolors " << levels
-      << "\nset cbtics " << lo << ", " << step * std::max(1, levels / 6) << "\n";
+  const std::string unit = field_unit(o, *value.def);
+  cmd << "set title "
+      << gp_text(title.head + ": " + rounded_text(sum.min) + " to " + quantity_text(sum.max, unit) +
+                 title.tail)
+      << "\nset cbrange [" << scale.lo << ":" << scale.hi << "]\n"
+      << gp_palette(levels) << "set cbtics " << scale.lo << ", " << scale.tick
+      << "\nset format cb '%g'\n";
 }
 
 }  // namespace
@@ -293,12 +353,9 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& o, const std::stri
   std::ostringstream data, cmd;
   data << std::setprecision(9);
   cmd << std::setprecision(6);
-  std::string title = o.title.empty() ? value.def->label : o.title;
-  if (scale != 0.0) {
-    std::ostringstream s;
-    s << std::setprecision(3) << scale;
-    title += ", deformed x " + s.str();
-  }
+  Title title{o.title.empty() ? value.def->label : o.title, ""};
+  if (scale != 0.0) title.tail += ", " + deformation_text(scale);
+  if (!o.note.empty()) title.tail += "; " + o.note;
   if (value.def->cell)
     draw_error_map(vtu, x, value, o, title, data, cmd, sum);
   else

@@ -34,9 +34,29 @@ std::string single_quoted(std::string_view text) {
 }  // namespace
 
 std::string gp_text(std::string_view text) {
-  std::string clean(text);
-  std::replace_if(clean.begin(), clean.end(), is_control, ' ');
+  std::string clean;
+  for (char c : text) {
+    if (std::string_view("_^@&~{}\\").find(c) != std::string_view::npos) clean += '\\';
+    clean += is_control(c) ? ' ' : c;
+  }
   return single_quoted(clean);
+}
+
+std::string gp_palette(int maxcolors) {
+  std::string out =
+      "set palette defined (0 '#440154', 1 '#472c7a', 2 '#3b518b', 3 '#2c718e', 4 '#21908d', "
+      "5 '#27ad81', 6 '#5cc863', 7 '#aadc32', 8 '#fde725')";
+  if (maxcolors > 0) out += " maxcolors " + std::to_string(maxcolors);
+  return out + "\n";
+}
+
+std::string gp_terminal(const std::string& term) {
+  // Cairo sizes fonts in points at 96 dpi, the SVG terminal in pixels: the SVG's fonts are
+  // scaled by 4/3 (measured: then 11 pt has the same cap height in both, as has a key's ',9').
+  // Line widths are pixels in both.
+  const std::string common = " size 1200,800 enhanced font 'Sans,11' linewidth 1";
+  return term == "png" ? "set terminal pngcairo" + common + "\n"
+                       : "set terminal svg" + common + " fontscale 1.3333 background rgb 'white'\n";
 }
 
 std::string gp_file(const std::string& path) {
@@ -94,9 +114,7 @@ std::string plot_in(const ScratchDir& scratch, const std::string& dir, const std
                     const std::string& commands) {
   std::ostringstream gp;
   for (const char* term : {"png", "svg"}) {
-    gp << (std::string(term) == "png" ? "set terminal pngcairo size 1200,800 font 'Sans,11'\n"
-                                      : "set terminal svg size 1200,800 font 'Sans,11'\n")
-       << "set output " << gp_file(scratch.file(stem + "." + term)) << "\n"
+    gp << gp_terminal(term) << "set output " << gp_file(scratch.file(stem + "." + term)) << "\n"
        << commands << "unset output\n";
   }
   const std::string script = scratch.file(stem + ".gp");

@@ -8,10 +8,22 @@
 
 namespace c2d::app {
 
-/// Label text as a gnuplot single-quoted literal: quotes doubled, control characters blanked.
-/// Single-quoted strings are the only ones gnuplot substitutes nothing into (double-quoted
-/// ones run `backquoted` commands), so every text from data goes into a script through this.
+/// Label text as a gnuplot single-quoted literal, shown as written: quotes doubled, control
+/// characters blanked, and enhanced-text markup (_ ^ @ & ~ { } \\) escaped with a backslash, so
+/// that `p_max` is not drawn as p with a subscript m. Single-quoted strings are the only ones
+/// gnuplot substitutes nothing into (double-quoted ones run `backquoted` commands), so every
+/// text from data goes into a script through this; the charts are enhanced text (for their
+/// own 10^{n} tick labels), so no caller adds `noenhanced` (it would show the backslashes).
 std::string gp_text(std::string_view text);
+
+/// The colour map of every chart: `set palette defined` with viridis' nine control points
+/// (perceptually uniform, readable by the colour blind and in grey; gnuplot 5.4 has no
+/// built-in viridis). `maxcolors` > 0: that many discrete colours.
+std::string gp_palette(int maxcolors = 0);
+
+/// The terminal lines of both pictures: the same size, font, line width and white background,
+/// so that STEM.png and STEM.svg look alike.
+std::string gp_terminal(const std::string& term);
 
 /// A file path as a gnuplot single-quoted literal, made absolute so that it never begins with
 /// '<' or '|' (which gnuplot would run as a command). Throws InputError on a control character.

@@ -237,12 +237,41 @@ std::string readable_cell(const std::string& cell) {
   return text;
 }
 
-std::string csv_table_html(std::string_view csv, const std::string& name) {
+std::vector<size_t> column_order(const std::vector<std::string>& header,
+                                 const std::vector<std::string>& lead) {
+  std::vector<size_t> order;
+  for (const auto& name : lead) {
+    const auto at = std::find(header.begin(), header.end(), name);
+    if (at != header.end()) order.push_back(static_cast<size_t>(at - header.begin()));
+  }
+  for (size_t c = 0; c < header.size(); ++c)
+    if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
+  return order;
+}
+
+namespace {
+
+/// A column name that may wrap after each underscore: "error_p_max" is three short lines, not
+/// one wide column.
+std::string header_html(const std::string& name) {
+  std::string out;
+  for (char c : html_escape(name)) {
+    out += c;
+    if (c == '_') out += "<wbr>";
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string csv_table_html(std::string_view csv, const std::string& name,
+                           const std::vector<std::string>& lead) {
   const std::vector<std::vector<std::string>> rows = parse_csv_rows(csv);
   if (rows.empty()) return "<p>" + html_escape(name) + " is empty.</p>\n";
+  const std::vector<size_t> order = column_order(rows.front(), lead);
   std::ostringstream out;
   out << "<div class=\"scroll\"><table id=\"study-table\">\n<thead><tr>";
-  for (const auto& h : rows.front()) out << "<th>" << html_escape(h) << "</th>";
+  for (size_t c : order) out << "<th>" << header_html(rows.front()[c]) << "</th>";
   out << "</tr></thead>\n<tbody>\n";
   for (size_t r = 1; r < rows.size(); ++r) {
     if (rows[r].size() != rows.front().size())
@@ -250,7 +279,8 @@ std::string csv_table_html(std::string_view csv, const std::string& name) {
                        std::to_string(rows.front().size()) + " cells, found " +
                        std::to_string(rows[r].size()));
     out << "<tr>";
-    for (const auto& cell : rows[r]) {
+    for (size_t c : order) {
+      const std::string& cell = rows[r][c];
       double v = 0;
       const std::string shown = readable_cell(cell);
       const std::string exact = html_escape(cell);

@@ -27,10 +27,19 @@ std::vector<std::vector<std::string>> parse_csv_rows(std::string_view csv);
 /// "–" when empty, any other text as it is.
 std::string readable_cell(const std::string& cell);
 
-/// The CSV as <table id="study-table">: the header row as <th>, one <tr> per CSV row; each
-/// <td> shows readable_cell() and keeps the cell's exact text in data-value (and, when they
-/// differ, in its title). Throws InputError naming `name` on a ragged row.
-std::string csv_table_html(std::string_view csv, const std::string& name);
+/// The CSV as <table id="study-table">: the header row as <th> (each name may wrap after its
+/// underscores), one <tr> per CSV row; each <td> shows readable_cell() and keeps the cell's
+/// exact text in data-value (and, when they differ, in its title). The columns named in
+/// `lead` come first, in that order (the ones a reader compares, visible without scrolling
+/// sideways), then the others in the file's order. Throws InputError naming `name` on a ragged
+/// row.
+std::string csv_table_html(std::string_view csv, const std::string& name,
+                           const std::vector<std::string>& lead = {});
+
+/// The order in which csv_table_html shows the columns of `header`: the indices of the `lead`
+/// names it has, then the rest in order.
+std::vector<size_t> column_order(const std::vector<std::string>& header,
+                                 const std::vector<std::string>& lead);
 
 /// An SVG file's text as an element to inline into a page: the XML prolog, DOCTYPE and
 /// comments before <svg> dropped, every id prefixed with `id_prefix` and every local reference

@@ -32,7 +32,8 @@ code { font: .9em ui-monospace, "DejaVu Sans Mono", monospace; background: #f3f4
 table { border-collapse: collapse; font-size: .85rem; margin: .5rem 0; }
 th, td { border: 1px solid #d0d7de; padding: .2rem .45rem; text-align: left;
          vertical-align: top; }
-th { background: #f6f8fa; position: sticky; top: 0; white-space: nowrap; }
+th { background: #f6f8fa; position: sticky; top: 0; min-width: 3.5em; max-width: 7em;
+     vertical-align: bottom; }
 td.n { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 tbody tr:nth-child(even) { background: #fafbfc; }
 figure { margin: 1.5rem 0; }
@@ -116,8 +117,9 @@ std::string html_page(const HtmlReport& r, const std::string& dir) {
   if (!r.notes_md.empty())
     page << "<section id=\"notes\">\n" << markdown_html(r.notes_md) << "</section>\n";
   page << "<section id=\"table\">\n<h2>Table</h2>\n<p>Every column of " << html_escape(r.csv_name)
+       << (r.lead_columns.empty() ? "" : ", the columns to compare first")
        << "; numbers to 4 significant digits (hover a cell for the file's value).</p>\n"
-       << csv_table_html(r.csv, r.csv_name) << "</section>\n"
+       << csv_table_html(r.csv, r.csv_name, r.lead_columns) << "</section>\n"
        << "<section id=\"charts\">\n<h2>Charts</h2>\n";
   if (r.charts.empty()) page << "<p>This study draws no chart.</p>\n";
   for (const auto& c : r.charts) page << chart_html(c, dir);

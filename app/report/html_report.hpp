@@ -30,6 +30,7 @@ struct HtmlReport {
   std::string csv_name;    ///< the CSV file the table shows, e.g. "compare.csv"
   std::string csv;         ///< that file's text
   std::vector<ReportChart> charts;
+  std::vector<std::string> lead_columns;  ///< the table's first columns (csv_table_html)
 };
 
 /// "2026-11-24 17:43 UTC".

@@ -63,11 +63,12 @@ std::string contact_charts(const std::string& dir, const CsvTable& t, const Unit
   const std::string act_path = dir + "/activation.dat";
   std::ostringstream cmd;
   cmd << "set title 'Contact activation per load step ("
-      << t.rows.size() / std::max<size_t>(1, per_step.size())
-      << " slave nodes)'\nset xlabel " << position_label(axis, u)
+      << t.rows.size() / std::max<size_t>(1, per_step.size()) << " slave nodes)'\nset xlabel "
+      << position_label(axis, u)
       << "\nset ylabel 'load factor'\nset grid\nset key outside bottom center horizontal\n"
-      << "set yrange [0:1.05]\nset cbrange [0:*]\nset palette defined (0 '#fde725', 0.5 '#21918c', "
-         "1 '#440154')\n"
+      // Viridis reversed: the dark end, high pressure, stands out on the white page.
+      << "set yrange [0:1.05]\nset cbrange [0:*]\n"
+      << gp_palette() << "set palette negative\n"
       << "set cblabel "
       << gp_text(any_pressure ? axis_label("contact pressure", u.stress)
                               : axis_label("contact force", u.force))
@@ -166,7 +167,7 @@ std::string residual_chart(const std::string& dir, const CsvTable& t, TraceChart
     if (step != last_step || attempt != last_attempt) {
       if (!titles.empty()) data << "\n\n";
       std::ostringstream title;
-      title << "λ = " << t.number(r, c_lf) << (attempt > 0 ? " (retry)" : "");
+      title << "λ = " << rounded_text(t.number(r, c_lf)) << (attempt > 0 ? " (retry)" : "");
       titles.push_back(title.str());
       last_step = step, last_attempt = attempt, x = 0;
     }

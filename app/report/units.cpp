@@ -1,5 +1,8 @@
 #include "app/report/units.hpp"
 
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <sstream>
 
 namespace c2d::app {
@@ -25,6 +28,16 @@ Units parse_units(const std::string& text) {
       u.force = word;
   }
   return u;
+}
+
+std::string rounded_text(double v, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, v);
+  // Below a million a rounded whole number reads in full: 2000, not 2e+03.
+  const double rounded = std::strtod(text, nullptr);
+  if (std::abs(rounded) >= 1 && std::abs(rounded) < 1e6 && rounded == std::round(rounded))
+    std::snprintf(text, sizeof text, "%.0f", rounded);
+  return text;
 }
 
 }  // namespace c2d::app

@@ -20,4 +20,12 @@ inline std::string axis_label(const std::string& label, const std::string& u) {
   return u.empty() ? label : label + " [" + u + "]";
 }
 
+/// `v` to `digits` significant digits as a reader writes it ("0.739", "214", "2000",
+/// "1.5e-05").
+std::string rounded_text(double v, int digits = 3);
+/// rounded_text with the unit, if named: "214 MPa".
+inline std::string quantity_text(double v, const std::string& u, int digits = 3) {
+  return rounded_text(v, digits) + unit_suffix(u);
+}
+
 }  // namespace c2d::app

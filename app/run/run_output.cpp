@@ -298,7 +298,8 @@ std::string RunOutput::write_charts(const SceneRun& run) {
   // Every thread is joined here; the first chart's error in this order is the one reported.
   std::vector<std::future<std::string>> charts;
   charts.push_back(std::async(std::launch::async, [&] {
-    return chart_deformed_mesh(dir_, run.model, run.results, scene_.units);
+    return chart_deformed_mesh(dir_, run.model, run.results, scene_.units,
+                               scene_.analysis.geometric_nonlinearity);
   }));
   if (run.contact && run.contact_report.has_surface)
     charts.push_back(std::async(std::launch::async, [&] {

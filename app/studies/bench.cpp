@@ -307,7 +307,8 @@ HtmlReport bench_html(const BenchStudy& s, const std::vector<size_t>& missing, c
               b.slopes,
           "bench.csv",
           csv,
-          charts};
+          charts,
+          {}};
 }
 
 /// study.json's options and case keys: what the report needs besides the case folders.

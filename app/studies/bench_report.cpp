@@ -345,7 +345,7 @@ std::string chart_time(const std::string& out, const std::vector<BenchRow>& rows
     const double slope = loglog_slope(x, y);
     plot << (plot.tellp() > 0 ? ", \\\n     " : "plot ") << gp_file(out + "/time_vs_dofs.dat")
          << " index " << block++ << " using 1:2 with linespoints lw 2 pt 7 title "
-         << gp_text(title + " (slope " + rounded(slope) + ")") << " noenhanced";
+         << gp_text(title + " (slope " + rounded(slope) + ")");
   };
   std::map<std::string, std::vector<std::pair<double, double>>> families;
   for (const auto& r : rows)
@@ -396,7 +396,7 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
       data << "\n\n";
       lines << (lines.tellp() > 0 ? ", \\\n     " : "plot ")
             << gp_file(out + "/accuracy_vs_time.dat") << " index " << block++
-            << " using 1:2 with linespoints lw 2 pt 7 title " << gp_text(title) << " noenhanced";
+            << " using 1:2 with linespoints lw 2 pt 7 title " << gp_text(title);
     };
     for (const auto& m : constraints::method_names()) {
       std::vector<std::pair<double, double>> pts;
@@ -416,7 +416,7 @@ std::string chart_accuracy(const std::string& out, const std::vector<BenchRow>& 
       line(std::string(ladder) + " ladder " + el + " (lagrange, point-graded mesh)", pts);
     }
     if (lines.tellp() > 0)
-      panels << "set title " << gp_text(scene) << " noenhanced\n" << lines.str() << "\n", ++count;
+      panels << "set title " << gp_text(scene) << "\n" << lines.str() << "\n", ++count;
   }
   ReportChart chart{"accuracy_vs_time", "accuracy against time",
                     "no converged run on the time-to-accuracy scenes to draw"};

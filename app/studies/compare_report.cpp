@@ -288,6 +288,21 @@ HtmlReport compare_html(const CompareStudy& s, const std::vector<size_t>& missin
                orders_md(s) + (s.hertz ? kFitNote : "");
   h.csv_name = "compare.csv";
   h.csv = compare_csv(s.rows);
+  // What a reader compares first: each case's errors against the reference, then its times;
+  // the status (long when a run failed) and the raw figures after.
+  h.lead_columns = {"level",
+                    "method",
+                    "dofs",
+                    "error_p_max",
+                    "error_contact_length",
+                    "error_profile_l2",
+                    "error_fit_p0",
+                    "error_fit_b",
+                    "error_stick_length",
+                    "error_shear_profile_l2",
+                    "time_solve",
+                    "time_total",
+                    "status"};
   h.charts = charts;
   return h;
 }
@@ -298,8 +313,8 @@ std::string chart_commands_accuracy(const CompareStudy& s, std::string& data_tex
   plot << "set title "
        << gp_text("Accuracy against solve time (" + metric_name(s) +
                   "; one point per refinement level)")
-       << " noenhanced\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(s))
-       << " noenhanced\nset logscale xy\nset grid\nset key outside right\nplot ";
+       << "\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(s))
+       << "\nset logscale xy\nset grid\nset key outside right\nplot ";
   for (const auto& m : s.methods) {
     std::ostringstream block_data;
     int points = 0;
@@ -312,7 +327,7 @@ std::string chart_commands_accuracy(const CompareStudy& s, std::string& data_tex
     if (!points) continue;
     data << block_data.str() << "\n\n";
     plot << (block ? ", \\\n     " : "") << gp_file(s.out + "/accuracy.dat") << " index " << block
-         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
+         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m);
     ++block;
   }
   if (!block) return "";
@@ -374,7 +389,7 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest,
     const std::string path = s.out + "/profile_" + r.method + ".dat";
     files.push_back({path, d.str()});
     plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt " << 4 + n
-         << " ps 0.7 title " << gp_text(r.method) << " noenhanced";
+         << " ps 0.7 title " << gp_text(r.method);
     ++n;
   }
   if (s.hertz) {
@@ -396,7 +411,9 @@ std::string chart_penetration(const CompareStudy& s, std::vector<ReportChart>& c
           "1e-20)'\n"
        << "set xlabel 'refinement level'\nset ylabel "
        << gp_text(axis_label("max penetration", parse_units(s.units).length)) << "\nset logscale y\n"
-       << "set format y '10^{%L}'\nset grid\nset key outside right\nset xtics 1\nplot ";
+       << "set format y '10^{%L}'\nset grid\nset key outside right\nset xtics 1\n"
+       // Half a level either side: the first and last levels' points clear of the border.
+       << "set xrange [-0.5:" << s.levels - 0.5 << "]\nplot ";
   for (const auto& m : s.methods) {
     std::ostringstream block;
     int points = 0;
@@ -406,7 +423,7 @@ std::string chart_penetration(const CompareStudy& s, std::vector<ReportChart>& c
     if (!points) continue;
     d << block.str() << "\n\n";
     plot << (n ? ", \\\n     " : "") << gp_file(s.out + "/penetration.dat") << " index " << n
-         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m) << " noenhanced";
+         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m);
     ++n;
   }
   plot << "\n";

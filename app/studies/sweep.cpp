@@ -67,6 +67,17 @@ std::vector<double> parse_range(const std::string& spec, const std::string& wher
   return values;
 }
 
+std::pair<double, double> sweep_x_range(std::vector<double> values, double seed_k, bool log_x) {
+  if (std::isfinite(seed_k)) values.push_back(seed_k);
+  if (values.empty()) return {std::nan(""), std::nan("")};
+  const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+  if (log_x)
+    return {std::pow(10.0, std::floor(std::log10(*lo) - 0.1)),
+            std::pow(10.0, std::ceil(std::log10(*hi) + 0.1))};
+  const double margin = 0.05 * (*hi > *lo ? *hi - *lo : std::max(std::abs(*lo), 1.0));
+  return {*lo - margin, *hi + margin};
+}
+
 namespace {
 
 std::string cell(double v) { return csv_number(v); }
@@ -342,9 +353,11 @@ double plotted_metric(const SweepStudy& s, const SweepRow& r) {
   return s.metric.reference ? std::max(std::abs(r.metric), 1e-12) : r.metric;
 }
 
-/// sweep.png/svg: five panels against the swept value (the metric's with the baseline as a
-/// black dashed line), failed values as red dashed lines; nothing when no value converged.
-/// Returns "" or the chart's failure; `drawn` says whether there was anything to draw.
+/// sweep.png/svg: five panels against the swept value (the x range of sweep_x_range; the
+/// metric's with the baseline as a black dashed line), failed values as red dashed lines, the
+/// seed rule's k as a blue dotted one (told apart by their dashes too, for a reader who does
+/// not see red from green); nothing when no value converged. Returns "" or the chart's
+/// failure; `drawn` says whether there was anything to draw.
 std::string chart_sweep(const SweepStudy& s, const SeedRule& seed, bool& drawn) {
   const std::string& key = s.key;
   const std::vector<SweepRow>& rows = s.rows;
@@ -363,26 +376,31 @@ std::string chart_sweep(const SweepStudy& s, const SeedRule& seed, bool& drawn) 
   }
   const bool baseline = s.baseline.converged() && std::isfinite(s.baseline.metric);
   const std::string data_path = s.out + "/sweep.dat";
+  std::vector<double> swept;
+  for (const auto& r : rows)
+    if (r.done) swept.push_back(r.value);
+  const auto [x_lo, x_hi] = sweep_x_range(swept, seed.shown ? seed.k : std::nan(""), log_x);
   std::ostringstream plot;
-  plot << "set multiplot layout 3,2 title "
-       << gp_text(key + " sweep (red: not converged" +
-                  (seed.shown ? "; green: the seed rule 1e4 max|K_ij|" : "") +
-                  (baseline ? "; black: " + s.baseline_method + " on the same mesh" : "") + ")")
-       << " noenhanced\nset grid\nunset key\n"
-       << (log_x ? "set logscale x\n" : "") << "set format x '10^{%L}'\n";
+  plot << std::setprecision(12) << "set multiplot layout 3,2 title "
+       << gp_text(key + " sweep (red dashed: not converged" +
+                  (seed.shown ? "; blue dotted: the seed rule 1e4 max|K_ij|" : "") +
+                  (baseline ? "; black dashed: " + s.baseline_method + " on the same mesh" : "") +
+                  ")")
+       << "\nset grid\nunset key\n"
+       << (log_x ? "set logscale x\nset format x '10^{%L}'\n" : "set format x '%g'\n")
+       << "set xrange [" << x_lo << ":" << x_hi << "]\n";
   for (const auto& r : rows)
     if (r.done && !r.converged())
       plot << "set arrow from " << r.value << ", graph 0 to " << r.value
-           << ", graph 1 nohead lc rgb 'red' dt 2 lw 1.5\n";
+           << ", graph 1 nohead lc rgb '#d55e00' dt 2 lw 1.5\n";
   if (seed.shown)
     plot << "set arrow from " << seed.k << ", graph 0 to " << seed.k
-         << ", graph 1 nohead lc rgb '#1a9850' dt 3 lw 1.5\n";
+         << ", graph 1 nohead lc rgb '#0072b2' dt 3 lw 2\n";
   auto panel = [&](int col, const std::string& label, bool log_y) {
     plot << (log_y ? "set logscale y\nset format y '10^{%L}'\n"
                    : "unset logscale y\nset format y '%g'\n")
-         << "set xlabel " << gp_text(key) << " noenhanced\nset ylabel " << gp_text(label)
-         << " noenhanced\nplot " << gp_file(data_path) << " using 1:" << col
-         << " with linespoints pt 7 lw 2\n";
+         << "set xlabel " << gp_text(key) << "\nset ylabel " << gp_text(label) << "\nplot "
+         << gp_file(data_path) << " using 1:" << col << " with linespoints pt 7 lw 2\n";
   };
   if (has_metric) {
     if (baseline)  // tag 100: this panel's only
@@ -512,7 +530,7 @@ int report_sweep(const SweepStudy& s, const std::vector<size_t>& missing, bool q
                               sweep_table(s) +
                               (chart.written() ? "\n" + markdown_images({chart}) : ""));
   write_html_report(s.out, "sweep.html",
-                    {title, "", timing, verdict, unfinished, "sweep.csv", csv, {chart}});
+                    {title, "", timing, verdict, unfinished, "sweep.csv", csv, {chart}, {}});
   if (!quiet) {
     std::cout << "\n"
               << verdict << "\n\n"

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "app/studies/study.hpp"
@@ -19,6 +20,12 @@ struct SweepOptions : StudyOptions {
 /// The values of a range spec (a:b:log:n, a:b:lin:n or a comma list); throws InputError naming
 /// `where` on a malformed spec.
 std::vector<double> parse_range(const std::string& spec, const std::string& where);
+
+/// The x range the sweep chart's panels share: every value swept (converged or not) and the
+/// seed rule's k (NaN: none) inside it with a margin (on a log axis out to the next whole
+/// decades, a tenth of one at least; on a linear one 5 % of the span), so that the markers of
+/// failed values and of the seed rule are drawn within the axes, not beside them.
+std::pair<double, double> sweep_x_range(std::vector<double> values, double seed_k, bool log_x);
 
 /// `contact2d sweep`: writes the study's job list and manifest (job_list.hpp), then, unless
 /// o.job_list, runs the cases and writes sweep.csv, sweep.md and sweep.png/svg (p_max error,

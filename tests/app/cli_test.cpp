@@ -6,6 +6,7 @@
 #include "app/report/field_plot.hpp"
 #include "app/process.hpp"
 #include "app/studies/study.hpp"
+#include "app/studies/sweep.hpp"
 #include "app/report/hertz.hpp"
 #include "app/report/csv_table.hpp"
 #include "constraints/method_registry.hpp"
@@ -993,6 +994,45 @@ TEST(Cli, RunChartsLabelAxesWithTheSceneUnits) {
   EXPECT_NE(pressure.find("x [mm]"), std::string::npos);
   EXPECT_NE(deformed.find("y [mm]"), std::string::npos);
   EXPECT_NE(deformed.find("von Mises [MPa]"), std::string::npos);
+  // Issue 35, item 5: a small-strain run's magnification is a round number, said as drawn
+  // (8 % of the model over a largest displacement of 0.0221 mm is 2560: drawn at 2000).
+  EXPECT_NE(deformed.find("Deformed mesh (displacements ×2000), coloured by von Mises"),
+            std::string::npos);
+}
+
+// Issue 35, item 5: a finite-strain run (elastica: a tip deflection half the beam's length) is
+// drawn at true scale; before, its deformed.png shrank the displacements (x 0.162).
+TEST(Cli, FiniteStrainRunIsDrawnAtTrueScale) {
+  const fs::path out = fs::temp_directory_path() / "c2d_cli_true_scale";
+  fs::remove_all(out);
+  ASSERT_EQ(run("run " + example("elastica.toml") + " --out " + out.string() + " --quiet"), 0);
+  std::ifstream in(out / "deformed.svg");
+  std::stringstream svg;
+  svg << in.rdbuf();
+  EXPECT_NE(svg.str().find(">Deformed mesh (true scale, finite strain), coloured by von Mises "
+                           "(smoothed)</tspan>"),
+            std::string::npos);
+  EXPECT_EQ(svg.str().find("displacements x"), std::string::npos);
+  fs::remove_all(out);
+}
+
+// Issue 35, item 4: the sweep chart's x range holds every value swept (the failed ones drawn
+// as red lines) and the seed rule's k, so that none of their markers falls beside the axes.
+TEST(Studies, SweepChartRangeHoldsEveryMarker) {
+  // The values of a sweep whose ends failed, the seed's k between: whole decades beyond them.
+  const std::vector<double> values = {1e-6, 10.0, 1e5, 1e9, 1e13, 1e30};
+  const auto [lo, hi] = c2d::app::sweep_x_range(values, 1.6073992e10, true);
+  EXPECT_DOUBLE_EQ(lo, 1e-7);
+  EXPECT_DOUBLE_EQ(hi, 1e31);
+  // A seed rule outside the values swept widens the range to it.
+  const auto [lo2, hi2] = c2d::app::sweep_x_range({1e3, 1e5}, 3e8, true);
+  EXPECT_DOUBLE_EQ(lo2, 100.0);
+  EXPECT_DOUBLE_EQ(hi2, 1e9);
+  EXPECT_LT(3e8, hi2);
+  // Linear: 5 % of the span either side.
+  const auto [lo3, hi3] = c2d::app::sweep_x_range({1.0, 2.0, 3.0}, std::nan(""), false);
+  EXPECT_DOUBLE_EQ(lo3, 0.9);
+  EXPECT_DOUBLE_EQ(hi3, 3.1);
 }
 
 // A study's cases get cores / jobs threads for BLAS and OpenMP through their environment (issue

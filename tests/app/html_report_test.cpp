@@ -72,6 +72,27 @@ TEST(HtmlReport, MarkdownSubsetKeepsDataAsText) {
   EXPECT_EQ(html.find("<script"), std::string::npos);
 }
 
+// Issue 35, item 6: the columns a reader compares come first (compare.html's error columns
+// were the 18th to 29th, off the screen to the right), the rest after in the file's order, and
+// header names wrap after their underscores.
+TEST(HtmlReport, LeadColumnsFirstAndHeadersWrap) {
+  const std::vector<std::string> header = {"level", "method", "status", "p_max", "error_p_max"};
+  EXPECT_EQ(column_order(header, {"level", "error_p_max", "absent", "method"}),
+            (std::vector<size_t>{0, 4, 1, 2, 3}));
+  EXPECT_EQ(column_order(header, {}), (std::vector<size_t>{0, 1, 2, 3, 4}));
+  const std::string table =
+      csv_table_html("level,method,status,p_max,error_p_max\n0,ssn,converged,383.3,0.00072\n",
+                     "c.csv", {"level", "error_p_max"});
+  EXPECT_NE(table.find("<tr><th>level</th><th>error_<wbr>p_<wbr>max</th><th>method</th>"
+                       "<th>status</th><th>p_<wbr>max</th></tr>"),
+            std::string::npos)
+      << table;
+  EXPECT_NE(table.find("<tr><td class=\"n\" data-value=\"0\">0</td><td class=\"n\" "
+                       "data-value=\"0.00072\">0.00072</td><td data-value=\"ssn\">ssn</td>"),
+            std::string::npos)
+      << table;
+}
+
 TEST(HtmlReport, CsvCellsParseWithQuotesAndReadBackWithinTheirPrecision) {
   const auto rows = parse_csv_rows("a,b,c\n1,\"x, \"\"y\"\"\",\n\n2,,3\n");
   ASSERT_EQ(rows.size(), 3u);
@@ -145,7 +166,7 @@ TEST(HtmlReport, PageHoldsTheCsvRowsAndOneSvgPerChartWritten) {
   const size_t body = page.find("<tbody>"), body_end = page.find("</tbody>");
   ASSERT_NE(body, std::string::npos);
   EXPECT_EQ(count(page.substr(body, body_end - body), "<tr>"), 3u);
-  EXPECT_NE(page.find("<th>level</th><th>method</th><th>status</th><th>p_max</th>"),
+  EXPECT_NE(page.find("<th>level</th><th>method</th><th>status</th><th>p_<wbr>max</th>"),
             std::string::npos);
   EXPECT_NE(page.find("data-value=\"384.89572123\" title=\"384.89572123\">384.9</td>"),
             std::string::npos);
