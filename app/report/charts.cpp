@@ -9,6 +9,8 @@
 #include <optional>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
 #include "app/report/field_plot.hpp"
 #include "app/report/gnuplot.hpp"
 #include "app/report/hertz.hpp"
@@ -69,6 +71,21 @@ std::string chart_contact_pressure(const std::string& dir, const constraints::Co
   return plot_with_data(dir, "pressure", cmd.str(), {{data_path, data.str()}});
 }
 
+// A model much wider than tall drawn at equal scale left the plot a strip, too low for its
+// colour bar's ticks (slender_floor, spring_chain: labels over each other).
+std::string slender_window(const Eigen::AlignedBox2d& box) {
+  if (box.isEmpty()) return "";
+  const Vec2 size = box.sizes();
+  constexpr double kLowest = 1.0 / 3.0;  // height / width of the plotted window, at least
+  if (!(size.x() > 0) || size.y() >= kLowest * size.x()) return "";
+  const double pad = 0.02 * size.x(), half = 0.5 * kLowest * (size.x() + 2 * pad);
+  const double cy = box.center().y();
+  std::ostringstream os;
+  os << std::setprecision(10) << "set xrange [" << box.min().x() - pad << ":"
+     << box.max().x() + pad << "]\nset yrange [" << cy - half << ":" << cy + half << "]\n";
+  return os.str();
+}
+
 std::string chart_deformed_mesh(const std::string& dir, const core::Model& model,
                                 const core::Results& r, const std::string& units,
                                 bool finite_strain) {
@@ -78,12 +95,15 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
   // One filled triangle per element (corner nodes) coloured by element-average von Mises.
   std::ostringstream data;
   data << std::setprecision(9);
+  Eigen::AlignedBox2d box;  // of the drawn points, deformed and undeformed
   for (int e = 0; e < mesh.num_elements(); ++e) {
     double vm = 0;
     for (int i = 0; i < 3; ++i) vm += core::nodal_quantity(model, r, "vm", mesh.elements[e][i]) / 3;
     for (int k = 0; k <= 3; ++k) {
       const int n = mesh.elements[e][k % 3];
       const c2d::Vec2 p = mesh.nodes[n] + scale * r.displacement.segment<2>(2 * n);
+      box.extend(p);
+      box.extend(mesh.nodes[n]);
       data << p.x() << ' ' << p.y() << ' ' << vm << '\n';
     }
     data << "\n";
@@ -96,7 +116,7 @@ std::string chart_deformed_mesh(const std::string& dir, const core::Model& model
   const std::string data_path = dir + "/deformed.dat", outline_path = dir + "/outline.dat";
   const Units u = parse_units(units);
   const std::string commands =
-      "set size ratio -1\nset title " +
+      "set size ratio -1\n" + slender_window(box) + "set title " +
       gp_text("Deformed mesh (" + deformation_text(scale) +
               (finite_strain ? ", finite strain" : "") + "), coloured by von Mises (smoothed)") +
       "\n" + gp_palette() + "set cbrange [*:*]\nset format cb '%g'\nunset key\nset xlabel " +

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include <Eigen/Geometry>
+
 #include "constraints/contact_detection.hpp"
 #include "constraints/contact_set.hpp"
 #include "core/model.hpp"
@@ -15,6 +17,11 @@ namespace c2d::app {
 /// reference gives p_max and contact_length. Writes DIR/pressure.png and .svg.
 std::string chart_contact_pressure(const std::string& dir, const constraints::ContactReport& c,
                                    const core::Scene& scene);
+
+/// The window of the deformed mesh: for a model wider than three times its height (its box,
+/// deformed and undeformed), x and y ranges that widen y about it to a third of the width, so
+/// that the equal-scale plot keeps room for its colour bar's ticks; "" for other shapes.
+std::string slender_window(const Eigen::AlignedBox2d& box);
 
 /// Deformed mesh over the undeformed outline, coloured by smoothed von Mises: at true scale for
 /// finite strain (`finite_strain`, the scene's geometric nonlinearity), else magnified by

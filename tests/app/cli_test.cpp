@@ -1,6 +1,7 @@
 // End to end through the executable: exit codes, summary.json, VTU consistency.
 #include <gtest/gtest.h>
 
+#include "app/report/charts.hpp"
 #include "app/report/summary.hpp"
 #include "app/report/units.hpp"
 #include "app/report/field_plot.hpp"
@@ -24,6 +25,7 @@
 #include <regex>
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <sstream>
 #include <thread>
@@ -1014,6 +1016,24 @@ TEST(Cli, FiniteStrainRunIsDrawnAtTrueScale) {
             std::string::npos);
   EXPECT_EQ(svg.str().find("displacements x"), std::string::npos);
   fs::remove_all(out);
+}
+
+// A slender model (slender_floor: 12 wide, 1.3 tall) keeps a window a third as tall as it is
+// wide, centred on it, so the colour bar beside the equal-scale plot has room for its ticks; a
+// compact one keeps gnuplot's own ranges.
+TEST(Charts, SlenderModelsGetAWindowTallEnoughForTheColourBar) {
+  const Eigen::AlignedBox2d slender(c2d::Vec2(0.0, -1.0), c2d::Vec2(12.0, 0.3));
+  const std::string w = c2d::app::slender_window(slender);
+  double x0, x1, y0, y1;
+  ASSERT_EQ(std::sscanf(w.c_str(), "set xrange [%lf:%lf]\nset yrange [%lf:%lf]", &x0, &x1, &y0, &y1),
+            4)
+      << w;
+  EXPECT_NEAR(x0, -0.24, 1e-12);  // 2 % of the width either side
+  EXPECT_NEAR(x1, 12.24, 1e-12);
+  EXPECT_NEAR((y1 - y0) / (x1 - x0), 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(0.5 * (y0 + y1), -0.35, 1e-12);
+  EXPECT_EQ(c2d::app::slender_window(Eigen::AlignedBox2d(c2d::Vec2(0, 0), c2d::Vec2(2, 1))), "");
+  EXPECT_EQ(c2d::app::slender_window(Eigen::AlignedBox2d()), "");
 }
 
 // Issue 35, item 4: the sweep chart's x range holds every value swept (the failed ones drawn
