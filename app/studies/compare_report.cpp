@@ -366,7 +366,8 @@ std::string chart_pressure_profiles(const CompareStudy& s, int finest,
   std::ostringstream plot;
   plot << "set title 'Contact pressure, level " << finest
        << " (finest), every method'\nset xlabel "
-       << gp_text(axis_label("x or y, the coordinate the contact spreads along", parse_units(s.units).length))
+       << gp_text(axis_label("x or y, the coordinate the contact spreads along",
+                             parse_units(s.units).length))
        << "\nset ylabel " << gp_text(axis_label("pressure", parse_units(s.units).stress))
        << "\nset grid\nset key top right\n";
   if (s.hertz) {
