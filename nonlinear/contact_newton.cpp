@@ -24,7 +24,8 @@ ConstrainedStep::ConstrainedStep(StructuralSystem& system, const ContactSet& con
       u_(in.u_free),
       previous_(strategy.history().states),
       force_by_slot_(contact.num_slots(), 0.0),
-      slip_origin_(contact.num_slots()) {
+      slip_origin_(contact.num_slots()),
+      step_decrease_(in.strict || !strategy.exact() ? kStrictStepDecrease : kStepDecrease) {
   previous_.resize(contact.num_slots(), 0);
   // The step's starting set belongs to the last converged state, not to this step: a set
   // that returns to it (the predictor closed a row that the corrected state opens again) is
@@ -120,6 +121,14 @@ bool ConstrainedStep::iterate(int outer) {
     out_.fallback = fallback_->name();
     if (!solve_method(qp, c, it, s, next)) return false;
     change = sets_.record(next);
+  }
+  // A cycle under the lenient step acceptance: the step goes on with the strict one, its sets
+  // followed afresh from here (a cycle under the strict acceptance ends the step).
+  if (change.repeated && step_decrease_ > kStrictStepDecrease) {
+    step_decrease_ = kStrictStepDecrease;
+    sets_.reset();
+    sets_.follow(next);
+    change = ActiveSetTracker::Change{};
   }
   const bool same_set = change.unchanged;
   if (change.repeated) {

@@ -65,6 +65,9 @@ struct ContactStepInput {
   NewtonOptions newton; ///< tolerance and limits; the residual scale is set per step
   double floor_scale = 0.0;  ///< smallest residual scale (stress-free, displacement-driven)
   int max_outer = 15;
+  /// Every method step continued until it divides the residual by ten (the retry of an attempt
+  /// whose sets cycled), instead of kept once it reduces it (constrained_step.hpp).
+  bool strict = false;
 };
 
 /// The strategy's own work over a step's outer iterations: its iteration records (numbered on),

@@ -96,7 +96,7 @@ bool ConstrainedStep::hold_set(const ConstrainedProblem& qp0, const VecX& c0,
     // point, a penalty raised or augmented many times) is not asked again for a step
     // Newton with the set held can finish: it is asked only to confirm.
     const bool cheap = s0.factorizations <= kCheapStrategy;
-    if (reached || (cheap && std::isfinite(norm) && norm <= kStepDecrease * last_norm_)) {
+    if (reached || (cheap && std::isfinite(norm) && norm <= step_decrease_ * last_norm_)) {
       it.newton = NewtonReport{};  // the method's step as one Newton iteration
       it.newton.status = SolveStatus::kConverged;
       it.newton.iterations = 1;
@@ -105,7 +105,7 @@ bool ConstrainedStep::hold_set(const ConstrainedProblem& qp0, const VecX& c0,
       it.newton.last_step = inf_norm(s.u);
       add_newton(it);
     } else if (!newton_with_set_held(sys, x, newton, it, true, !continued_,
-                                     cheap ? kStepDecrease * last_norm_ : 0.0)) {
+                                     cheap ? step_decrease_ * last_norm_ : 0.0)) {
       return false;
     } else {
       satisfied_now = it.newton.status == SolveStatus::kConverged &&

@@ -92,6 +92,9 @@ class LoadStepper {
     if (ok) accept(target, trial, cstep, rec);
     else if (rec.newton.status == SolveStatus::kIllConditioned)
       give_up = true;  // a penalty beyond what double precision resolves: no step size cures it
+    else if (rec.newton.status == SolveStatus::kCycling && with_contact_ && !strict_ &&
+             strategy_->exact())  // (a regularised method's steps are strict already)
+      strict_ = true;  // the same increment again, each method step taken further (below)
     else if (increment_ > smallest_ * (1 + 1e-9)) cut_back();
     else give_up = true;  // the smallest increment failed
     rec.step = converged_steps_;
@@ -131,6 +134,10 @@ class LoadStepper {
       in.newton = options_.newton;
       in.newton.residual_scale = load_scale;
       in.floor_scale = floor_scale_;
+      // A method's sets decided from states far from the solution can cycle (a penalised
+      // frictional first touch); once they have, the attempt is made again with every method
+      // step continued by Newton until it divides the residual by ten (ContactStepInput::strict).
+      in.strict = strict_;
       cstep = solve_contact_step(system_, *contact_, *strategy_, in);
       add_totals(cstep);
       rec.newton = cstep.newton;
@@ -179,6 +186,7 @@ class LoadStepper {
 
   void accept(double target, const VecX& trial, const ContactStepResult& cstep, StepRecord& rec) {
     if (target >= inverted_lambda_) inverted_at_.clear();
+    strict_ = false;
     ++converged_steps_;
     u_free_ = trial;
     u_prev_full_ = system_.full(u_free_);
@@ -347,6 +355,7 @@ class LoadStepper {
   double increment_;
   long attempts_ = 0;
   int converged_steps_ = 0, cutbacks_ = 0;
+  bool strict_ = false;  ///< the next attempt repeats one whose sets cycled (attempt())
   int easy_in_a_row_ = 0;  ///< converged steps in a row that took at most 4 Newton iterations
 };
 
