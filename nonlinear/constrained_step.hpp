@@ -115,8 +115,9 @@ class ConstrainedStep {
   /// (90 runs): lagrange and ssn 707 -> 559 factorisations, ipopt 882 -> 734 against 0.1.
   static constexpr double kStepDecrease = 0.9;
   /// The regularised methods' (their sets decided at a far state cycled at a penalised
-  /// frictional first touch, and T3 slides were cut back), and any method's after its sets
-  /// cycled within the step: each step must divide the residual by ten.
+  /// frictional first touch, and T3 slides were cut back), and any method's in the attempt the
+  /// load stepper makes again after one whose sets cycled (ContactStepInput::strict): each
+  /// step must divide the residual by ten.
   static constexpr double kStrictStepDecrease = 0.1;
   /// Factorisations a strategy's solve may cost for its step to be kept that way.
   static constexpr int kCheapStrategy = 2;
@@ -132,7 +133,7 @@ class ConstrainedStep {
   std::vector<double> force_by_slot_;  ///< the last solve's row forces
   VecX tangent_by_slot_;               ///< friction: the held state's friction forces
   SlipOrigin slip_origin_;             ///< friction: where each row's slip starts in the step
-  double step_decrease_;  ///< kStepDecrease, or kStrictStepDecrease (in.strict, or after a cycle)
+  const double step_decrease_;  ///< kStepDecrease, or kStrictStepDecrease (in.strict, regularised)
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far
   bool continued_ = false;             ///< a held solve that did not converge handed its state on

@@ -122,14 +122,6 @@ bool ConstrainedStep::iterate(int outer) {
     if (!solve_method(qp, c, it, s, next)) return false;
     change = sets_.record(next);
   }
-  // A cycle under the lenient step acceptance: the step goes on with the strict one, its sets
-  // followed afresh from here (a cycle under the strict acceptance ends the step).
-  if (change.repeated && step_decrease_ > kStrictStepDecrease) {
-    step_decrease_ = kStrictStepDecrease;
-    sets_.reset();
-    sets_.follow(next);
-    change = ActiveSetTracker::Change{};
-  }
   const bool same_set = change.unchanged;
   if (change.repeated) {
     out_.iterations.push_back(it);
