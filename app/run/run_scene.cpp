@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <optional>
 #include <utility>
 
 #include "app/report/summary.hpp"
