@@ -134,3 +134,58 @@ TEST(TailCholesky, IndefiniteMatrixSolvesAndASingularOneIsNamed) {
   for (int j : {4, 6, 5 + kSide}) z.coeffRef(5, j) = z.coeffRef(j, 5) = 0.0;
   EXPECT_EQ(f.factorize(z, edge()), SolveStatus::kSingular);
 }
+
+// The run's factor cache (TailFactorCache): a second TailCholesky asked for the same matrix gets
+// the first one's factor back (no numeric factorisation, the same solution to the last bit);
+// one asked for new values on the same pattern reuses the analysis (no symbolic analysis, the
+// solution of the new matrix to 1e-12); a different pattern with the same number of non-zeros
+// is analysed anew and solves its own matrix (the test that caught comparing counts only).
+TEST(TailCholesky, CacheHandsBackTheFactorOfTheSameMatrixAndTheAnalysisOfTheSamePattern) {
+  const int n = kSide * kSide;
+  VecX b(n);
+  for (int i = 0; i < n; ++i) b[i] = std::sin(0.07 * i) + 0.3;
+  auto solve = [&](core::TailCholesky& f, VecX& x) {
+    VecX w;
+    ASSERT_EQ(f.forward(b, w), SolveStatus::kConverged);
+    ASSERT_EQ(f.backward(w, x), SolveStatus::kConverged);
+  };
+  auto cache = std::make_shared<core::TailFactorCache>();
+  const SpMat k = laplacian(0.1);
+  VecX x1, x2, x3, x4;
+  core::TailCholesky first;
+  first.set_cache(cache);
+  ASSERT_EQ(first.factorize(k, edge()), SolveStatus::kConverged);
+  solve(first, x1);
+  EXPECT_EQ(first.report().numeric_factorizations, 1);
+
+  core::TailCholesky again;
+  again.set_cache(cache);
+  ASSERT_EQ(again.factorize(k, edge()), SolveStatus::kConverged);
+  EXPECT_EQ(again.report().numeric_factorizations, 0);
+  EXPECT_EQ(again.report().reused_factors, 1);
+  solve(again, x2);
+  EXPECT_EQ((x2 - x1).cwiseAbs().maxCoeff(), 0.0);
+
+  const SpMat k2 = laplacian(0.7);  // the same pattern, other values
+  core::TailCholesky values;
+  values.set_cache(cache);
+  ASSERT_EQ(values.factorize(k2, edge()), SolveStatus::kConverged);
+  EXPECT_EQ(values.report().symbolic_analyses, 0);
+  EXPECT_EQ(values.report().numeric_factorizations, 1);
+  solve(values, x3);
+  EXPECT_LT((k2 * x3 - b).norm(), 1e-12 * b.norm());
+
+  // The same count of non-zeros in other places: one coupling moved.
+  SpMat k3 = laplacian(0.7);
+  k3.coeffRef(0, 1) = k3.coeffRef(1, 0) = 0.0;
+  k3.prune(0.0);
+  k3.coeffRef(0, 2) = k3.coeffRef(2, 0) = -1.0;
+  k3.makeCompressed();
+  ASSERT_EQ(k3.nonZeros(), k2.nonZeros());
+  core::TailCholesky moved;
+  moved.set_cache(cache);
+  ASSERT_EQ(moved.factorize(k3, edge()), SolveStatus::kConverged);
+  EXPECT_EQ(moved.report().symbolic_analyses, 1);
+  solve(moved, x4);
+  EXPECT_LT((k3 * x4 - b).norm(), 1e-12 * b.norm());
+}
