@@ -313,26 +313,44 @@ void draw_isobands(const VtuData& vtu, const std::vector<Vec2>& x, const FieldVa
   const int levels = scale.bands;
   lo = scale.lo;
   const double step = scale.band;
-  for (size_t c = 0; c < vtu.cells.size(); ++c)
+  auto band_of = [&](double v) {
+    // Values outside the range (nodes beyond the window) fall into the end bands.
+    return std::clamp(static_cast<int>(std::floor((v - lo) / step)), 0, levels - 1);
+  };
+  auto write_polygon = [&](const std::vector<Vec2>& poly, int k) {
+    for (size_t i = 0; i <= poly.size(); ++i)
+      data << poly[i % poly.size()].x() << ' ' << poly[i % poly.size()].y() << ' '
+           << lo + (k + 0.5) * step << '\n';
+    data << '\n';
+  };
+  for (size_t c = 0; c < vtu.cells.size(); ++c) {
+    // A cell within one band is one polygon, its outline (a quadratic cell's six nodes), not a
+    // polygon per sub-triangle: a fine mesh's chart draws and files a quarter of the shapes.
+    const auto& n = vtu.cells[c];
+    if (vtu.order == 2 && n.size() == 6) {
+      std::array<Vec2, 3> corners = {x[n[0]], x[n[1]], x[n[2]]};
+      int k = band_of(value(n[0]));
+      bool one_band = overlaps(corners, o.zoom);
+      for (int i = 1; i < 6 && one_band; ++i) one_band = band_of(value(n[i])) == k;
+      if (one_band) {
+        write_polygon({x[n[0]], x[n[3]], x[n[1]], x[n[4]], x[n[2]], x[n[5]]}, k);
+        continue;
+      }
+    }
     for (const auto& t : sub_triangles(vtu, static_cast<int>(c))) {
       const std::array<Vec2, 3> p = {x[t[0]], x[t[1]], x[t[2]]};
       if (!overlaps(p, o.zoom)) continue;
       const std::array<double, 3> v = {value(t[0]), value(t[1]), value(t[2])};
-      const double vmin = std::min({v[0], v[1], v[2]}), vmax = std::max({v[0], v[1], v[2]});
-      // Values outside the range (nodes beyond the window) fall into the end bands.
-      const int k0 = std::clamp(static_cast<int>(std::floor((vmin - lo) / step)), 0, levels - 1);
-      const int k1 = std::clamp(static_cast<int>(std::floor((vmax - lo) / step)), 0, levels - 1);
+      const int k0 = band_of(std::min({v[0], v[1], v[2]}));
+      const int k1 = band_of(std::max({v[0], v[1], v[2]}));
       for (int k = k0; k <= k1; ++k) {
         const double b0 = k == 0 ? -1e300 : lo + k * step,
                      b1 = k == levels - 1 ? 1e300 : lo + (k + 1) * step;
         const auto poly = clip_band(p, v, b0, b1);
-        if (poly.empty()) continue;
-        for (size_t i = 0; i <= poly.size(); ++i)
-          data << poly[i % poly.size()].x() << ' ' << poly[i % poly.size()].y() << ' '
-               << lo + (k + 0.5) * step << '\n';
-        data << '\n';
+        if (!poly.empty()) write_polygon(poly, k);
       }
     }
+  }
   const std::string unit = field_unit(o, *value.def);
   cmd << "set title "
       << gp_text(title.head + ": " + rounded_text(sum.min) + " to " + quantity_text(sum.max, unit) +
