@@ -21,10 +21,6 @@
 #include "core/spd_solver.hpp"
 #include "core/types.hpp"
 
-namespace c2d::core {
-class TailFactorCache;
-}
-
 namespace c2d::constraints {
 
 struct ConstrainedProblem {
@@ -77,10 +73,6 @@ struct ConstrainedProblem {
   /// Optional fill-reducing elimination order of the n unknowns (core/fill_ordering.hpp, from
   /// the mesh); null or another size: CHOLMOD orders the matrices itself.
   std::shared_ptr<const core::FillOrder> ordering;
-  /// Optional: the run's last surface-last factor (core/tail_cholesky.hpp), handed back to a
-  /// solve that poses the same K with the same surface (a linear run's outer iterations, a
-  /// modified-Newton iterate) instead of factorised again; null: every solve factorises.
-  std::shared_ptr<core::TailFactorCache> factor_cache;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.

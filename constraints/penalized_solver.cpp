@@ -22,7 +22,7 @@ bool PenalizedSolver::surface_ready() {
   for (int j = 0; j < me; ++j) eq[j] = j;
   std::vector<std::vector<int>> groups(m);
   for (int i = 0; i < m; ++i) groups[i] = {me + i};
-  surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, p_.factor_cache, eq, std::move(groups),
+  surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq, std::move(groups),
                                 std::vector<double>(p_.gap0.begin(), p_.gap0.end()));
   return surface_ != nullptr;
 }

@@ -69,7 +69,6 @@ SaddlePointSolver::SaddlePointSolver(const ConstrainedProblem& p, double s) : p_
     chol_.set_ordering(p.ordering, "corner_amd");
     tail_.set_ordering(p.ordering);
   }
-  tail_.set_cache(p.factor_cache);
 }
 
 SaddlePointSolver::~SaddlePointSolver() = default;

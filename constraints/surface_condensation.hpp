@@ -55,7 +55,7 @@ class SurfaceCondensation;
 /// ρ and R itself: ipopt's dual), R never holds rows of the condensation's own.
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
-    std::shared_ptr<core::TailFactorCache> cache, const std::vector<int>& always, std::vector<std::vector<int>> groups,
+    const std::vector<int>& always, std::vector<std::vector<int>> groups,
     const std::vector<double>& gap, bool anchor = true);
 
 class SurfaceCondensation {
@@ -66,9 +66,7 @@ class SurfaceCondensation {
   static constexpr int kMaxRows = 2000;
 
   /// `ct`: Cᵀ, n × rows (each column one row's coefficients). The rows' pattern is kept.
-  /// `cache` (may be null): where K_ρ's factor is looked for first and kept.
-  SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering,
-                      std::shared_ptr<core::TailFactorCache> cache = nullptr);
+  SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering);
   ~SurfaceCondensation();
   SurfaceCondensation(const SurfaceCondensation&) = delete;
   SurfaceCondensation& operator=(const SurfaceCondensation&) = delete;

@@ -33,9 +33,6 @@ struct SpdSolveReport : FactorInfo {
   double pivot_ratio = 0;         ///< min/max of the factor's diagonal (conditioning proxy)
   int symbolic_analyses = 0;      ///< how often the pattern was analysed
   int numeric_factorizations = 0;
-  /// Factors a cache handed back for a matrix factorised before (core::TailFactorCache): no
-  /// numeric factorisation, counted apart.
-  int reused_factors = 0;
   double symbolic_seconds = 0;    ///< fill-reducing ordering and symbolic analysis, summed
   double numeric_seconds = 0;     ///< numeric factorisations, summed
   double solve_seconds = 0;       ///< triangular solves and residual checks, summed

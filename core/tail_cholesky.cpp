@@ -34,118 +34,32 @@ cholmod_dense view(const VecX& v) {
 
 }  // namespace
 
-/// One factorisation: CHOLMOD's factor, the pattern it was analysed for, and the dense tail
-/// read out of it. Shared between a TailCholesky and the cache; changed only while one holds it.
-struct TailFactor {
+struct TailCholesky::Impl {
   cholmod_common c{};
   cholmod_factor* factor = nullptr;
-  std::vector<int> start, index;     ///< the analysed pattern (compressed columns)
+  Eigen::Index rows = -1, nnz = -1;  ///< the analysed pattern
   std::vector<int> tail;             ///< the analysed tail
   std::vector<int> tail_part;        ///< and its parts (empty: one)
-  bool numeric = false;              ///< holds the numbers of a successful factorisation
-  std::vector<int> tail_position;
-  Eigen::MatrixXd tail_factor;
-  VecX tail_pivots;
-  double pivot_ratio = 0.0;
-
-  TailFactor() {
-    cholmod_start(&c);
-    c.print = 0;
-    c.nmethods = 1;     // the permutation, as given
-    c.method[0].ordering = CHOLMOD_GIVEN;
-    c.postorder = 0;    // a postorder could move tail columns before others
-  }
-  ~TailFactor() {
-    if (factor) cholmod_free_factor(&factor, &c);
-    cholmod_finish(&c);
-  }
-  TailFactor(const TailFactor&) = delete;
-  TailFactor& operator=(const TailFactor&) = delete;
-
-  /// Whether this factor was analysed for K's pattern (compressed), tail and parts.
-  bool analysed_for(const SpMat& k, const std::vector<int>& t, const std::vector<int>& part) const {
-    return factor && tail == t && tail_part == part &&
-           start.size() == static_cast<size_t>(k.outerSize() + 1) &&
-           index.size() == static_cast<size_t>(k.nonZeros()) &&
-           std::equal(start.begin(), start.end(), k.outerIndexPtr()) &&
-           std::equal(index.begin(), index.end(), k.innerIndexPtr());
-  }
-  /// A copy of this factor's analysis (and numbers, which the next factorisation overwrites).
-  std::shared_ptr<TailFactor> copy() const {
-    auto out = std::make_shared<TailFactor>();
-    out->factor = cholmod_copy_factor(factor, &out->c);
-    if (!out->factor) return nullptr;
-    out->start = start, out->index = index, out->tail = tail, out->tail_part = tail_part;
-    out->tail_position = tail_position;
-    return out;
-  }
-};
-
-namespace {
-
-/// Whether two matrices of one pattern hold the same values (the caller compared patterns).
-bool same_values(const SpMat& a, const SpMat& b) {
-  return a.nonZeros() == b.nonZeros() &&
-         std::equal(a.valuePtr(), a.valuePtr() + a.nonZeros(), b.valuePtr());
-}
-
-}  // namespace
-
-TailFactorCache::TailFactorCache() = default;
-TailFactorCache::~TailFactorCache() = default;
-
-std::shared_ptr<const TailFactor> TailFactorCache::find(const SpMat& k, const std::vector<int>& tail,
-                                                        const std::vector<int>& tail_part) const {
-  for (const Entry& e : entries_)
-    if (e.factor->numeric && e.factor->analysed_for(k, tail, tail_part) && same_values(k, e.k))
-      return e.factor;
-  return nullptr;
-}
-
-std::shared_ptr<const TailFactor> TailFactorCache::take_pattern(const SpMat& k,
-                                                                const std::vector<int>& tail,
-                                                                const std::vector<int>& tail_part) {
-  for (auto it = entries_.begin(); it != entries_.end(); ++it)
-    if (it->factor->analysed_for(k, tail, tail_part)) {
-      std::shared_ptr<const TailFactor> out = std::move(it->factor);
-      entries_.erase(it);
-      return out;
-    }
-  return nullptr;
-}
-
-void TailFactorCache::keep(const SpMat& k, std::shared_ptr<const TailFactor> factor) {
-  for (auto it = entries_.begin(); it != entries_.end(); ++it)
-    if (it->factor == factor) {
-      entries_.erase(it);
-      break;
-    }
-  entries_.insert(entries_.begin(), Entry{k, std::move(factor)});
-  entries_.front().k.makeCompressed();
-  if (entries_.size() > kEntries) entries_.pop_back();
-}
-
-struct TailCholesky::Impl {
-  cholmod_common c{};  ///< for the solves
-  std::shared_ptr<TailFactor> f;
-  SpMat compressed;                        ///< K's copy when K is not compressed
-  std::shared_ptr<const FillOrder> fill;   ///< the caller's order, null for CAMD
-  std::shared_ptr<TailFactorCache> cache;
+  SpMat compressed;                  ///< K's copy when K is not compressed
+  std::shared_ptr<const FillOrder> fill;  ///< the caller's order, null for CAMD
 
   bool given(int n) const { return fill && static_cast<int>(fill->order.size()) == n; }
 
   Impl() {
     cholmod_start(&c);
     c.print = 0;
+    c.nmethods = 1;     // the CAMD permutation, as given
+    c.method[0].ordering = CHOLMOD_GIVEN;
+    c.postorder = 0;    // a postorder could move tail columns before others
   }
   ~Impl() {
-    f.reset();
+    if (factor) cholmod_free_factor(&factor, &c);
     cholmod_finish(&c);
   }
-
+  /// Applies `sys` (CHOLMOD_P, _L, _Lt, _Pt) to `in`.
   bool apply(int sys, const VecX& in, VecX& out) {
     cholmod_dense b = view(in);
-    cholmod_dense* x = cholmod_solve(sys, f->factor, &b, &c);
+    cholmod_dense* x = cholmod_solve(sys, factor, &b, &c);
     if (!x) return false;
     out = Eigen::Map<const VecX>(static_cast<double*>(x->x), in.size());
     cholmod_free_dense(&x, &c);
@@ -158,30 +72,7 @@ TailCholesky::~TailCholesky() = default;
 
 void TailCholesky::set_ordering(std::shared_ptr<const FillOrder> fill) {
   impl_->fill = std::move(fill);
-  impl_->f.reset();  // analyse again
-}
-
-void TailCholesky::set_cache(std::shared_ptr<TailFactorCache> cache) {
-  impl_->cache = std::move(cache);
-}
-
-namespace {
-const std::vector<int> kNoPositions;
-const Eigen::MatrixXd kNoBlock;
-const VecX kNoPivots;
-}  // namespace
-
-int TailCholesky::tail_size() const {
-  return impl_->f ? static_cast<int>(impl_->f->tail_factor.rows()) : 0;
-}
-const std::vector<int>& TailCholesky::tail_position() const {
-  return impl_->f ? impl_->f->tail_position : kNoPositions;
-}
-const Eigen::MatrixXd& TailCholesky::tail_factor() const {
-  return impl_->f ? impl_->f->tail_factor : kNoBlock;
-}
-const VecX& TailCholesky::tail_pivots() const {
-  return impl_->f ? impl_->f->tail_pivots : kNoPivots;
+  impl_->rows = -1;  // analyse again
 }
 
 SolveStatus TailCholesky::fail(SolveStatus status, const std::string& message) {
@@ -190,10 +81,9 @@ SolveStatus TailCholesky::fail(SolveStatus status, const std::string& message) {
   return status;
 }
 
-std::shared_ptr<TailFactor> TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail,
-                                                  const std::vector<int>& tail_part) {
+bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   Impl& m = *impl_;
-  auto f = std::make_shared<TailFactor>();
+  if (m.factor) cholmod_free_factor(&m.factor, &m.c);
   cholmod_sparse a = view_lower(k);
   // Every other unknown (set 0) before the tail (set 1): the given order partitioned so, else
   // CAMD with the two sets as constraints.
@@ -203,56 +93,36 @@ std::shared_ptr<TailFactor> TailCholesky::analyse(const SpMat& k, const std::vec
     auto it = perm.begin();
     for (int set = 0; set < 2; ++set)
       it = std::copy_if(m.fill->order.begin(), m.fill->order.end(), it, [&](int d) { return member[d] == set; });
-  } else if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &f->c)) {
-    return nullptr;
+  } else if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) {
+    return false;
   }
-  if (!tail_part.empty()) {
+  if (!m.tail_part.empty()) {
     // The tail grouped by part, each in the order above: a part's block is the tail's only
     // coupling to it (L₂₂ block diagonal when the parts are K's unconnected pieces).
     std::vector<int> part(n_, 0);
-    for (size_t i = 0; i < tail.size(); ++i) part[tail[i]] = tail_part[i];
+    for (size_t i = 0; i < tail.size(); ++i) part[tail[i]] = m.tail_part[i];
     std::stable_sort(perm.end() - static_cast<std::ptrdiff_t>(tail.size()), perm.end(),
                      [&](int a, int b) { return part[a] < part[b]; });
   }
-  f->factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &f->c);
-  if (!f->factor) return nullptr;
-  f->start.assign(k.outerIndexPtr(), k.outerIndexPtr() + k.outerSize() + 1);
-  f->index.assign(k.innerIndexPtr(), k.innerIndexPtr() + k.nonZeros());
-  f->tail = tail;
-  f->tail_part = tail_part;
+  m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
+  if (!m.factor) return false;
+  m.rows = k.rows();
+  m.nnz = k.nonZeros();
+  m.tail = tail;
   // The tail must be the factor's last k columns (no postorder moved it).
-  const int* p = static_cast<const int*>(f->factor->Perm);
+  const int* p = static_cast<const int*>(m.factor->Perm);
   const int k0 = n_ - static_cast<int>(tail.size());
-  f->tail_position.assign(n_, -1);
-  for (int i = k0; i < n_; ++i) f->tail_position[p[i]] = i - k0;
+  tail_position_.assign(n_, -1);
+  for (int i = k0; i < n_; ++i) tail_position_[p[i]] = i - k0;
   for (int d : tail)
-    if (f->tail_position[d] < 0) return nullptr;
-  return f;
-}
-
-std::shared_ptr<TailFactor> TailCholesky::factor_for(const SpMat& k, const std::vector<int>& tail,
-                                                     const std::vector<int>& tail_part) {
-  Impl& m = *impl_;
-  if (m.cache && (!m.f || !m.f->analysed_for(k, tail, tail_part))) {
-    // The cache's factor of this pattern serves the analysis; the run has moved on from its
-    // numbers, so the cache lets go of it (factorised in place below when nobody else holds it).
-    if (std::shared_ptr<const TailFactor> kept = m.cache->take_pattern(k, tail, tail_part))
-      m.f = std::const_pointer_cast<TailFactor>(kept);
-  }
-  if (m.f && m.f->analysed_for(k, tail, tail_part)) {
-    if (m.f.use_count() == 1) return m.f;
-    return m.f->copy();  // another holds its numbers
-  }
-  const Stopwatch clock;
-  std::shared_ptr<TailFactor> f = analyse(k, tail, tail_part);
-  report_.symbolic_analyses++;
-  report_.symbolic_seconds += clock.elapsed();
-  return f;
+    if (tail_position_[d] < 0) return false;
+  return true;
 }
 
 SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail,
                                     const std::vector<int>& tail_part) {
   Impl& m = *impl_;
+  if (tail_part != m.tail_part) m.tail_part = tail_part, m.rows = -1;  // analyse again
   report_.message.clear();
   report_.backend = "cholmod";
   n_ = static_cast<int>(k.rows());
@@ -265,48 +135,44 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
     m.compressed.makeCompressed();
     kk = &m.compressed;
   }
-  if (m.cache) {
-    if (std::shared_ptr<const TailFactor> found = m.cache->find(*kk, tail, tail_part)) {
-      m.f = std::const_pointer_cast<TailFactor>(found);  // shared, never changed while shared
-      report_.reused_factors++;
-      report_.supernodal = m.f->factor->is_super;
-      report_.pivot_ratio = m.f->pivot_ratio;
-      report_.status = SolveStatus::kConverged;
-      return report_.status;
+  Stopwatch clock;
+  if (!m.factor || m.rows != k.rows() || m.nnz != k.nonZeros() || m.tail != tail) {
+    const bool ok = analyse(*kk, tail);
+    report_.symbolic_analyses++;
+    report_.symbolic_seconds += clock.lap();
+    if (!ok) {
+      m.rows = -1;
+      return fail(SolveStatus::kFailed, "constrained ordering failed (CHOLMOD status " +
+                                            std::to_string(m.c.status) + ")");
     }
   }
-  std::shared_ptr<TailFactor> f = factor_for(*kk, tail, tail_part);
-  m.f.reset();
-  if (!f)
-    return fail(SolveStatus::kFailed, "constrained ordering failed");
-  Stopwatch clock;
-  f->numeric = false;
   cholmod_sparse a = view_lower(*kk);
   int ok = 0;
   {
     // CHOLMOD's own four-thread regions stay within a one-thread budget (ActiveLevelCap).
     const ActiveLevelCap cap(omp_get_max_threads() > 1 ? 1 : 0);
-    ok = cholmod_factorize(&a, f->factor, &f->c);
+    ok = cholmod_factorize(&a, m.factor, &m.c);
   }
   report_.numeric_factorizations++;
-  report_.supernodal = f->factor->is_super;
-  report_.factor_nonzeros = f->c.lnz;
-  m.f = f;
-  if (!ok || f->c.status == CHOLMOD_NOT_POSDEF || f->factor->minor < static_cast<size_t>(n_)) {
+  report_.supernodal = m.factor->is_super;
+  report_.factor_nonzeros = m.c.lnz;
+  if (!ok || m.c.status == CHOLMOD_NOT_POSDEF || m.factor->minor < static_cast<size_t>(n_)) {
     report_.numeric_seconds += clock.lap();
     return fail(SolveStatus::kSingular, "stiffness matrix is singular or not positive definite");
   }
-  f->pivot_ratio = report_.pivot_ratio = cholmod_rcond(f->factor, &f->c);
-  const bool extracted = trailing_block(*f->factor, n_ - static_cast<int>(f->tail.size()),
-                                        f->tail_factor, f->tail_pivots);
+  report_.pivot_ratio = cholmod_rcond(m.factor, &m.c);
+  const bool extracted = extract_tail_factor();
   report_.numeric_seconds += clock.lap();
   if (!extracted) return fail(SolveStatus::kFailed, "factor has no tail block");
   if (!(report_.pivot_ratio >= kSingularPivotRatio))
     return fail(SolveStatus::kSingular, "stiffness matrix is singular to working precision");
-  f->numeric = true;
-  if (m.cache) m.cache->keep(*kk, f);
   report_.status = SolveStatus::kConverged;
   return report_.status;
+}
+
+bool TailCholesky::extract_tail_factor() {
+  return trailing_block(*impl_->factor, n_ - static_cast<int>(impl_->tail.size()), tail_factor_,
+                        tail_pivots_);
 }
 
 SolveStatus TailCholesky::apply_pair(int first, int second, const VecX& in, VecX& out,

@@ -26,41 +26,6 @@
 
 namespace c2d::core {
 
-struct TailFactor;
-
-/// The last factors a run's TailCholeskys made, kept for the next one asked for the same
-/// matrix: a linear run poses the same K at every load step and outer iteration. The same K
-/// (pattern and values, compared in full), tail and parts give the factor back without a
-/// numeric factorisation; the same pattern (a finite-strain K_T's next iterate) gives its
-/// symbolic analysis, and its memory, which the cache lets go of. Two entries, the latest first: a finite-strain step's iterates alternate between
-/// two patterns (the first without the contact's geometric stiffness, which joins the bodies,
-/// the later ones with it).
-class TailFactorCache {
- public:
-  TailFactorCache();
-  ~TailFactorCache();
-  TailFactorCache(const TailFactorCache&) = delete;
-  TailFactorCache& operator=(const TailFactorCache&) = delete;
-
-  /// The factor of exactly this K, tail and parts, or null.
-  std::shared_ptr<const TailFactor> find(const SpMat& k, const std::vector<int>& tail,
-                                         const std::vector<int>& tail_part) const;
-  /// Takes out a factor of a matrix with K's pattern, tail and parts (its analysis serves the
-  /// next factorisation), or null.
-  std::shared_ptr<const TailFactor> take_pattern(const SpMat& k, const std::vector<int>& tail,
-                                                 const std::vector<int>& tail_part);
-  /// Keeps `factor`, the factorisation of K, as the latest entry.
-  void keep(const SpMat& k, std::shared_ptr<const TailFactor> factor);
-
- private:
-  static constexpr size_t kEntries = 2;
-  struct Entry {
-    SpMat k;
-    std::shared_ptr<const TailFactor> factor;
-  };
-  std::vector<Entry> entries_;  ///< latest first
-};
-
 class TailCholesky {
  public:
   TailCholesky();
@@ -69,8 +34,8 @@ class TailCholesky {
   TailCholesky& operator=(const TailCholesky&) = delete;
 
   /// Factorises K (symmetric; the lower triangle is used) with the unknowns `tail` ordered
-  /// last. The ordering and symbolic analysis are kept while K's pattern, the tail and its
-  /// parts are unchanged (compared in full). Reports kSingular when K is not positive definite.
+  /// last. The ordering and symbolic analysis are kept while K's size, non-zero count and the
+  /// tail are unchanged. Reports kSingular when K is not positive definite.
   /// `tail_part` (empty, or a part number per entry of `tail`) groups the tail by part, lowest
   /// first, each part in the order the ordering gives it: L₂₂ is then block diagonal when no
   /// entry of K joins two parts.
@@ -79,19 +44,16 @@ class TailCholesky {
   /// Orders matrices of its size by `fill`'s order (e.g. mesh_fill_order) with the tail
   /// moved last, both parts keeping their relative order, instead of CAMD on the matrix.
   void set_ordering(std::shared_ptr<const FillOrder> fill);
-  /// Looks in `cache` before factorising and keeps each new factor there (null: no cache).
-  /// A factor found there counts no numeric factorisation (report().reused_factors).
-  void set_cache(std::shared_ptr<TailFactorCache> cache);
 
   int size() const { return n_; }
   /// k, the tail's size.
-  int tail_size() const;
+  int tail_size() const { return static_cast<int>(tail_factor_.rows()); }
   /// Per unknown: its row in L₂₂, or −1 outside the tail.
-  const std::vector<int>& tail_position() const;
+  const std::vector<int>& tail_position() const { return tail_position_; }
   /// L₂₂, dense, lower triangle meaningful (unit diagonal for an L D Lᵀ factor).
-  const Eigen::MatrixXd& tail_factor() const;
+  const Eigen::MatrixXd& tail_factor() const { return tail_factor_; }
   /// D₂, the tail's pivots (ones for an L Lᵀ factor).
-  const VecX& tail_pivots() const;
+  const VecX& tail_pivots() const { return tail_pivots_; }
 
   /// w = (L D)⁻¹ P b, in the factor's order: the tail is w's last k entries.
   SolveStatus forward(const VecX& b, VecX& w);
@@ -103,18 +65,16 @@ class TailCholesky {
 
  private:
   struct Impl;
-  /// A factor of K's pattern to factorise into: the current one when nothing else holds it,
-  /// a copy of an analysis of the same pattern (the current one's or the cache's), else a
-  /// fresh analysis (counted in the report). Null when the analysis failed.
-  std::shared_ptr<TailFactor> factor_for(const SpMat& k, const std::vector<int>& tail,
-                                         const std::vector<int>& tail_part);
-  std::shared_ptr<TailFactor> analyse(const SpMat& k, const std::vector<int>& tail,
-                                      const std::vector<int>& tail_part);
+  bool analyse(const SpMat& k, const std::vector<int>& tail);
+  bool extract_tail_factor();
   SolveStatus fail(SolveStatus status, const std::string& message);
   /// out = second(first(in)) for two CHOLMOD solve systems (CHOLMOD_P, _LD, _Lt, _Pt).
   SolveStatus apply_pair(int first, int second, const VecX& in, VecX& out, const char* what);
   std::unique_ptr<Impl> impl_;
   int n_ = 0;
+  std::vector<int> tail_position_;
+  Eigen::MatrixXd tail_factor_;
+  VecX tail_pivots_;
   SpdSolveReport report_;
 };
 

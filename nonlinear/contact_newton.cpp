@@ -104,7 +104,6 @@ bool ConstrainedStep::iterate(int outer) {
   }
   keep_local_stiffness(qp);
   warm_start(qp, rows_, previous_, force_by_slot_);
-  qp.factor_cache = in_.factor_cache;
 
   // 2. The strategy on the linearised problem.
   ConstraintSolution s;

@@ -27,14 +27,12 @@
 #pragma once
 
 #include <limits>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_set.hpp"
 #include "core/results.hpp"
-#include "core/tail_cholesky.hpp"
 #include "nonlinear/contact_results.hpp"
 #include "nonlinear/newton_solver.hpp"
 #include "nonlinear/structural_system.hpp"
@@ -70,9 +68,6 @@ struct ContactStepInput {
   /// Every method step continued until it divides the residual by ten (the retry of an attempt
   /// whose sets cycled), instead of kept once it reduces it (constrained_step.hpp).
   bool strict = false;
-  /// The run's last surface-last factor, handed back to a solve posing the same K
-  /// (ConstrainedProblem::factor_cache); null: none kept.
-  std::shared_ptr<core::TailFactorCache> factor_cache;
 };
 
 /// The strategy's own work over a step's outer iterations: its iteration records (numbered on),

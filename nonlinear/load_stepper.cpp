@@ -138,7 +138,6 @@ class LoadStepper {
       // frictional first touch); once they have, the attempt is made again with every method
       // step continued by Newton until it divides the residual by ten (ContactStepInput::strict).
       in.strict = strict_;
-      in.factor_cache = factor_cache_;
       cstep = solve_contact_step(system_, *contact_, *strategy_, in);
       add_totals(cstep);
       rec.newton = cstep.newton;
@@ -357,9 +356,6 @@ class LoadStepper {
   long attempts_ = 0;
   int converged_steps_ = 0, cutbacks_ = 0;
   bool strict_ = false;  ///< the next attempt repeats one whose sets cycled (attempt())
-  /// The run's last surface-last factor: an outer iteration or step posing the same K (a
-  /// linear run's, the modified-Newton iterate's) gets it back instead of a factorisation.
-  std::shared_ptr<core::TailFactorCache> factor_cache_ = std::make_shared<core::TailFactorCache>();
   int easy_in_a_row_ = 0;  ///< converged steps in a row that took at most 4 Newton iterations
 };
 
