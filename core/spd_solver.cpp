@@ -9,6 +9,7 @@
 
 #include "core/errors.hpp"
 #include "core/factor_blocks.hpp"
+#include "core/sparse_pattern.hpp"
 #include "core/split_cholesky.hpp"
 #include "core/stopwatch.hpp"
 
@@ -56,7 +57,7 @@ struct SpdSolver::Impl {
   bool fallback = true;
   Cholmod cholmod;
   Eigen::SimplicialLDLT<SpMat, Eigen::Lower> ldlt;
-  Eigen::Index analysed_rows = -1, analysed_nnz = -1;
+  AnalysedPattern analysed;  ///< the pattern the active backend analysed
   const SpMat* matrix = nullptr;
   std::shared_ptr<const FillOrder> fill;  ///< the caller's elimination order, null for AMD
   std::string order_name;
@@ -161,8 +162,7 @@ void SpdSolver::set_ordering(std::shared_ptr<const FillOrder> fill, std::string 
 }
 
 void SpdSolver::reset_pattern() {
-  impl_->analysed_rows = -1;
-  impl_->analysed_nnz = -1;
+  impl_->analysed.clear();
 }
 
 SolveStatus SpdSolver::factorize(const SpMat& k) {
@@ -181,7 +181,7 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
                       "coordinates or penalties overflow double precision)";
     return report_.status;
   }
-  const bool same_pattern = m.analysed_rows == k.rows() && m.analysed_nnz == k.nonZeros();
+  const bool same_pattern = m.analysed.matches(k);
   auto try_backend = [&](Backend b) {
     const bool analyse = !same_pattern || m.active != b;
     return b == Backend::kCholmod ? m.factorize_cholmod(k, analyse, report_)
@@ -195,8 +195,7 @@ SolveStatus SpdSolver::factorize(const SpMat& k) {
     ok = try_backend(Backend::kEigenLdlt);
     m.active = Backend::kEigenLdlt;
   }
-  m.analysed_rows = k.rows();
-  m.analysed_nnz = k.nonZeros();
+  m.analysed.keep(k);
   if (m.active == Backend::kEigenLdlt) {
     const VecX d = m.ldlt.vectorD();
     const double dmax = d.cwiseAbs().maxCoeff(), dmin = d.cwiseAbs().minCoeff();

@@ -50,8 +50,8 @@ class SpdSolver {
   SpdSolver& operator=(const SpdSolver&) = delete;
 
   /// Factorizes K (lower triangle used). K is referenced, not copied: it must stay alive and
-  /// unchanged until the last solve() with this factorisation (the residual check reads it). Reuses the symbolic analysis if K's pattern is the
-  /// one last analysed (same size and non-zero count; the caller keeps the pattern fixed).
+  /// unchanged until the last solve() with this factorisation (the residual check reads it).
+  /// Reuses the symbolic analysis if K's pattern is the one last analysed (compared in full).
   SolveStatus factorize(const SpMat& k);
   /// Solves K x = b with the last factorization; checks the residual and finiteness.
   SolveStatus solve(const VecX& b, VecX& x);

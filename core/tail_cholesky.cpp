@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/factor_blocks.hpp"
+#include "core/sparse_pattern.hpp"
 #include "core/stopwatch.hpp"
 
 namespace c2d::core {
@@ -37,13 +38,14 @@ cholmod_dense view(const VecX& v) {
 struct TailCholesky::Impl {
   cholmod_common c{};
   cholmod_factor* factor = nullptr;
-  Eigen::Index rows = -1, nnz = -1;  ///< the analysed pattern
+  AnalysedPattern pattern;           ///< the analysed pattern
   std::vector<int> tail;             ///< the analysed tail
   std::vector<int> tail_part;        ///< and its parts (empty: one)
   SpMat compressed;                  ///< K's copy when K is not compressed
   std::shared_ptr<const FillOrder> fill;  ///< the caller's order, null for CAMD
 
   bool given(int n) const { return fill && static_cast<int>(fill->order.size()) == n; }
+  bool analysed_for(const SpMat& k) const { return factor && pattern.matches(k); }
 
   Impl() {
     cholmod_start(&c);
@@ -72,7 +74,7 @@ TailCholesky::~TailCholesky() = default;
 
 void TailCholesky::set_ordering(std::shared_ptr<const FillOrder> fill) {
   impl_->fill = std::move(fill);
-  impl_->rows = -1;  // analyse again
+  impl_->pattern.clear();  // analyse again
 }
 
 SolveStatus TailCholesky::fail(SolveStatus status, const std::string& message) {
@@ -106,8 +108,7 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   }
   m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
   if (!m.factor) return false;
-  m.rows = k.rows();
-  m.nnz = k.nonZeros();
+  m.pattern.keep(k);
   m.tail = tail;
   // The tail must be the factor's last k columns (no postorder moved it).
   const int* p = static_cast<const int*>(m.factor->Perm);
@@ -122,7 +123,7 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
 SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail,
                                     const std::vector<int>& tail_part) {
   Impl& m = *impl_;
-  if (tail_part != m.tail_part) m.tail_part = tail_part, m.rows = -1;  // analyse again
+  if (tail_part != m.tail_part) m.tail_part = tail_part, m.pattern.clear();  // analyse again
   report_.message.clear();
   report_.backend = "cholmod";
   n_ = static_cast<int>(k.rows());
@@ -136,12 +137,12 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
     kk = &m.compressed;
   }
   Stopwatch clock;
-  if (!m.factor || m.rows != k.rows() || m.nnz != k.nonZeros() || m.tail != tail) {
+  if (!m.analysed_for(*kk) || m.tail != tail) {
     const bool ok = analyse(*kk, tail);
     report_.symbolic_analyses++;
     report_.symbolic_seconds += clock.lap();
     if (!ok) {
-      m.rows = -1;
+      m.pattern.clear();
       return fail(SolveStatus::kFailed, "constrained ordering failed (CHOLMOD status " +
                                             std::to_string(m.c.status) + ")");
     }

@@ -34,8 +34,8 @@ class TailCholesky {
   TailCholesky& operator=(const TailCholesky&) = delete;
 
   /// Factorises K (symmetric; the lower triangle is used) with the unknowns `tail` ordered
-  /// last. The ordering and symbolic analysis are kept while K's size, non-zero count and the
-  /// tail are unchanged. Reports kSingular when K is not positive definite.
+  /// last. The ordering and symbolic analysis are kept while K's pattern (compared in full),
+  /// the tail and its parts are unchanged. Reports kSingular when K is not positive definite.
   /// `tail_part` (empty, or a part number per entry of `tail`) groups the tail by part, lowest
   /// first, each part in the order the ordering gives it: L₂₂ is then block diagonal when no
   /// entry of K joins two parts.
