@@ -9,6 +9,7 @@
 
 #include "constraints/constrained_problem.hpp"
 #include "constraints/contact_detection.hpp"
+#include "constraints/contact_pairs.hpp"
 #include "constraints/contact_report.hpp"
 #include "constraints/contact_scene.hpp"
 #include "constraints/discretization.hpp"
@@ -24,6 +25,7 @@ class ContactSet {
   ContactSet(const core::Model& model, const ContactSceneSpec& spec, const core::Scene& scene);
 
   bool empty() const { return pairs_.empty() && equality_rows_.empty() && model_.plates.empty(); }
+  const ContactPairs& pairs() const { return pairs_; }
   /// The rows of the scene's [[constraint]] tables (linear in u) and their specs.
   const std::vector<EqualityRow>& equality_rows() const { return equality_rows_; }
   /// Every equality row at the full displacement u: the [[constraint]] rows, then the rows of
@@ -42,18 +44,14 @@ class ContactSet {
                      ContactReport& r) const;
   const std::vector<EqualitySpec>& equalities() const { return spec_.equalities; }
   const StrategyOptions& options() const { return spec_.options; }
-  int num_slave_nodes() const { return static_cast<int>(slave_nodes_.size()); }
+  int num_slave_nodes() const { return pairs_.num_slave_nodes(); }
 
-  /// Gap rows at the configuration X + u (u: full displacement vector); `small_strain` takes
-  /// normals and measures from the reference configuration (see Configuration).
-  /// Without `curvature`, finite-strain rows carry their values and gradients only.
+  /// The contact pairs' (ContactPairs).
   std::vector<GapRow> detect(const VecX& u_full, bool small_strain = false,
-                             bool curvature = true) const;
-  /// The deepest slave node below its master surface at the configuration X + u: each slave
-  /// node projected onto the current master surface (quadratic edges on T6), whatever the
-  /// pair's discretization (a mortar row's weighted gap allows a node an overlap of the
-  /// order h²/R between its neighbours). 0 when none penetrates.
-  double nodal_penetration(const VecX& u_full) const;
+                             bool curvature = true) const {
+    return pairs_.detect(u_full, small_strain, curvature);
+  }
+  double nodal_penetration(const VecX& u_full) const { return pairs_.nodal_penetration(u_full); }
 
   /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
   /// configuration), with prescribed DOFs moved into g0.
@@ -62,55 +60,32 @@ class ContactSet {
   ConstrainedProblem problem(const SpMat& k_ff, const VecX& f_ff, const std::vector<GapRow>& rows,
                              const VecX& u_full, bool small_strain = true,
                              const VecX* u_reference = nullptr) const;
-  /// Whether some [[contact]] has friction.
-  bool has_friction() const;
-
-  /// The rows' gradients on the free DOFs: G, m × n_free (prescribed DOFs dropped).
-  SpMat gap_jacobian(const std::vector<GapRow>& rows) const;
-  /// The contact's geometric stiffness on the free DOFs, −Σ_i λ_i ∂²g_i/∂u², from the rows'
-  /// curvature and their forces λ (n_free × n_free; zero for rows linear in u).
-  SpMat geometric_stiffness(const std::vector<GapRow>& rows, const VecX& force) const;
+  /// The contact pairs' (ContactPairs).
+  bool has_friction() const { return pairs_.has_friction(); }
+  SpMat gap_jacobian(const std::vector<GapRow>& rows) const { return pairs_.gap_jacobian(rows); }
+  SpMat geometric_stiffness(const std::vector<GapRow>& rows, const VecX& force) const {
+    return pairs_.geometric_stiffness(rows, force);
+  }
 
   /// Fills the per-node results, recovered pressure, p_max, contact length and total force.
   void report(const std::vector<GapRow>& rows, const ConstraintSolution& s, ContactReport& r) const;
 
-  /// Each (contact entry, slave node) combination and each node pair has a slot, the stable
-  /// identity of its row across detections (GapRow::slot): active sets and multipliers carried
-  /// from one detection, iteration or load step to the next are indexed by it.
-  int num_slots() const { return num_slots_; }
-
-  /// Smallest slave (else master) edge length: the scale of relative tolerances.
-  double length_scale() const { return length_scale_; }
+  /// The contact pairs' (ContactPairs).
+  int num_slots() const { return pairs_.num_slots(); }
+  double length_scale() const { return pairs_.length_scale(); }
   double model_size() const { return model_.model_size; }
 
  private:
-  /// The slave surface of one [[contact]] (for pressure recovery); a selection without boundary
-  /// edges is refused when `required` (the discretization recovers pressure on the surface).
-  void add_slave_edges(const ContactPairSpec& cs, bool required);
-  /// Adds the master surface's reference normals (out of the master body, toward the slave) of
-  /// a pair with a deformable master to master_outward_, each as long as its edge (the
-  /// constructor makes the sums unit vectors once every pair is in).
-  void add_master_normals(const ContactPairSpec& cs);
   /// The rows of the scene's [[constraint]] tables.
   void add_equalities();
-  /// The rows at X + u of every pair, or of its gauge where it has one (`gauges`).
-  std::vector<GapRow> detect_with(const VecX& u_full, bool small_strain, bool curvature,
-                                  bool gauges) const;
   /// The [[constraint]] rows' multipliers and residuals (contact_set_report.cpp).
   void report_equalities(const ConstraintSolution& s, ContactReport& r) const;
   /// The resultant of the rows' forces and its tangential part (contact_set_report.cpp).
   void add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
                      ContactReport& r) const;
-  /// Each slave node's share of the slave surface (tributary_).
-  void add_tributary();
-  /// The tangential rows of `rows` and their friction laws into `p` (see ConstrainedProblem).
-  void add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
-                         const VecX* u_reference, ConstrainedProblem& p) const;
   /// Marks the plates' rows that hold a free DOF; a row on prescribed DOFs only must agree with
   /// them (else InputError) and is left out.
   void check_plate_rows();
-  /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
-  void add_gap_elements(const core::ExplicitModel& legacy);
   /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
   /// from the nodal forces elsewhere.
   /// Edges of `side_edge` are left out (side_edges).
@@ -136,27 +111,10 @@ class ContactSet {
 
   const core::Model& model_;
   ContactSceneSpec spec_;
-  std::vector<std::unique_ptr<ContactDiscretization>> pairs_;  ///< one per [[contact]] (+ gaps)
-  /// Per [[contact]] whose rows are not one per slave node: a node_to_segment of the same
-  /// surfaces, the gauge of nodal_penetration (null: the pair is its own gauge).
-  std::vector<std::unique_ptr<ContactDiscretization>> gauges_;
-  std::vector<int> first_slot_;              ///< per pair: the slot of its first row
+  ContactPairs pairs_;
   std::vector<EqualityRow> equality_rows_;
   std::vector<char> plate_row_kept_;         ///< per row rigid_plate_rows makes, in order
-  std::vector<int> slave_nodes_;             ///< unique, sorted
-  std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
-  std::vector<double> slave_edge_thickness_;
-  std::vector<double> tributary_;            ///< per node: ∫ N ds t over the slave edges
-  /// per node: the unit mean of its master edges' normals out of the body, weighted by the
-  /// edges' lengths (reference configuration; zero off the master surfaces): the frame of the
-  /// tangential force
-  std::vector<Vec2> master_outward_;
-  double length_scale_ = 1.0;
-  int num_slots_ = 0;
 };
-
-/// The straight distance between a master or slave edge's end nodes.
-double chord(const std::vector<Vec2>& x, const MasterEdge& e);
 
 /// Consistent recovery of a pressure field from nodal normal forces on a line of boundary
 /// edges: solves M p = f with the edge mass matrix M = Σ t ∫ N_a N_b ds, so a pressure the
