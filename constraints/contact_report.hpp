@@ -1,6 +1,6 @@
 // What a solve reports about its contacts and equality rows: per slave node its gap, forces,
 // pressure and friction state, per equality row its multiplier, per plate its motion and force,
-// and the totals (ContactSet::report fills it, ContactSet::report_plates its plates).
+// and the totals (ContactSet::report fills it, EqualityConstraints::report_plates its plates).
 #pragma once
 
 #include <limits>

@@ -13,6 +13,7 @@
 #include "constraints/contact_report.hpp"
 #include "constraints/contact_scene.hpp"
 #include "constraints/discretization.hpp"
+#include "constraints/equality_constraints.hpp"
 #include "core/dof_map.hpp"
 #include "core/model.hpp"
 
@@ -24,26 +25,29 @@ class ContactSet {
   /// and adds the seed's gap elements of a legacy scene.
   ContactSet(const core::Model& model, const ContactSceneSpec& spec, const core::Scene& scene);
 
-  bool empty() const { return pairs_.empty() && equality_rows_.empty() && model_.plates.empty(); }
+  bool empty() const { return pairs_.empty() && equalities_.empty(); }
   const ContactPairs& pairs() const { return pairs_; }
-  /// The rows of the scene's [[constraint]] tables (linear in u) and their specs.
-  const std::vector<EqualityRow>& equality_rows() const { return equality_rows_; }
-  /// Every equality row at the full displacement u: the [[constraint]] rows, then the rows of
-  /// the [[plate]]s (contact_set_equalities.cpp), linearised at u unless `small_strain`.
-  std::vector<EqualityRow> equality_rows_at(const VecX& u_full, bool small_strain) const;
-  /// Whether some equality row is nonlinear in u in a load-stepped run (a plate turns).
-  bool has_nonlinear_equalities() const { return !model_.plates.empty(); }
-  /// The rows' gradients on the free DOFs (m_eq × n_free).
-  SpMat equality_jacobian(const std::vector<EqualityRow>& rows) const;
-  /// Each row's value c(u) = Σ a u − rhs at the full displacement the rows were taken at.
-  VecX equality_values(const std::vector<EqualityRow>& rows, const VecX& u_full) const;
-  /// −Σ μ_j ∂²c_j/∂u² on the free DOFs (zero for rows linear in u).
-  SpMat equality_geometric_stiffness(const std::vector<EqualityRow>& rows, const VecX& mu) const;
-  /// The plates' motion and transmitted force at u_full with the equality multipliers μ.
+  const EqualityConstraints& equalities() const { return equalities_; }
+  const StrategyOptions& options() const { return options_; }
+  /// The equality rows' (EqualityConstraints).
+  const std::vector<EqualityRow>& equality_rows() const { return equalities_.constraint_rows(); }
+  std::vector<EqualityRow> equality_rows_at(const VecX& u_full, bool small_strain) const {
+    return equalities_.rows_at(u_full, small_strain);
+  }
+  bool has_nonlinear_equalities() const { return equalities_.has_nonlinear_rows(); }
+  SpMat equality_jacobian(const std::vector<EqualityRow>& rows) const {
+    return equalities_.jacobian(rows);
+  }
+  VecX equality_values(const std::vector<EqualityRow>& rows, const VecX& u_full) const {
+    return equalities_.values(rows, u_full);
+  }
+  SpMat equality_geometric_stiffness(const std::vector<EqualityRow>& rows, const VecX& mu) const {
+    return equalities_.geometric_stiffness(rows, mu);
+  }
   void report_plates(const VecX& u_full, const VecX& mu, bool small_strain,
-                     ContactReport& r) const;
-  const std::vector<EqualitySpec>& equalities() const { return spec_.equalities; }
-  const StrategyOptions& options() const { return spec_.options; }
+                     ContactReport& r) const {
+    equalities_.report_plates(u_full, mu, small_strain, r);
+  }
   int num_slave_nodes() const { return pairs_.num_slave_nodes(); }
 
   /// The contact pairs' (ContactPairs).
@@ -76,16 +80,11 @@ class ContactSet {
   double model_size() const { return model_.model_size; }
 
  private:
-  /// The rows of the scene's [[constraint]] tables.
-  void add_equalities();
   /// The [[constraint]] rows' multipliers and residuals (contact_set_report.cpp).
   void report_equalities(const ConstraintSolution& s, ContactReport& r) const;
   /// The resultant of the rows' forces and its tangential part (contact_set_report.cpp).
   void add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
                      ContactReport& r) const;
-  /// Marks the plates' rows that hold a free DOF; a row on prescribed DOFs only must agree with
-  /// them (else InputError) and is left out.
-  void check_plate_rows();
   /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
   /// from the nodal forces elsewhere.
   /// Edges of `side_edge` are left out (side_edges).
@@ -110,10 +109,9 @@ class ContactSet {
                                     const std::vector<char>& side_edge) const;
 
   const core::Model& model_;
-  ContactSceneSpec spec_;
+  StrategyOptions options_;
   ContactPairs pairs_;
-  std::vector<EqualityRow> equality_rows_;
-  std::vector<char> plate_row_kept_;         ///< per row rigid_plate_rows makes, in order
+  EqualityConstraints equalities_;
 };
 
 /// Consistent recovery of a pressure field from nodal normal forces on a line of boundary

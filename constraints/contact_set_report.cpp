@@ -150,7 +150,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
                         ContactReport& r) const {
   const core::Mesh& mesh = model_.mesh;
   const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
-  r.penetration_limit = spec_.options.penetration_limit * pairs_.length_scale();
+  r.penetration_limit = options_.penetration_limit * pairs_.length_scale();
   std::map<int, int> slot;
   r.nodes.clear();
   for (int n : pairs_.slave_nodes()) {
@@ -223,12 +223,12 @@ void ContactSet::report_equalities(const ConstraintSolution& s, ContactReport& r
   r.equalities.clear();
   r.equality_names.clear();
   r.equality_types.clear();
-  for (const EqualitySpec& e : spec_.equalities) {
+  for (const EqualitySpec& e : equalities_.specs()) {
     r.equality_names.push_back(e.name);
     r.equality_types.push_back(e.type);
   }
   r.max_equality_violation = 0.0;
-  const std::vector<EqualityRow>& rows = equality_rows_;
+  const std::vector<EqualityRow>& rows = equalities_.constraint_rows();
   for (size_t j = 0; j < rows.size(); ++j) {  // the [[plate]] rows follow these
     const int k = static_cast<int>(j);
     EqualityRowResult e;
