@@ -1,6 +1,6 @@
 // What a solve reports about its contacts and equality rows: per slave node its gap, forces,
 // pressure and friction state, per equality row its multiplier, per plate its motion and force,
-// and the totals (ContactSet::report fills it, EqualityConstraints::report_plates its plates).
+// and the totals (ContactReporter fills it, EqualityConstraints its plates).
 #pragma once
 
 #include <limits>
@@ -67,7 +67,7 @@ struct ContactReport {
   double measured_penetration = std::numeric_limits<double>::quiet_NaN();
   double penetration_tolerance = std::numeric_limits<double>::quiet_NaN();
   /// The deepest slave node below the master surface at the final positions (see
-  /// ContactSet::nodal_penetration); NaN when not measured.
+  /// ContactPairs::nodal_penetration); NaN when not measured.
   double nodal_penetration = std::numeric_limits<double>::quiet_NaN();
   /// The physical limit: penetration_limit × the shortest contact edge (StrategyOptions).
   double penetration_limit = std::numeric_limits<double>::quiet_NaN();

@@ -7,7 +7,8 @@ ContactSet::ContactSet(const core::Model& model, const ContactSceneSpec& spec,
     : model_(model),
       options_(spec.options),
       pairs_(model, spec, scene),
-      equalities_(model, spec.equalities) {}
+      equalities_(model, spec.equalities),
+      reporter_(model, pairs_, equalities_, options_) {}
 
 ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
                                        const std::vector<GapRow>& rows, const VecX& u_full,

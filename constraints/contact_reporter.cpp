@@ -1,13 +1,10 @@
-// The contact report of a solved state: per slave node its gap, forces, pressure and shear
-// (recovered consistently on the slave edges), and the totals: active nodes, p_max, the contact
-// and stick zones' lengths, the resultant.
-#include <algorithm>
-#include <cmath>
-#include <map>
+#include "constraints/contact_reporter.hpp"
 
 #include <Eigen/SparseCholesky>
-
-#include "constraints/contact_set.hpp"
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
 
 namespace c2d::constraints {
 
@@ -146,11 +143,19 @@ VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>&
   return out;
 }
 
-void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolution& s,
-                        ContactReport& r) const {
+ContactReporter::ContactReporter(const core::Model& model, const ContactPairs& pairs,
+                                 const EqualityConstraints& equalities,
+                                 const StrategyOptions& options)
+    : model_(model),
+      pairs_(pairs),
+      equalities_(equalities),
+      penetration_limit_(options.penetration_limit) {}
+
+void ContactReporter::report(const std::vector<GapRow>& rows, const ConstraintSolution& s,
+                             ContactReport& r) const {
   const core::Mesh& mesh = model_.mesh;
   const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
-  r.penetration_limit = options_.penetration_limit * pairs_.length_scale();
+  r.penetration_limit = penetration_limit_ * pairs_.length_scale();
   std::map<int, int> slot;
   r.nodes.clear();
   for (int n : pairs_.slave_nodes()) {
@@ -219,7 +224,7 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
   r.rows = static_cast<int>(rows.size());
 }
 
-void ContactSet::report_equalities(const ConstraintSolution& s, ContactReport& r) const {
+void ContactReporter::report_equalities(const ConstraintSolution& s, ContactReport& r) const {
   r.equalities.clear();
   r.equality_names.clear();
   r.equality_types.clear();
@@ -240,8 +245,8 @@ void ContactSet::report_equalities(const ConstraintSolution& s, ContactReport& r
   }
 }
 
-void ContactSet::add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
-                               ContactReport& r) const {
+void ContactReporter::add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
+                                    ContactReport& r) const {
   // The frame of the tangential force: the master surface's normal in the reference
   // configuration, where each row meets it (its master nodes' normals, weighted by their
   // coefficients; a rigid obstacle's or a node pair's own normal), averaged with the rows'
@@ -273,9 +278,9 @@ void ContactSet::add_resultant(const std::vector<GapRow>& rows, const Constraint
   }
 }
 
-std::vector<char> ContactSet::side_edges(const std::map<int, int>& slot,
-                                         const std::vector<Vec2>& contact_normal,
-                                         const std::vector<ContactNodeResult>& nodes) const {
+std::vector<char> ContactReporter::side_edges(const std::map<int, int>& slot,
+                                              const std::vector<Vec2>& contact_normal,
+                                              const std::vector<ContactNodeResult>& nodes) const {
   // A slave surface selected by a region (a box over a block's lower part) also holds edges of
   // the body's sides. Where the contact zone reaches such a corner, the recovery would spread
   // the corner's force over the side edge as if the zone went on round the corner, and its
@@ -301,10 +306,10 @@ std::vector<char> ContactSet::side_edges(const std::map<int, int>& slot,
   return side;
 }
 
-void ContactSet::assign_pressure(const std::map<int, int>& slot,
-                                 const std::vector<double>& mortar_weight,
-                                 const std::vector<char>& mortar_edge,
-                                 const std::vector<char>& side_edge, ContactReport& r) const {
+void ContactReporter::assign_pressure(const std::map<int, int>& slot,
+                                      const std::vector<double>& mortar_weight,
+                                      const std::vector<char>& mortar_edge,
+                                      const std::vector<char>& side_edge, ContactReport& r) const {
   // Node-based rows: a pressure recovered from the nodal forces on the edges they load.
   const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
   std::vector<MasterEdge> edges;
@@ -348,10 +353,10 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
   }
 }
 
-double ContactSet::stick_zone_length(const std::map<int, int>& slot,
-                                     const std::vector<char>& side_edge,
-                                     const std::vector<ContactNodeResult>& sticking,
-                                     const std::vector<double>& owned) const {
+double ContactReporter::stick_zone_length(const std::map<int, int>& slot,
+                                          const std::vector<char>& side_edge,
+                                          const std::vector<ContactNodeResult>& sticking,
+                                          const std::vector<double>& owned) const {
   // The sticking nodes joined along the slave edges into runs; the longest run is the stick
   // zone. A node that first touched in the last increment has not slipped yet and sticks at
   // the edge of the contact zone, apart from the zone (Cattaneo–Mindlin on a rigid flat: two
@@ -381,9 +386,9 @@ double ContactSet::stick_zone_length(const std::map<int, int>& slot,
   return n > 0 ? *std::max_element(run.begin(), run.end()) : 0.0;
 }
 
-std::vector<double> ContactSet::owned_lengths(const std::map<int, int>& slot,
-                                              const std::vector<char>& mortar_edge,
-                                              const std::vector<char>& side_edge) const {
+std::vector<double> ContactReporter::owned_lengths(const std::map<int, int>& slot,
+                                                   const std::vector<char>& mortar_edge,
+                                                   const std::vector<char>& side_edge) const {
   // Every slave node owns the part of its edges nearer to it than to the edge's other nodes
   // (T3 edges split at the middle; T6 at the quarter points); the contact length is the arc
   // length owned by active nodes. Node-to-node contact only knows that the contact edge lies
@@ -401,7 +406,8 @@ std::vector<double> ContactSet::owned_lengths(const std::map<int, int>& slot,
     auto point = [&](double s) {
       if (e.count == 2) return Vec2((1 - s) * mesh.nodes[e.nodes[0]] + s * mesh.nodes[e.nodes[1]]);
       return Vec2((1 - s) * (1 - 2 * s) * mesh.nodes[e.nodes[0]] +
-                  s * (2 * s - 1) * mesh.nodes[e.nodes[1]] + 4 * s * (1 - s) * mesh.nodes[e.nodes[2]]);
+                  s * (2 * s - 1) * mesh.nodes[e.nodes[1]] +
+                  4 * s * (1 - s) * mesh.nodes[e.nodes[2]]);
     };
     // Parametric stretches of the edge owned by each of its nodes (ends first, then mid-side).
     const double t3[2][2] = {{0.0, 0.5}, {0.5, 1.0}};
@@ -412,8 +418,9 @@ std::vector<double> ContactSet::owned_lengths(const std::map<int, int>& slot,
       constexpr int kSamples = 16;  // arc length of a curved T6 edge
       double& length = owned[slot.at(e.nodes[a])];
       for (int q = 0; q < kSamples; ++q)
-        length += (point(s0 + (s1 - s0) * (q + 1) / kSamples) -
-                   point(s0 + (s1 - s0) * q / kSamples)).norm();
+        length +=
+            (point(s0 + (s1 - s0) * (q + 1) / kSamples) - point(s0 + (s1 - s0) * q / kSamples))
+                .norm();
     }
   }
   return owned;
