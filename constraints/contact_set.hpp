@@ -56,14 +56,12 @@ class ContactSet {
     return pairs_.geometric_stiffness(rows, force);
   }
   int num_slots() const { return pairs_.num_slots(); }
-  int num_slave_nodes() const { return pairs_.num_slave_nodes(); }
   double length_scale() const { return pairs_.length_scale(); }
 
   // The equality rows' questions (EqualityConstraints documents each).
   std::vector<EqualityRow> equality_rows_at(const VecX& u_full, bool small_strain) const {
     return equalities_.rows_at(u_full, small_strain);
   }
-  const std::vector<EqualityRow>& equality_rows() const { return equalities_.constraint_rows(); }
   bool has_nonlinear_equalities() const { return equalities_.has_nonlinear_rows(); }
   SpMat equality_jacobian(const std::vector<EqualityRow>& rows) const {
     return equalities_.jacobian(rows);
