@@ -54,14 +54,14 @@ struct ContactReport {
   std::string fallback_method;
   SolveStatus status = SolveStatus::kFailed;
   std::string message;
-  int iterations = 0;          ///< backend iterations summed over detection passes
+  int iterations = 0;  ///< backend iterations summed over detection passes
   int detection_passes = 0;
-  int rows = 0;                ///< gap rows in the last pass
+  int rows = 0;  ///< gap rows in the last pass
   std::vector<ContactNodeResult> nodes;
   int active_nodes = 0;
   double p_max = 0.0;
-  double length = 0.0;          ///< measure of the slave surface carrying pressure
-  double max_penetration = 0.0; ///< of the solved (linearised) rows
+  double length = 0.0;           ///< measure of the slave surface carrying pressure
+  double max_penetration = 0.0;  ///< of the solved (linearised) rows
   /// Of the rows detected afresh at the final positions, and the bound a converged run keeps
   /// it under (the method's own penetration + 1e-9 × model size); NaN when not measured.
   double measured_penetration = std::numeric_limits<double>::quiet_NaN();
@@ -71,13 +71,13 @@ struct ContactReport {
   double nodal_penetration = std::numeric_limits<double>::quiet_NaN();
   /// The physical limit: penetration_limit × the shortest contact edge (StrategyOptions).
   double penetration_limit = std::numeric_limits<double>::quiet_NaN();
-  double total_force = 0.0;     ///< Σ normal forces
-  double seconds = 0.0;         ///< time in the backend
-  double detection_seconds = 0.0; ///< time in contact search (every detection pass)
-  double pivot_ratio = std::numeric_limits<double>::quiet_NaN();  ///< of the last solve
-  double stiffness_max = std::numeric_limits<double>::quiet_NaN(); ///< max |K_ij| (linear runs)
-  bool has_surface = false;     ///< pressures recovered on slave edges
-  bool friction = false;        ///< some pair has friction: the nodes' tangential fields are set
+  double total_force = 0.0;        ///< Σ normal forces
+  double seconds = 0.0;            ///< time in the backend
+  double detection_seconds = 0.0;  ///< time in contact search (every detection pass)
+  double pivot_ratio = std::numeric_limits<double>::quiet_NaN();    ///< of the last solve
+  double stiffness_max = std::numeric_limits<double>::quiet_NaN();  ///< max |K_ij| (linear runs)
+  bool has_surface = false;  ///< pressures recovered on slave edges
+  bool friction = false;     ///< some pair has friction: the nodes' tangential fields are set
   int stick_nodes = 0, slip_nodes = 0;
   /// The tangential part of the resultant: `resultant` along the slave surface's mean tangent
   /// in the reference configuration (its normals into the slave weighted by the rows' forces,
@@ -87,11 +87,11 @@ struct ContactReport {
   double tangent_force = 0.0;
   /// The resultant of the contact forces on the slave surface, normal and friction: Σ (λ n + q t).
   Vec2 resultant = Vec2::Zero();
-  double stick_length = 0.0;    ///< measure of the slave surface owned by sticking nodes
-  std::vector<EqualityRowResult> equalities;  ///< the [[constraint]] rows
+  double stick_length = 0.0;  ///< measure of the slave surface owned by sticking nodes
+  std::vector<EqualityRowResult> equalities;                ///< the [[constraint]] rows
   std::vector<std::string> equality_names, equality_types;  ///< per [[constraint]]
-  double max_equality_violation = 0.0;        ///< max |A u − b| over them
-  std::vector<PlateResult> plates;            ///< the [[plate]]s
+  double max_equality_violation = 0.0;                      ///< max |A u − b| over them
+  std::vector<PlateResult> plates;                          ///< the [[plate]]s
   std::vector<IterationRecord> history;
   std::vector<double> penalty_history;
 };
