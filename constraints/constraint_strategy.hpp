@@ -43,7 +43,7 @@ struct StrategyOptions {
 };
 
 /// What a method carries from one accepted load step to the next, per row slot (a row's
-/// identity across detections, ContactSet::num_slots): its state (0 open, 1 closed and
+/// identity across detections, ContactPairs::num_slots): its state (0 open, 1 closed and
 /// sticking, 2 closed and slipping along +t, 3 along −t) and, with friction, the friction force
 /// λ_t it held (empty: none yet).
 struct StepHistory {

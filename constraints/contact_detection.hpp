@@ -141,7 +141,7 @@ struct GapRow {
   Eigen::MatrixXd curvature;
   double penalty = 0.0;       ///< prescribed penalty (seed gap elements), 0 = method's choice
   int pair = 0;               ///< which [[contact]] entry produced it
-  int slot = -1;              ///< stable identity across detections (see ContactSet::num_slots)
+  int slot = -1;              ///< stable identity across detections (see ContactPairs::num_slots)
 };
 
 /// A node-based row: slave node s, master nodes with weights, normal n: c_s = n, c_a = −w_a n.

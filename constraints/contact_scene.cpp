@@ -135,7 +135,7 @@ FrictionSpec parse_friction(const TomlView& v, const ContactPairSpec& c) {
 ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string& method) {
   ContactSceneSpec spec;
   if (scene.explicit_model) {
-    // The seed's gap elements: node_to_node pairs built by ContactSet from the legacy model.
+    // The seed's gap elements: node_to_node pairs built by ContactPairs from the legacy model.
     spec.options.method = "penalty";
   } else if (scene.raw) {
     const TomlView root(scene.raw.get(), "", &scene.path);

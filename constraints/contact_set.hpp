@@ -1,256 +1,94 @@
-// The contact pairs of a model: detection at any configuration, the constrained problem the
-// strategies solve, and the report (gaps, forces, a consistently recovered pressure).
+// The contact and equality constraints of a model as the analysis engine uses them: the contact
+// pairs (contact_pairs.hpp), the equality rows (equality_constraints.hpp) and the report on both
+// (contact_reporter.hpp), and the constrained problem the strategies solve, assembled from them.
 #pragma once
 
-#include <limits>
-#include <map>
-#include <memory>
-#include <string>
 #include <vector>
 
 #include "constraints/constrained_problem.hpp"
+#include "constraints/constraint_strategy.hpp"
 #include "constraints/contact_detection.hpp"
+#include "constraints/contact_pairs.hpp"
+#include "constraints/contact_report.hpp"
+#include "constraints/contact_reporter.hpp"
 #include "constraints/contact_scene.hpp"
-#include "constraints/discretization.hpp"
-#include "core/dof_map.hpp"
+#include "constraints/equality_constraints.hpp"
 #include "core/model.hpp"
 
 namespace c2d::constraints {
 
-/// Per slave node, after a solve.
-struct ContactNodeResult {
-  int node = -1;
-  Vec2 x = Vec2::Zero();  ///< reference position
-  double gap = 0.0;       ///< smallest gap of its rows (negative = penetration)
-  double force = 0.0;     ///< normal contact force (≥ 0)
-  double pressure = 0.0;  ///< recovered contact pressure (0 for nodes on no slave edge)
-  double penalty = 0.0;   ///< penalty stiffness used (penalty-type methods)
-  bool active = false;
-  /// Friction: the tangential force on the slave along t (the normal turned clockwise; −λ_t),
-  /// the shear traction recovered from it like the pressure, the slip of the step along t, and
-  /// the state.
-  double tangent_force = 0.0;
-  double shear = 0.0;
-  double slip = 0.0;
-  double accumulated_slip = 0.0;  ///< Σ |slip| over the steps (a load-stepped run sums them)
-  FrictionState state = FrictionState::kOpen;
-};
-
-/// Per equality row after a solve: the force its multiplier exerts and what is left of it.
-struct EqualityRowResult {
-  int owner = -1;
-  double multiplier = 0.0;  ///< μ: the row's force on the structure is Aᵀμ
-  double residual = 0.0;    ///< A u − b
-};
-
-/// A rigid plate after a solve: its motion and the force it transmits to the structure.
-struct PlateResult {
-  std::string name;
-  Vec2 u = Vec2::Zero();      ///< translation of the reference point
-  double rotation = 0.0;      ///< θ, radians
-  Vec2 force = Vec2::Zero();  ///< resultant the plate exerts on the structure
-  double moment = 0.0;        ///< its moment about the reference point
-};
-
-struct ContactReport {
-  std::string method;
-  /// Load steps the method's cycle fallback finished (its sets cycled there), and its name.
-  int fallback_steps = 0;
-  std::string fallback_method;
-  SolveStatus status = SolveStatus::kFailed;
-  std::string message;
-  int iterations = 0;          ///< backend iterations summed over detection passes
-  int detection_passes = 0;
-  int rows = 0;                ///< gap rows in the last pass
-  std::vector<ContactNodeResult> nodes;
-  int active_nodes = 0;
-  double p_max = 0.0;
-  double length = 0.0;          ///< measure of the slave surface carrying pressure
-  double max_penetration = 0.0; ///< of the solved (linearised) rows
-  /// Of the rows detected afresh at the final positions, and the bound a converged run keeps
-  /// it under (the method's own penetration + 1e-9 × model size); NaN when not measured.
-  double measured_penetration = std::numeric_limits<double>::quiet_NaN();
-  double penetration_tolerance = std::numeric_limits<double>::quiet_NaN();
-  /// The deepest slave node below the master surface at the final positions (see
-  /// ContactSet::nodal_penetration); NaN when not measured.
-  double nodal_penetration = std::numeric_limits<double>::quiet_NaN();
-  /// The physical limit: penetration_limit × the shortest contact edge (StrategyOptions).
-  double penetration_limit = std::numeric_limits<double>::quiet_NaN();
-  double total_force = 0.0;     ///< Σ normal forces
-  double seconds = 0.0;         ///< time in the backend
-  double detection_seconds = 0.0; ///< time in contact search (every detection pass)
-  double pivot_ratio = std::numeric_limits<double>::quiet_NaN();  ///< of the last solve
-  double stiffness_max = std::numeric_limits<double>::quiet_NaN(); ///< max |K_ij| (linear runs)
-  bool has_surface = false;     ///< pressures recovered on slave edges
-  bool friction = false;        ///< some pair has friction: the nodes' tangential fields are set
-  int stick_nodes = 0, slip_nodes = 0;
-  /// The tangential part of the resultant: `resultant` along the slave surface's mean tangent
-  /// in the reference configuration (its normals into the slave weighted by the rows' forces,
-  /// normalised, turned clockwise); the frame the loads of a contact problem are stated in. A
-  /// sum of the nodes' tangential forces, each along its own deformed tangent, is not a force
-  /// of the body: on Cattaneo–Mindlin (finite strain) it read 150.08 for the cap's 150.
-  double tangent_force = 0.0;
-  /// The resultant of the contact forces on the slave surface, normal and friction: Σ (λ n + q t).
-  Vec2 resultant = Vec2::Zero();
-  double stick_length = 0.0;    ///< measure of the slave surface owned by sticking nodes
-  std::vector<EqualityRowResult> equalities;  ///< the [[constraint]] rows
-  std::vector<std::string> equality_names, equality_types;  ///< per [[constraint]]
-  double max_equality_violation = 0.0;        ///< max |A u − b| over them
-  std::vector<PlateResult> plates;            ///< the [[plate]]s
-  std::vector<IterationRecord> history;
-  std::vector<double> penalty_history;
-};
-
+/// Owns the model's contact pairs, its equality rows and the reporter over them (which refers
+/// to the other two, so a ContactSet stays where it was built); its methods hand each question
+/// to the part that answers it.
 class ContactSet {
  public:
   /// Resolves the selections of `spec` on the model (throws InputError when one matches nothing)
   /// and adds the seed's gap elements of a legacy scene.
   ContactSet(const core::Model& model, const ContactSceneSpec& spec, const core::Scene& scene);
+  ContactSet(const ContactSet&) = delete;
+  ContactSet& operator=(const ContactSet&) = delete;
 
-  bool empty() const { return pairs_.empty() && equality_rows_.empty() && model_.plates.empty(); }
-  /// The rows of the scene's [[constraint]] tables (linear in u) and their specs.
-  const std::vector<EqualityRow>& equality_rows() const { return equality_rows_; }
-  /// Every equality row at the full displacement u: the [[constraint]] rows, then the rows of
-  /// the [[plate]]s (contact_set_equalities.cpp), linearised at u unless `small_strain`.
-  std::vector<EqualityRow> equality_rows_at(const VecX& u_full, bool small_strain) const;
-  /// Whether some equality row is nonlinear in u in a load-stepped run (a plate turns).
-  bool has_nonlinear_equalities() const { return !model_.plates.empty(); }
-  /// The rows' gradients on the free DOFs (m_eq × n_free).
-  SpMat equality_jacobian(const std::vector<EqualityRow>& rows) const;
-  /// Each row's value c(u) = Σ a u − rhs at the full displacement the rows were taken at.
-  VecX equality_values(const std::vector<EqualityRow>& rows, const VecX& u_full) const;
-  /// −Σ μ_j ∂²c_j/∂u² on the free DOFs (zero for rows linear in u).
-  SpMat equality_geometric_stiffness(const std::vector<EqualityRow>& rows, const VecX& mu) const;
-  /// The plates' motion and transmitted force at u_full with the equality multipliers μ.
-  void report_plates(const VecX& u_full, const VecX& mu, bool small_strain,
-                     ContactReport& r) const;
-  const std::vector<EqualitySpec>& equalities() const { return spec_.equalities; }
-  const StrategyOptions& options() const { return spec_.options; }
-  int num_slave_nodes() const { return static_cast<int>(slave_nodes_.size()); }
+  const ContactPairs& pairs() const { return pairs_; }
+  const EqualityConstraints& equalities() const { return equalities_; }
+  const ContactReporter& reporter() const { return reporter_; }
 
-  /// Gap rows at the configuration X + u (u: full displacement vector); `small_strain` takes
-  /// normals and measures from the reference configuration (see Configuration).
-  /// Without `curvature`, finite-strain rows carry their values and gradients only.
-  std::vector<GapRow> detect(const VecX& u_full, bool small_strain = false,
-                             bool curvature = true) const;
-  /// The deepest slave node below its master surface at the configuration X + u: each slave
-  /// node projected onto the current master surface (quadratic edges on T6), whatever the
-  /// pair's discretization (a mortar row's weighted gap allows a node an overlap of the
-  /// order h²/R between its neighbours). 0 when none penetrates.
-  double nodal_penetration(const VecX& u_full) const;
+  bool empty() const { return pairs_.empty() && equalities_.empty(); }
+  const StrategyOptions& options() const { return options_; }
+  double model_size() const { return model_.model_size; }
 
   /// The problem on the free DOFs: K, f, and the rows linearised about u_full (the detection
-  /// configuration), with prescribed DOFs moved into g0.
+  /// configuration), with prescribed DOFs moved into g0 (ContactPairs::add_gap_rows).
   /// With friction, the tangential rows too: the slip from `u_reference` (the last converged
-  /// full displacement; null: the undeformed state) to u.
+  /// full displacement; null: the undeformed state) to u (ContactPairs::add_friction_rows).
+  /// Then the equality rows at u_full (EqualityConstraints::add_rows).
   ConstrainedProblem problem(const SpMat& k_ff, const VecX& f_ff, const std::vector<GapRow>& rows,
                              const VecX& u_full, bool small_strain = true,
                              const VecX* u_reference = nullptr) const;
-  /// Whether some [[contact]] has friction.
-  bool has_friction() const;
 
-  /// The rows' gradients on the free DOFs: G, m × n_free (prescribed DOFs dropped).
-  SpMat gap_jacobian(const std::vector<GapRow>& rows) const;
-  /// The contact's geometric stiffness on the free DOFs, −Σ_i λ_i ∂²g_i/∂u², from the rows'
-  /// curvature and their forces λ (n_free × n_free; zero for rows linear in u).
-  SpMat geometric_stiffness(const std::vector<GapRow>& rows, const VecX& force) const;
+  // The contact pairs' questions (ContactPairs documents each).
+  std::vector<GapRow> detect(const VecX& u_full, bool small_strain = false,
+                             bool curvature = true) const {
+    return pairs_.detect(u_full, small_strain, curvature);
+  }
+  double nodal_penetration(const VecX& u_full) const { return pairs_.nodal_penetration(u_full); }
+  SpMat gap_jacobian(const std::vector<GapRow>& rows) const { return pairs_.gap_jacobian(rows); }
+  SpMat geometric_stiffness(const std::vector<GapRow>& rows, const VecX& force) const {
+    return pairs_.geometric_stiffness(rows, force);
+  }
+  int num_slots() const { return pairs_.num_slots(); }
+  double length_scale() const { return pairs_.length_scale(); }
 
-  /// Fills the per-node results, recovered pressure, p_max, contact length and total force.
-  void report(const std::vector<GapRow>& rows, const ConstraintSolution& s, ContactReport& r) const;
+  // The equality rows' questions (EqualityConstraints documents each).
+  std::vector<EqualityRow> equality_rows_at(const VecX& u_full, bool small_strain) const {
+    return equalities_.rows_at(u_full, small_strain);
+  }
+  bool has_nonlinear_equalities() const { return equalities_.has_nonlinear_rows(); }
+  SpMat equality_jacobian(const std::vector<EqualityRow>& rows) const {
+    return equalities_.jacobian(rows);
+  }
+  VecX equality_values(const std::vector<EqualityRow>& rows, const VecX& u_full) const {
+    return equalities_.values(rows, u_full);
+  }
+  SpMat equality_geometric_stiffness(const std::vector<EqualityRow>& rows, const VecX& mu) const {
+    return equalities_.geometric_stiffness(rows, mu);
+  }
+  void report_plates(const VecX& u_full, const VecX& mu, bool small_strain,
+                     ContactReport& r) const {
+    equalities_.report_plates(u_full, mu, small_strain, r);
+  }
 
-  /// Each (contact entry, slave node) combination and each node pair has a slot, the stable
-  /// identity of its row across detections (GapRow::slot): active sets and multipliers carried
-  /// from one detection, iteration or load step to the next are indexed by it.
-  int num_slots() const { return num_slots_; }
-
-  /// Smallest slave (else master) edge length: the scale of relative tolerances.
-  double length_scale() const { return length_scale_; }
-  double model_size() const { return model_.model_size; }
+  /// Fills the report of a solved state (ContactReporter::report).
+  void report(const std::vector<GapRow>& rows, const ConstraintSolution& s,
+              ContactReport& r) const {
+    reporter_.report(rows, s, r);
+  }
 
  private:
-  /// The slave surface of one [[contact]] (for pressure recovery); a selection without boundary
-  /// edges is refused when `required` (the discretization recovers pressure on the surface).
-  void add_slave_edges(const ContactPairSpec& cs, bool required);
-  /// Adds the master surface's reference normals (out of the master body, toward the slave) of
-  /// a pair with a deformable master to master_outward_, each as long as its edge (the
-  /// constructor makes the sums unit vectors once every pair is in).
-  void add_master_normals(const ContactPairSpec& cs);
-  /// The rows of the scene's [[constraint]] tables.
-  void add_equalities();
-  /// The rows at X + u of every pair, or of its gauge where it has one (`gauges`).
-  std::vector<GapRow> detect_with(const VecX& u_full, bool small_strain, bool curvature,
-                                  bool gauges) const;
-  /// The [[constraint]] rows' multipliers and residuals (contact_set_report.cpp).
-  void report_equalities(const ConstraintSolution& s, ContactReport& r) const;
-  /// The resultant of the rows' forces and its tangential part (contact_set_report.cpp).
-  void add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
-                     ContactReport& r) const;
-  /// Each slave node's share of the slave surface (tributary_).
-  void add_tributary();
-  /// The tangential rows of `rows` and their friction laws into `p` (see ConstrainedProblem).
-  void add_friction_rows(const std::vector<GapRow>& rows, const VecX& u_full,
-                         const VecX* u_reference, ConstrainedProblem& p) const;
-  /// Marks the plates' rows that hold a free DOF; a row on prescribed DOFs only must agree with
-  /// them (else InputError) and is left out.
-  void check_plate_rows();
-  /// The seed's gap elements of a legacy model, as one node_to_node pair after the scene's.
-  void add_gap_elements(const core::ExplicitModel& legacy);
-  /// Pressures of the report's nodes (`slot`: node → index): λ / w on mortar rows, recovered
-  /// from the nodal forces elsewhere.
-  /// Edges of `side_edge` are left out (side_edges).
-  void assign_pressure(const std::map<int, int>& slot, const std::vector<double>& mortar_weight,
-                       const std::vector<char>& mortar_edge, const std::vector<char>& side_edge,
-                       ContactReport& r) const;
-  /// Per slave edge: whether it is a side of the body beside the contact zone, not part of the
-  /// contact surface (one end active, its outward normal turned more than 45 degrees from facing
-  /// the master there); `contact_normal` per report node, the active row's normal (else zero).
-  std::vector<char> side_edges(const std::map<int, int>& slot,
-                               const std::vector<Vec2>& contact_normal,
-                               const std::vector<ContactNodeResult>& nodes) const;
-  /// The length of the longest run of sticking nodes along the slave surface (the stick zone),
-  /// each node counting what it owns (`owned`, per report node).
-  double stick_zone_length(const std::map<int, int>& slot, const std::vector<char>& side_edge,
-                           const std::vector<ContactNodeResult>& sticking,
-                           const std::vector<double>& owned) const;
-  /// Per report node (`slot`), the arc length of the slave surface it owns (side edges left
-  /// out): the contact length is the sum over active nodes.
-  std::vector<double> owned_lengths(const std::map<int, int>& slot,
-                                    const std::vector<char>& mortar_edge,
-                                    const std::vector<char>& side_edge) const;
-
   const core::Model& model_;
-  ContactSceneSpec spec_;
-  std::vector<std::unique_ptr<ContactDiscretization>> pairs_;  ///< one per [[contact]] (+ gaps)
-  /// Per [[contact]] whose rows are not one per slave node: a node_to_segment of the same
-  /// surfaces, the gauge of nodal_penetration (null: the pair is its own gauge).
-  std::vector<std::unique_ptr<ContactDiscretization>> gauges_;
-  std::vector<int> first_slot_;              ///< per pair: the slot of its first row
-  std::vector<EqualityRow> equality_rows_;
-  std::vector<char> plate_row_kept_;         ///< per row rigid_plate_rows makes, in order
-  std::vector<int> slave_nodes_;             ///< unique, sorted
-  std::vector<MasterEdge> slave_edges_;      ///< slave surface, for pressure recovery
-  std::vector<double> slave_edge_thickness_;
-  std::vector<double> tributary_;            ///< per node: ∫ N ds t over the slave edges
-  /// per node: the unit mean of its master edges' normals out of the body, weighted by the
-  /// edges' lengths (reference configuration; zero off the master surfaces): the frame of the
-  /// tangential force
-  std::vector<Vec2> master_outward_;
-  double length_scale_ = 1.0;
-  int num_slots_ = 0;
+  StrategyOptions options_;
+  ContactPairs pairs_;
+  EqualityConstraints equalities_;
+  ContactReporter reporter_;
 };
-
-/// The straight distance between a master or slave edge's end nodes.
-double chord(const std::vector<Vec2>& x, const MasterEdge& e);
-
-/// Consistent recovery of a pressure field from nodal normal forces on a line of boundary
-/// edges: solves M p = f with the edge mass matrix M = Σ t ∫ N_a N_b ds, so a pressure the
-/// discretisation can represent comes back exactly (a quadratic edge's 1 : 4 : 1 nodal forces do
-/// not turn into oscillating corner and mid-side values, as dividing by a tributary length does).
-/// Only the active nodes carry unknowns; the others hold p = 0, which confines the projection's
-/// ringing at the edge of the contact zone (where the Hertz pressure has a square-root
-/// singularity in its slope). Returns one value per entry of `nodes`.
-VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>& edges,
-                      const std::vector<double>& thickness, const std::vector<int>& nodes,
-                      const VecX& force, const std::vector<char>& active);
 
 }  // namespace c2d::constraints

@@ -1,7 +1,7 @@
 // How a [[contact]] pair becomes gap rows: a discretization owns the pair's slave points and,
 // at any configuration, produces the row of each slot it finds (slots are the pair's stable row
 // identities across detections). One class per discretization in constraints/discretizations/,
-// one line in the registry of discretization.cpp; ContactSet holds one per pair.
+// one line in the registry of discretization.cpp; ContactPairs holds one per pair.
 #pragma once
 
 #include <memory>

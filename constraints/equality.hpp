@@ -1,7 +1,7 @@
 // How a [[constraint]] becomes equality rows on displacements (docs/scene.md): one class per
 // type in constraints/equalities/, one line in the registry of equality.cpp. The scene parser
 // asks the registry for the type named by `type`, which parses its own keys into an
-// EqualityConstraint; ContactSet asks each for its rows, and every method enforces them.
+// EqualityConstraint; EqualityConstraints asks each for its rows, and every method enforces them.
 #pragma once
 
 #include <memory>

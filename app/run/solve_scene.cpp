@@ -49,7 +49,7 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
     throw InputError("--method " + method + ": the scene has no [[contact]] to enforce");
   say("solving " + std::to_string(model.dofs.num_free()) + " equations" +
       (run->contact ? " with " + run->contact_spec.options.method + " contact (" +
-                          std::to_string(run->contact->num_slave_nodes()) + " slave nodes)"
+                          std::to_string(run->contact->pairs().num_slave_nodes()) + " slave nodes)"
                     : std::string()));
   // One driver: a linear analysis is the small-strain system taking its load in its steps (one
   // by default), a geometric-nonlinear one the finite-strain system in its load steps.

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "constraints/contact_scene.hpp"
-#include "constraints/contact_set.hpp"
+#include "constraints/contact_pairs.hpp"
 #include "constraints/discretization.hpp"
 #include "core/errors.hpp"
 #include "core/model.hpp"
@@ -38,17 +38,17 @@ std::string stacked_blocks(const std::string& detection, bool floor) {
          "detection = \"" + detection + "\"\n";
 }
 
-void expect_gaps(const ContactSet& contact, const core::Model& model, double drop) {
+void expect_gaps(const ContactPairs& pairs, const core::Model& model, double drop) {
   VecX u = VecX::Zero(model.mesh.num_dofs());
   for (int n = 0; n < model.mesh.num_nodes(); ++n)
     if (model.mesh.nodes[n].y() > 1.05) u[2 * n + 1] = -drop;
-  const std::vector<GapRow> rows = contact.detect(u);
-  ASSERT_EQ(static_cast<int>(rows.size()), contact.num_slave_nodes());
+  const std::vector<GapRow> rows = pairs.detect(u);
+  ASSERT_EQ(static_cast<int>(rows.size()), pairs.num_slave_nodes());
   std::set<int> slots;
   for (const GapRow& r : rows) {
     EXPECT_NEAR(r.gap, 0.1 - drop, 1e-12) << "slave node " << r.slave;
     EXPECT_NEAR(r.normal.y(), 1.0, 1e-12);
-    EXPECT_TRUE(r.slot >= 0 && r.slot < contact.num_slots());
+    EXPECT_TRUE(r.slot >= 0 && r.slot < pairs.num_slots());
     EXPECT_TRUE(slots.insert(r.slot).second) << "slot " << r.slot << " twice";
   }
 }
@@ -60,10 +60,10 @@ class EveryDiscretization : public ::testing::TestWithParam<std::string> {};
 TEST_P(EveryDiscretization, StackedBlocksGapsAreExactAndFollowARigidTranslation) {
   const core::Scene scene = core::parse_scene(stacked_blocks(GetParam(), false), "blocks.toml");
   const core::Model model = core::build_model(scene);
-  const ContactSet contact(model, parse_contact_scene(scene), scene);
-  EXPECT_EQ(contact.num_slave_nodes(), 9);  // 2.0 / 0.25 + 1 nodes on the bottom edge
-  expect_gaps(contact, model, 0.0);
-  expect_gaps(contact, model, 0.03);
+  const ContactPairs pairs(model, parse_contact_scene(scene), scene);
+  EXPECT_EQ(pairs.num_slave_nodes(), 9);  // 2.0 / 0.25 + 1 nodes on the bottom edge
+  expect_gaps(pairs, model, 0.0);
+  expect_gaps(pairs, model, 0.03);
 }
 
 TEST_P(EveryDiscretization, AgainstARigidFloorWhenItTakesObstacles) {
@@ -76,9 +76,9 @@ TEST_P(EveryDiscretization, AgainstARigidFloorWhenItTakesObstacles) {
   }
   const core::Scene scene = core::parse_scene(stacked_blocks(GetParam(), true), "floor.toml");
   const core::Model model = core::build_model(scene);
-  const ContactSet contact(model, parse_contact_scene(scene), scene);
-  expect_gaps(contact, model, 0.0);
-  expect_gaps(contact, model, 0.03);
+  const ContactPairs pairs(model, parse_contact_scene(scene), scene);
+  expect_gaps(pairs, model, 0.0);
+  expect_gaps(pairs, model, 0.03);
 }
 
 INSTANTIATE_TEST_SUITE_P(Contact, EveryDiscretization, ::testing::ValuesIn(discretization_names()));

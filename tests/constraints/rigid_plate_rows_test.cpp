@@ -8,7 +8,7 @@
 #include <string>
 
 #include "constraints/contact_scene.hpp"
-#include "constraints/contact_set.hpp"
+#include "constraints/equality_constraints.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
 
@@ -45,12 +45,12 @@ struct Fixture {
   core::Scene scene;
   core::Model model;
   ContactSceneSpec spec;
-  std::unique_ptr<ContactSet> set;
+  std::unique_ptr<EqualityConstraints> equalities;
   explicit Fixture(const std::string& attach)
       : scene(core::parse_scene(block_scene(attach), "plate.toml")),
         model(core::build_model(scene)),
         spec(parse_contact_scene(scene, "")),
-        set(std::make_unique<ContactSet>(model, spec, scene)) {}
+        equalities(std::make_unique<EqualityConstraints>(model, spec.equalities)) {}
 };
 
 /// A displacement that moves every node and turns the plate by `theta`.
@@ -64,8 +64,9 @@ VecX some_state(const core::Model& model, double theta) {
 
 /// The largest relative error of the terms against central differences of the values, and of
 /// the curvature against central differences of the terms (full DOF indices).
-std::pair<double, double> tangent_error(const ContactSet& set, const VecX& u, double h) {
-  const std::vector<EqualityRow> rows = set.equality_rows_at(u, false);
+std::pair<double, double> tangent_error(const EqualityConstraints& equalities, const VecX& u,
+                                        double h) {
+  const std::vector<EqualityRow> rows = equalities.rows_at(u, false);
   double gerr = 0.0, herr = 0.0, gmax = 1e-300, hmax = 1e-300;
   for (size_t j = 0; j < rows.size(); ++j) {
     std::map<int, double> grad;
@@ -75,8 +76,8 @@ std::pair<double, double> tangent_error(const ContactSet& set, const VecX& u, do
     for (const auto& [dof, a] : grad) {
       VecX up = u, um = u;
       up[dof] += h, um[dof] -= h;
-      const auto rp = set.equality_rows_at(up, false), rm = set.equality_rows_at(um, false);
-      const double fd = (set.equality_values(rp, up)[j] - set.equality_values(rm, um)[j]) / (2 * h);
+      const auto rp = equalities.rows_at(up, false), rm = equalities.rows_at(um, false);
+      const double fd = (equalities.values(rp, up)[j] - equalities.values(rm, um)[j]) / (2 * h);
       gerr = std::max(gerr, std::abs(fd - a));
       // d(terms)/du_dof against the curvature's column dof.
       std::map<int, double> tp, tm;
@@ -98,7 +99,7 @@ TEST(RigidPlateRows, TangentMatchesCentralDifferences) {
   for (const std::string attach : {"all", "normal"}) {
     Fixture f(attach);
     for (double theta : {0.0, 0.4, 1.3}) {
-      const auto [g, h] = tangent_error(*f.set, some_state(f.model, theta), 1e-6);
+      const auto [g, h] = tangent_error(*f.equalities, some_state(f.model, theta), 1e-6);
       EXPECT_LT(g, 1e-8) << attach << " θ = " << theta;
       EXPECT_LT(h, 1e-6) << attach << " θ = " << theta;
     }
@@ -122,9 +123,9 @@ TEST(RigidPlateRows, ExactRigidMotionSatisfiesTheRows) {
       }
       u.segment<2>(plate.dof) = t;
       u[plate.dof + 2] = theta;
-      const VecX c = f.set->equality_values(f.set->equality_rows_at(u, false), u);
+      const VecX c = f.equalities->values(f.equalities->rows_at(u, false), u);
       EXPECT_LT(c.cwiseAbs().maxCoeff(), 1e-13) << attach << " θ = " << theta;
-      const VecX lin = f.set->equality_values(f.set->equality_rows_at(u, true), u);
+      const VecX lin = f.equalities->values(f.equalities->rows_at(u, true), u);
       EXPECT_GT(lin.cwiseAbs().maxCoeff(), 1e-3) << attach << " θ = " << theta;
     }
   }

@@ -77,7 +77,7 @@ master = { body = "low", edge = "top" }
   const core::Model model = core::build_model(scene);
   const ContactSet set(model, parse_contact_scene(scene, "lagrange"), scene);
   int own = 0;
-  for (const EqualityRow& row : set.equality_rows()) {
+  for (const EqualityRow& row : set.equalities().constraint_rows()) {
     if (row.owner != 0) continue;
     ++own;
     double translated = 0.0, size = 0.0;

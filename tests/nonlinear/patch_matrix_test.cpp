@@ -133,7 +133,7 @@ PatchRun solve(const PatchCase& c) {
   const core::Model model = core::build_model(scene);
   const ContactSet contact(model, parse_contact_scene(scene, c.method), scene);
   PatchRun run;
-  run.slave_nodes = contact.num_slave_nodes();
+  run.slave_nodes = contact.pairs().num_slave_nodes();
   if (c.geometric) {
     nonlinear::StepperOptions o;
     o.steps = scene.analysis.steps;

@@ -1,13 +1,10 @@
-// The contact report of a solved state: per slave node its gap, forces, pressure and shear
-// (recovered consistently on the slave edges), and the totals: active nodes, p_max, the contact
-// and stick zones' lengths, the resultant.
-#include <algorithm>
-#include <cmath>
-#include <map>
+#include "constraints/contact_reporter.hpp"
 
 #include <Eigen/SparseCholesky>
-
-#include "constraints/contact_set.hpp"
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
 
 namespace c2d::constraints {
 
@@ -146,13 +143,22 @@ VecX recover_pressure(const std::vector<Vec2>& x, const std::vector<MasterEdge>&
   return out;
 }
 
-void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolution& s,
-                        ContactReport& r) const {
+ContactReporter::ContactReporter(const core::Model& model, const ContactPairs& pairs,
+                                 const EqualityConstraints& equalities,
+                                 const StrategyOptions& options)
+    : model_(model),
+      pairs_(pairs),
+      equalities_(equalities),
+      penetration_limit_(options.penetration_limit) {}
+
+void ContactReporter::report(const std::vector<GapRow>& rows, const ConstraintSolution& s,
+                             ContactReport& r) const {
   const core::Mesh& mesh = model_.mesh;
-  r.penetration_limit = spec_.options.penetration_limit * length_scale_;
+  const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
+  r.penetration_limit = penetration_limit_ * pairs_.length_scale();
   std::map<int, int> slot;
   r.nodes.clear();
-  for (int n : slave_nodes_) {
+  for (int n : pairs_.slave_nodes()) {
     slot[n] = static_cast<int>(r.nodes.size());
     ContactNodeResult cn;
     cn.node = n;
@@ -177,19 +183,19 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     if (static_cast<int>(s.friction_state.size()) > k)
       cn.state = std::max(cn.state, s.friction_state[k]);
   }
-  std::vector<char> mortar_edge(slave_edges_.size(), 0);
-  for (size_t k = 0; k < slave_edges_.size(); ++k) {
-    const MasterEdge& e = slave_edges_[k];
+  std::vector<char> mortar_edge(slave_edges.size(), 0);
+  for (size_t k = 0; k < slave_edges.size(); ++k) {
+    const MasterEdge& e = slave_edges[k];
     mortar_edge[k] = mortar_weight[slot[e.nodes[0]]] > 0 || mortar_weight[slot[e.nodes[1]]] > 0;
   }
   const std::vector<char> side = side_edges(slot, contact_normal, r.nodes);
   assign_pressure(slot, mortar_weight, mortar_edge, side, r);
-  r.has_surface = !slave_edges_.empty();
+  r.has_surface = !slave_edges.empty();
   report_equalities(s, r);
   r.active_nodes = 0;
   r.total_force = 0.0;
   r.p_max = 0.0;
-  r.friction = has_friction();
+  r.friction = pairs_.has_friction();
   r.stick_nodes = r.slip_nodes = 0;
   for (const ContactNodeResult& cn : r.nodes) {
     r.stick_nodes += cn.state == FrictionState::kStick;
@@ -207,30 +213,31 @@ void ContactSet::report(const std::vector<GapRow>& rows, const ConstraintSolutio
     std::vector<ContactNodeResult> sticking = r.nodes;
     for (ContactNodeResult& cn : sticking) cn.active = cn.state == FrictionState::kStick;
     // a quadratic mortar edge's middle node sticks with its corners
-    for (size_t k = 0; k < slave_edges_.size(); ++k)
-      if (mortar_edge[k] && slave_edges_[k].count == 3)
-        sticking[slot.at(slave_edges_[k].nodes[2])].active =
-            sticking[slot.at(slave_edges_[k].nodes[0])].active ||
-            sticking[slot.at(slave_edges_[k].nodes[1])].active;
+    for (size_t k = 0; k < slave_edges.size(); ++k)
+      if (mortar_edge[k] && slave_edges[k].count == 3)
+        sticking[slot.at(slave_edges[k].nodes[2])].active =
+            sticking[slot.at(slave_edges[k].nodes[0])].active ||
+            sticking[slot.at(slave_edges[k].nodes[1])].active;
     r.stick_length = stick_zone_length(slot, side, sticking, owned);
   }
   r.max_penetration = s.max_penetration;
   r.rows = static_cast<int>(rows.size());
 }
 
-void ContactSet::report_equalities(const ConstraintSolution& s, ContactReport& r) const {
+void ContactReporter::report_equalities(const ConstraintSolution& s, ContactReport& r) const {
   r.equalities.clear();
   r.equality_names.clear();
   r.equality_types.clear();
-  for (const EqualitySpec& e : spec_.equalities) {
+  for (const EqualitySpec& e : equalities_.specs()) {
     r.equality_names.push_back(e.name);
     r.equality_types.push_back(e.type);
   }
   r.max_equality_violation = 0.0;
-  for (size_t j = 0; j < equality_rows_.size(); ++j) {  // the [[plate]] rows follow these
+  const std::vector<EqualityRow>& rows = equalities_.constraint_rows();
+  for (size_t j = 0; j < rows.size(); ++j) {  // the [[plate]] rows follow these
     const int k = static_cast<int>(j);
     EqualityRowResult e;
-    e.owner = equality_rows_[j].owner;
+    e.owner = rows[j].owner;
     e.multiplier = s.eq_multiplier.size() > k ? s.eq_multiplier[k] : 0.0;
     e.residual = s.eq_residual.size() > k ? s.eq_residual[k] : 0.0;
     r.max_equality_violation = std::max(r.max_equality_violation, std::abs(e.residual));
@@ -238,13 +245,14 @@ void ContactSet::report_equalities(const ConstraintSolution& s, ContactReport& r
   }
 }
 
-void ContactSet::add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
-                               ContactReport& r) const {
+void ContactReporter::add_resultant(const std::vector<GapRow>& rows, const ConstraintSolution& s,
+                                    ContactReport& r) const {
   // The frame of the tangential force: the master surface's normal in the reference
   // configuration, where each row meets it (its master nodes' normals, weighted by their
   // coefficients; a rigid obstacle's or a node pair's own normal), averaged with the rows'
   // forces. Neither the slave's normals (they tilt across a curved slave's contact zone) nor the
   // deformed ones (they turn with the load) give the load a flat master carries.
+  const std::vector<Vec2>& master_outward = pairs_.master_outward();
   Vec2 normal_sum = Vec2::Zero();
   r.resultant = Vec2::Zero();
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -256,8 +264,8 @@ void ContactSet::add_resultant(const std::vector<GapRow>& rows, const Constraint
     r.resultant += lambda * n + q * Vec2(n.y(), -n.x());
     Vec2 master = Vec2::Zero();
     for (const auto& [node, c] : rows[i].terms)
-      if (node != rows[i].slave && master_outward_[node].squaredNorm() > 0)
-        master += c.norm() * master_outward_[node];
+      if (node != rows[i].slave && master_outward[node].squaredNorm() > 0)
+        master += c.norm() * master_outward[node];
     if (master.squaredNorm() == 0.0 || master.dot(n) <= 0.0) master = n;
     normal_sum += lambda * master.normalized();
   }
@@ -270,9 +278,9 @@ void ContactSet::add_resultant(const std::vector<GapRow>& rows, const Constraint
   }
 }
 
-std::vector<char> ContactSet::side_edges(const std::map<int, int>& slot,
-                                         const std::vector<Vec2>& contact_normal,
-                                         const std::vector<ContactNodeResult>& nodes) const {
+std::vector<char> ContactReporter::side_edges(const std::map<int, int>& slot,
+                                              const std::vector<Vec2>& contact_normal,
+                                              const std::vector<ContactNodeResult>& nodes) const {
   // A slave surface selected by a region (a box over a block's lower part) also holds edges of
   // the body's sides. Where the contact zone reaches such a corner, the recovery would spread
   // the corner's force over the side edge as if the zone went on round the corner, and its
@@ -284,9 +292,10 @@ std::vector<char> ContactSet::side_edges(const std::map<int, int>& slot,
   // rotations a contact surface goes through).
   constexpr double kFacing = 0.70710678118654752;  // cos 45°
   const core::Mesh& mesh = model_.mesh;
-  std::vector<char> side(slave_edges_.size(), 0);
-  for (size_t k = 0; k < slave_edges_.size(); ++k) {
-    const MasterEdge& e = slave_edges_[k];
+  const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
+  std::vector<char> side(slave_edges.size(), 0);
+  for (size_t k = 0; k < slave_edges.size(); ++k) {
+    const MasterEdge& e = slave_edges[k];
     const int a = slot.at(e.nodes[0]), b = slot.at(e.nodes[1]);
     if (nodes[a].active == nodes[b].active) continue;
     const Vec2 n = contact_normal[nodes[a].active ? a : b];
@@ -297,16 +306,17 @@ std::vector<char> ContactSet::side_edges(const std::map<int, int>& slot,
   return side;
 }
 
-void ContactSet::assign_pressure(const std::map<int, int>& slot,
-                                 const std::vector<double>& mortar_weight,
-                                 const std::vector<char>& mortar_edge,
-                                 const std::vector<char>& side_edge, ContactReport& r) const {
+void ContactReporter::assign_pressure(const std::map<int, int>& slot,
+                                      const std::vector<double>& mortar_weight,
+                                      const std::vector<char>& mortar_edge,
+                                      const std::vector<char>& side_edge, ContactReport& r) const {
   // Node-based rows: a pressure recovered from the nodal forces on the edges they load.
+  const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
   std::vector<MasterEdge> edges;
   std::vector<double> thickness;
-  for (size_t k = 0; k < slave_edges_.size(); ++k)
+  for (size_t k = 0; k < slave_edges.size(); ++k)
     if (!mortar_edge[k] && !side_edge[k])
-      edges.push_back(slave_edges_[k]), thickness.push_back(slave_edge_thickness_[k]);
+      edges.push_back(slave_edges[k]), thickness.push_back(pairs_.slave_edge_thickness()[k]);
   const int n = static_cast<int>(r.nodes.size());
   VecX force(n), tangent(n);
   std::vector<char> active(r.nodes.size(), 0);
@@ -316,18 +326,19 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
     tangent[i] = mortar_weight[i] > 0 ? 0.0 : r.nodes[i].tangent_force;
     active[i] = mortar_weight[i] > 0 ? 0 : r.nodes[i].active;
   }
-  const VecX p = recover_pressure(model_.mesh.nodes, edges, thickness, slave_nodes_, force, active);
-  const VecX q = has_friction() ? recover_pressure(model_.mesh.nodes, edges, thickness,
-                                                   slave_nodes_, tangent, active)
-                                : VecX(VecX::Zero(n));
+  const std::vector<int>& nodes = pairs_.slave_nodes();
+  const VecX p = recover_pressure(model_.mesh.nodes, edges, thickness, nodes, force, active);
+  const VecX q = pairs_.has_friction()
+                     ? recover_pressure(model_.mesh.nodes, edges, thickness, nodes, tangent, active)
+                     : VecX(VecX::Zero(n));
   // Mortar rows: the multiplier is the pressure's integral against the row's hat.
   for (int i = 0; i < n; ++i) {
     r.nodes[i].pressure = mortar_weight[i] > 0 ? r.nodes[i].force / mortar_weight[i] : p[i];
     r.nodes[i].shear = mortar_weight[i] > 0 ? r.nodes[i].tangent_force / mortar_weight[i] : q[i];
   }
   // The middle node of a quadratic mortar edge lies on the linear multiplier between its corners.
-  for (size_t k = 0; k < slave_edges_.size(); ++k) {
-    const MasterEdge& e = slave_edges_[k];
+  for (size_t k = 0; k < slave_edges.size(); ++k) {
+    const MasterEdge& e = slave_edges[k];
     if (!mortar_edge[k] || e.count != 3) continue;
     const ContactNodeResult &a = r.nodes[slot.at(e.nodes[0])], &b = r.nodes[slot.at(e.nodes[1])];
     ContactNodeResult& m = r.nodes[slot.at(e.nodes[2])];
@@ -342,10 +353,10 @@ void ContactSet::assign_pressure(const std::map<int, int>& slot,
   }
 }
 
-double ContactSet::stick_zone_length(const std::map<int, int>& slot,
-                                     const std::vector<char>& side_edge,
-                                     const std::vector<ContactNodeResult>& sticking,
-                                     const std::vector<double>& owned) const {
+double ContactReporter::stick_zone_length(const std::map<int, int>& slot,
+                                          const std::vector<char>& side_edge,
+                                          const std::vector<ContactNodeResult>& sticking,
+                                          const std::vector<double>& owned) const {
   // The sticking nodes joined along the slave edges into runs; the longest run is the stick
   // zone. A node that first touched in the last increment has not slipped yet and sticks at
   // the edge of the contact zone, apart from the zone (Cattaneo–Mindlin on a rigid flat: two
@@ -357,11 +368,12 @@ double ContactSet::stick_zone_length(const std::map<int, int>& slot,
     while (root[i] != i) i = root[i] = root[root[i]];
     return i;
   };
-  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+  const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
+  for (size_t k = 0; k < slave_edges.size(); ++k) {
     if (side_edge[k]) continue;
     // A T3 edge joins its corners; a T6 edge's middle node joins each corner beside it, so
     // a run passes a T6 edge through its middle.
-    const MasterEdge& e = slave_edges_[k];
+    const MasterEdge& e = slave_edges[k];
     const int hub = slot.at(e.nodes[e.count == 3 ? 2 : 1]);
     for (int a = 0; a < (e.count == 3 ? 2 : 1); ++a) {
       const int c = slot.at(e.nodes[a]);
@@ -374,9 +386,9 @@ double ContactSet::stick_zone_length(const std::map<int, int>& slot,
   return n > 0 ? *std::max_element(run.begin(), run.end()) : 0.0;
 }
 
-std::vector<double> ContactSet::owned_lengths(const std::map<int, int>& slot,
-                                              const std::vector<char>& mortar_edge,
-                                              const std::vector<char>& side_edge) const {
+std::vector<double> ContactReporter::owned_lengths(const std::map<int, int>& slot,
+                                                   const std::vector<char>& mortar_edge,
+                                                   const std::vector<char>& side_edge) const {
   // Every slave node owns the part of its edges nearer to it than to the edge's other nodes
   // (T3 edges split at the middle; T6 at the quarter points); the contact length is the arc
   // length owned by active nodes. Node-to-node contact only knows that the contact edge lies
@@ -386,14 +398,16 @@ std::vector<double> ContactSet::owned_lengths(const std::map<int, int>& slot,
   // spacing.) A mortar edge's multiplier is linear between its corners, so each corner owns
   // half of it, T6 included.
   const core::Mesh& mesh = model_.mesh;
+  const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
   std::vector<double> owned(slot.size(), 0.0);
-  for (size_t k = 0; k < slave_edges_.size(); ++k) {
+  for (size_t k = 0; k < slave_edges.size(); ++k) {
     if (side_edge[k]) continue;  // a side of the body beside the zone (side_edges)
-    const MasterEdge& e = slave_edges_[k];
+    const MasterEdge& e = slave_edges[k];
     auto point = [&](double s) {
       if (e.count == 2) return Vec2((1 - s) * mesh.nodes[e.nodes[0]] + s * mesh.nodes[e.nodes[1]]);
       return Vec2((1 - s) * (1 - 2 * s) * mesh.nodes[e.nodes[0]] +
-                  s * (2 * s - 1) * mesh.nodes[e.nodes[1]] + 4 * s * (1 - s) * mesh.nodes[e.nodes[2]]);
+                  s * (2 * s - 1) * mesh.nodes[e.nodes[1]] +
+                  4 * s * (1 - s) * mesh.nodes[e.nodes[2]]);
     };
     // Parametric stretches of the edge owned by each of its nodes (ends first, then mid-side).
     const double t3[2][2] = {{0.0, 0.5}, {0.5, 1.0}};
@@ -404,8 +418,9 @@ std::vector<double> ContactSet::owned_lengths(const std::map<int, int>& slot,
       constexpr int kSamples = 16;  // arc length of a curved T6 edge
       double& length = owned[slot.at(e.nodes[a])];
       for (int q = 0; q < kSamples; ++q)
-        length += (point(s0 + (s1 - s0) * (q + 1) / kSamples) -
-                   point(s0 + (s1 - s0) * q / kSamples)).norm();
+        length +=
+            (point(s0 + (s1 - s0) * (q + 1) / kSamples) - point(s0 + (s1 - s0) * q / kSamples))
+                .norm();
     }
   }
   return owned;

@@ -1,27 +1,42 @@
-// ContactSet's equality rows at a state: the [[constraint]] rows (constant) and the [[plate]]
-// rows (constraints/equalities/rigid_plate.hpp), with their Jacobian, values and curvature.
-#include <cmath>
+#include "constraints/equality_constraints.hpp"
 
-#include "constraints/contact_set.hpp"
+#include <cmath>
+#include <string>
+#include <utility>
+
 #include "constraints/equalities/rigid_plate.hpp"
 #include "core/errors.hpp"
-#include "core/model.hpp"
 
 namespace c2d::constraints {
 
-void ContactSet::check_plate_rows() {
+EqualityConstraints::EqualityConstraints(const core::Model& model, std::vector<EqualitySpec> specs)
+    : model_(model), specs_(std::move(specs)) {
+  add_constraint_rows();
+  check_plate_rows();
+}
+
+void EqualityConstraints::add_constraint_rows() {
+  for (size_t c = 0; c < specs_.size(); ++c) {
+    const EqualitySpec& e = specs_[c];
+    for (EqualityRow& row : e.constraint->rows(model_, static_cast<int>(c), e.where))
+      constraint_rows_.push_back(std::move(row));
+  }
+}
+
+void EqualityConstraints::check_plate_rows() {
   const core::DofMap& dofs = model_.dofs;
   const VecX u = core::prescribed_displacement(model_, 1.0);
   std::vector<EqualityRow> rows;
   for (size_t p = 0; p < model_.plates.size(); ++p) {
     rows.clear();
     rigid_plate_rows(model_, static_cast<int>(p), u, true, rows);
-    const VecX values = equality_values(rows, u);
+    const VecX residual = values(rows, u);
     for (size_t k = 0; k < rows.size(); ++k) {
       bool free = false;
-      for (const auto& [dof, a] : rows[k].terms) free = free || (a != 0.0 && !dofs.is_constrained(dof));
+      for (const auto& [dof, a] : rows[k].terms)
+        free = free || (a != 0.0 && !dofs.is_constrained(dof));
       plate_row_kept_.push_back(free);
-      const double value = values[static_cast<int>(k)];
+      const double value = residual[static_cast<int>(k)];
       if (!free && std::abs(value) > 1e-9 * model_.model_size)
         throw InputError(model_.plates[p].where + ": the plate's prescribed motion moves node " +
                          std::to_string(model_.plates[p].nodes[0] + 1) +
@@ -31,8 +46,8 @@ void ContactSet::check_plate_rows() {
   }
 }
 
-std::vector<EqualityRow> ContactSet::equality_rows_at(const VecX& u_full, bool small_strain) const {
-  std::vector<EqualityRow> rows = equality_rows_;
+std::vector<EqualityRow> EqualityConstraints::rows_at(const VecX& u_full, bool small_strain) const {
+  std::vector<EqualityRow> rows = constraint_rows_;
   if (model_.plates.empty()) return rows;
   std::vector<EqualityRow> plate;
   for (size_t p = 0; p < model_.plates.size(); ++p)
@@ -42,7 +57,7 @@ std::vector<EqualityRow> ContactSet::equality_rows_at(const VecX& u_full, bool s
   return rows;
 }
 
-SpMat ContactSet::equality_jacobian(const std::vector<EqualityRow>& rows) const {
+SpMat EqualityConstraints::jacobian(const std::vector<EqualityRow>& rows) const {
   const core::DofMap& dofs = model_.dofs;
   std::vector<Eigen::Triplet<double>> t;
   for (size_t j = 0; j < rows.size(); ++j)
@@ -55,7 +70,7 @@ SpMat ContactSet::equality_jacobian(const std::vector<EqualityRow>& rows) const 
   return a;
 }
 
-VecX ContactSet::equality_values(const std::vector<EqualityRow>& rows, const VecX& u_full) const {
+VecX EqualityConstraints::values(const std::vector<EqualityRow>& rows, const VecX& u_full) const {
   VecX c(static_cast<int>(rows.size()));
   for (size_t j = 0; j < rows.size(); ++j) {
     double v = -rows[j].rhs;
@@ -65,7 +80,7 @@ VecX ContactSet::equality_values(const std::vector<EqualityRow>& rows, const Vec
   return c;
 }
 
-SpMat ContactSet::equality_geometric_stiffness(const std::vector<EqualityRow>& rows,
+SpMat EqualityConstraints::geometric_stiffness(const std::vector<EqualityRow>& rows,
                                                const VecX& mu) const {
   const core::DofMap& dofs = model_.dofs;
   std::vector<Eigen::Triplet<double>> t;
@@ -82,11 +97,33 @@ SpMat ContactSet::equality_geometric_stiffness(const std::vector<EqualityRow>& r
   return k;
 }
 
-void ContactSet::report_plates(const VecX& u_full, const VecX& mu, bool small_strain,
-                               ContactReport& r) const {
+void EqualityConstraints::add_rows(const VecX& u_full, bool small_strain,
+                                   ConstrainedProblem& p) const {
+  const core::DofMap& dofs = model_.dofs;
+  const std::vector<EqualityRow> rows = rows_at(u_full, small_strain);
+  const int me = static_cast<int>(rows.size());
+  std::vector<Eigen::Triplet<double>> te;
+  p.eq_rhs = VecX(me);
+  for (int j = 0; j < me; ++j) {
+    double rhs = rows[j].rhs;
+    for (const auto& [dof, a] : rows[j].terms) {
+      const int eq = dofs.equation(dof);
+      if (eq >= 0)
+        te.emplace_back(j, eq, a);
+      else
+        rhs -= a * u_full[dof];
+    }
+    p.eq_rhs[j] = rhs;
+  }
+  p.eq_jacobian = SpMat(me, dofs.num_free());
+  p.eq_jacobian.setFromTriplets(te.begin(), te.end());
+}
+
+void EqualityConstraints::report_plates(const VecX& u_full, const VecX& mu, bool small_strain,
+                                        ContactReport& r) const {
   r.plates.clear();
   if (model_.plates.empty()) return;
-  const std::vector<EqualityRow> rows = equality_rows_at(u_full, small_strain);
+  const std::vector<EqualityRow> rows = rows_at(u_full, small_strain);
   for (const core::RigidPlate& plate : model_.plates) {
     PlateResult out;
     out.name = plate.name;
@@ -96,7 +133,8 @@ void ContactSet::report_plates(const VecX& u_full, const VecX& mu, bool small_st
     Eigen::Vector3d on_plate = Eigen::Vector3d::Zero();
     for (size_t j = 0; j < rows.size() && static_cast<int>(j) < mu.size(); ++j)
       for (const auto& [dof, a] : rows[j].terms)
-        if (dof >= plate.dof && dof < plate.dof + 3) on_plate[dof - plate.dof] += mu[static_cast<int>(j)] * a;
+        if (dof >= plate.dof && dof < plate.dof + 3)
+          on_plate[dof - plate.dof] += mu[static_cast<int>(j)] * a;
     out.force = -on_plate.head<2>();
     out.moment = -on_plate[2];
     r.plates.push_back(out);
