@@ -6,7 +6,7 @@
 
 #include "app/cli/verbs.hpp"
 #include "app/output_folder.hpp"
-#include "app/report/field_plot.hpp"
+#include "app/report/plot_run.hpp"
 #include "app/report/trace_charts.hpp"
 #include "core/errors.hpp"
 

@@ -15,6 +15,8 @@ namespace c2d::app {
 
 /// The fields `plot` knows, with their labels: sx sy sxy vm p1 p2 ux uy error.
 const std::vector<std::string>& plot_fields();
+/// "sx|sy|...|error": plot_fields() for messages about --field.
+std::string plot_field_list();
 
 struct PlotOptions {
   std::string field = "vm";
@@ -46,25 +48,6 @@ PlotSummary plot_field(const VtuData& vtu, const PlotOptions& options, const std
 std::string plot_mesh_comparison(const std::vector<std::pair<std::string, VtuData>>& meshes,
                                  const std::optional<std::array<double, 4>>& zoom,
                                  const std::string& dir, const std::string& stem);
-
-/// `contact2d plot DIR`: which result file and fields to draw.
-struct PlotRequest {
-  std::string dir;
-  std::vector<std::string> fields;  ///< names from plot_fields(), or "all"
-  PlotOptions options;              ///< its field is set per picture
-  int step = 0;                     ///< > 0: DIR/step_NNNN.vtu; 0: the last step written
-  int cycle = -1;                   ///< >= 0: DIR/cycle_NN.vtu of an adaptive run
-};
-
-struct PlotWritten {
-  std::vector<std::pair<std::string, std::string>> written;  ///< stem, what it shows
-  std::string error;                                         ///< gnuplot's failure
-};
-
-/// Draws every requested field from the chosen VTU and, when DIR holds an adaptive run's
-/// cycle_NN.vtu files, up to four of their meshes side by side (adapt_meshes.png). Throws
-/// InputError for a missing folder or file, or an unknown field.
-PlotWritten plot_run(const PlotRequest& request);
 
 /// A contour plot's colour bar: the data's range widened to whole ticks of a 1, 2, 2.5 or 5
 /// times 10^k step (at most 10 intervals), each tick interval cut into 1, 2 or 5 bands, the
