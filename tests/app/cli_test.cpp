@@ -11,6 +11,7 @@
 #include "app/report/hertz.hpp"
 #include "app/report/csv_table.hpp"
 #include "constraints/method_registry.hpp"
+#include "read_text.hpp"
 
 #include <signal.h>
 #include <spawn.h>
@@ -33,6 +34,7 @@
 #include <vector>
 
 namespace fs = std::filesystem;
+using c2d::test::read_text;
 
 namespace {
 
@@ -43,10 +45,7 @@ int run_args(const std::vector<std::string>& args, std::string* output = nullptr
       fs::temp_directory_path() / ("c2d_cli_test_" + std::to_string(::getpid()) + ".log");
   const c2d::app::ProcessOutcome p = c2d::app::run_process(C2D_BINARY, args, log.string());
   if (output) {
-    std::ifstream in(log);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    *output = ss.str();
+    *output = read_text(log);
   }
   return p.started ? p.exit_code : -1;
 }
@@ -66,10 +65,8 @@ void expect_chart(const fs::path& dir, const std::string& stem) {
   char sig[8] = {};
   png.read(sig, 8);
   EXPECT_EQ(std::string(sig + 1, 3), "PNG") << stem;
-  std::ifstream svg(dir / (stem + ".svg"));
-  std::stringstream text;
-  text << svg.rdbuf();
-  EXPECT_NE(text.str().find("<svg"), std::string::npos) << stem;
+  const std::string text = read_text(dir / (stem + ".svg"));
+  EXPECT_NE(text.find("<svg"), std::string::npos) << stem;
 }
 
 }  // namespace
@@ -87,10 +84,7 @@ TEST(Cli, CantileverRunWritesSummaryAndValidVtu) {
   for (const char* key : {"mesh", "time_s", "error", "probes", "steps", "newton_iterations"})
     EXPECT_TRUE(s.contains(key)) << key;
   // VTU: the counts in the header match the arrays.
-  std::ifstream vtu(out / "step_0001.vtu");
-  std::stringstream ss;
-  ss << vtu.rdbuf();
-  const std::string doc = ss.str();
+  const std::string doc = read_text(out / "step_0001.vtu");
   std::smatch m;
   ASSERT_TRUE(std::regex_search(doc, m, std::regex("NumberOfPoints=\"(\\d+)\" NumberOfCells=\"(\\d+)\"")));
   EXPECT_EQ(std::stoi(m[1]), s["mesh"]["nodes"].get<int>());
@@ -222,10 +216,8 @@ TEST(Cli, ContactRunReportsContactAndWritesItsFiles) {
   std::string output;
   ASSERT_EQ(run("trace " + out.string(), &output), 0) << output;
   for (const char* stem : {"activation", "contact_force", "residuals"}) expect_chart(out, stem);
-  std::ifstream vtu(out / "step_0001.vtu");
-  std::stringstream ss;
-  ss << vtu.rdbuf();
-  EXPECT_NE(ss.str().find("Name=\"contact_pressure\""), std::string::npos);
+  const std::string ss = read_text(out / "step_0001.vtu");
+  EXPECT_NE(ss.find("Name=\"contact_pressure\""), std::string::npos);
 }
 
 TEST(Cli, OutputPathsWithShellAndGnuplotSyntaxRunNothing) {
@@ -314,10 +306,7 @@ TEST(Cli, NonlinearRunsAndAnImpossibleLoadExitsOneWithItsSteps) {
     EXPECT_TRUE(fs::exists(out / name)) << name;
   }
   {
-    std::ifstream pvd(out / "results.pvd");
-    std::stringstream text;
-    text << pvd.rdbuf();
-    const std::string t = text.str();
+    const std::string t = read_text(out / "results.pvd");
     const std::regex dataset("<DataSet timestep=\"([^\"]+)\"");
     std::vector<double> times;
     for (auto it = std::sregex_iterator(t.begin(), t.end(), dataset); it != std::sregex_iterator(); ++it)
@@ -381,10 +370,8 @@ TEST(Cli, CompareMortarHertzProfileErrorFallsAtLeastAsFastAsH) {
   const double order = std::stod(line.substr(prefix.size()));
   EXPECT_GE(order, 0.7);
   EXPECT_LE(order, 3.0);  // the pressure's square-root edge allows no more than about 1.5
-  std::ifstream md(out / "compare.md");
-  std::stringstream text;
-  text << md.rdbuf();
-  EXPECT_NE(text.str().find("Observed order of convergence"), std::string::npos);
+  const std::string text = read_text(out / "compare.md");
+  EXPECT_NE(text.find("Observed order of convergence"), std::string::npos);
 }
 
 TEST(Cli, CompareRunsEveryMethodOnEveryLevel) {
@@ -439,10 +426,8 @@ TEST(Cli, CompareRunsEveryMethodOnEveryLevel) {
   // as well as the sizes; the node-based width is 0.9 % off even on the fine mesh).
   for (int level : {0, 1})
     EXPECT_LT(std::abs(std::stod((rows[{level, "lagrange"}][col("error_fit_b")]))), 0.05) << level;
-  std::ifstream md(out / "compare.md");
-  std::stringstream text;
-  text << md.rdbuf();
-  EXPECT_NE(text.str().find("Judged by the relative L2 error of the pressure profile (the "
+  const std::string text = read_text(out / "compare.md");
+  EXPECT_NE(text.find("Judged by the relative L2 error of the pressure profile (the "
                             "scene's reference, by default). Every method ranked reached"),
             std::string::npos);
   for (const char* stem : {"accuracy_time", "pressure_profiles", "penetration"})
@@ -546,13 +531,11 @@ TEST(Cli, PenaltySweepShowsPenetrationFallingUntilIllConditioning) {
           << std::get<0>(rows[i]);
     }
   }
-  std::ifstream md(out / "sweep.md");
-  std::stringstream text;
-  text << md.rdbuf();
-  EXPECT_NE(text.str().find("Converged with |p_max error| <= 1 % for contact.penalty.k from"),
+  const std::string text = read_text(out / "sweep.md");
+  EXPECT_NE(text.find("Converged with |p_max error| <= 1 % for contact.penalty.k from"),
             std::string::npos);
-  EXPECT_NE(text.str().find("The seed's rule k = 1e4 x max|K_ij| gives k ="), std::string::npos);
-  EXPECT_NE(text.str().find("Against lagrange on the same mesh"), std::string::npos);
+  EXPECT_NE(text.find("The seed's rule k = 1e4 x max|K_ij| gives k ="), std::string::npos);
+  EXPECT_NE(text.find("Against lagrange on the same mesh"), std::string::npos);
   expect_chart(out, "sweep");
   // A sweep needs exactly one ranged key.
   EXPECT_EQ(run("sweep " + example("hertz_rigid.toml") + " --set contact.penalty.k=1e3", &output), 2);
@@ -657,12 +640,10 @@ TEST(Cli, CompareOnAFrictionalHertzCase) {
   }
   EXPECT_NEAR(std::abs(t.number(row.at("ssn"), q)), std::abs(t.number(row.at("lagrange"), q)),
               1.5e-4);
-  std::ifstream md(out / "compare.md");
-  std::stringstream text;
-  text << md.rdbuf();
-  EXPECT_NE(text.str().find("relative L2 error of the shear profile (Cattaneo–Mindlin)"),
+  const std::string text = read_text(out / "compare.md");
+  EXPECT_NE(text.find("relative L2 error of the shear profile (Cattaneo–Mindlin)"),
             std::string::npos)
-      << text.str();
+      << text;
 }
 
 TEST(Cli, StressSuiteEndsEveryMethodWithANamedStatus) {
@@ -702,14 +683,12 @@ TEST(Cli, StressSuiteEndsEveryMethodWithANamedStatus) {
                   &output),
               0)
         << c.scene << ": " << output;
-    std::ifstream csv(out / "compare.csv");
-    std::stringstream all;
-    all << csv.rdbuf();
-    std::string lower = all.str();
+    const std::string all = read_text(out / "compare.csv");
+    std::string lower = all;
     std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
     EXPECT_EQ(lower.find("nan"), std::string::npos) << c.scene;
     EXPECT_EQ(lower.find("inf"), std::string::npos) << c.scene;
-    std::stringstream lines(all.str());
+    std::stringstream lines(all);
     std::string line;
     std::getline(lines, line);
     int rows = 0;
@@ -877,10 +856,8 @@ TEST(Cli, AnOutputFolderNeverMixesTwoRuns) {
   other.join();
   std::ifstream sj(dir / "both" / "summary.json");
   const std::string method = nlohmann::json::parse(sj)["solver"]["backend"];
-  std::ifstream log(dir / "both" / "run.log");
-  std::stringstream text;
-  text << log.rdbuf();
-  EXPECT_NE(text.str().find("with " + method + " contact"), std::string::npos) << method;
+  const std::string text = read_text(dir / "both" / "run.log");
+  EXPECT_NE(text.find("with " + method + " contact"), std::string::npos) << method;
   for (const auto& e : fs::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find(".part."), std::string::npos) << e.path();
   fs::remove_all(dir);
@@ -903,10 +880,8 @@ TEST(Cli, SigintEndsARunAsInterruptedWithExit130) {
   // Signal once the solve has begun (its run.log, written as the run goes, says so).
   const fs::path log = dir / ("out.part." + std::to_string(pid)) / "run.log";
   for (int i = 0; i < 600; ++i) {
-    std::ifstream l(log);
-    std::stringstream t;
-    t << l.rdbuf();
-    if (t.str().find("solving") != std::string::npos) break;
+    const std::string t = read_text(log);
+    if (t.find("solving") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -985,12 +960,7 @@ TEST(Cli, RunChartsLabelAxesWithTheSceneUnits) {
   fs::remove_all(out);
   ASSERT_EQ(run("run " + example("hertz_rigid_fast.toml") + " --out " + out.string() + " --quiet"),
             0);
-  auto text = [&](const char* file) {
-    std::ifstream in(out / file);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  };
+  auto text = [&](const char* file) { return read_text(out / file); };
   const std::string pressure = text("pressure.svg"), deformed = text("deformed.svg");
   EXPECT_NE(pressure.find("pressure [MPa]"), std::string::npos);
   EXPECT_NE(pressure.find("x [mm]"), std::string::npos);
@@ -1008,13 +978,11 @@ TEST(Cli, FiniteStrainRunIsDrawnAtTrueScale) {
   const fs::path out = fs::temp_directory_path() / "c2d_cli_true_scale";
   fs::remove_all(out);
   ASSERT_EQ(run("run " + example("elastica.toml") + " --out " + out.string() + " --quiet"), 0);
-  std::ifstream in(out / "deformed.svg");
-  std::stringstream svg;
-  svg << in.rdbuf();
-  EXPECT_NE(svg.str().find(">Deformed mesh (true scale, finite strain), coloured by von Mises "
+  const std::string svg = read_text(out / "deformed.svg");
+  EXPECT_NE(svg.find(">Deformed mesh (true scale, finite strain), coloured by von Mises "
                            "(smoothed)</tspan>"),
             std::string::npos);
-  EXPECT_EQ(svg.str().find("displacements x"), std::string::npos);
+  EXPECT_EQ(svg.find("displacements x"), std::string::npos);
   fs::remove_all(out);
 }
 
@@ -1095,11 +1063,9 @@ TEST(Cli, ContactRunDrawsTheContactZone) {
             0)
       << output;
   expect_chart(out, "contact_zone");
-  std::ifstream svg(out / "contact_zone.svg");
-  std::stringstream text;
-  text << svg.rdbuf();
-  EXPECT_NE(text.str().find("x [mm]"), std::string::npos);
-  EXPECT_NE(text.str().find("vm [MPa]"), std::string::npos);
+  const std::string text = read_text(out / "contact_zone.svg");
+  EXPECT_NE(text.find("x [mm]"), std::string::npos);
+  EXPECT_NE(text.find("vm [MPa]"), std::string::npos);
   const c2d::app::CsvTable t = c2d::app::read_csv((out / "nodes.csv").string());
   const int x = t.column("x"), y = t.column("y"), vm = t.column("vm");
   size_t best = 0;

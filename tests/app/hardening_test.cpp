@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "app/process.hpp"
+#include "read_text.hpp"
 
 namespace fs = std::filesystem;
 
@@ -99,12 +100,7 @@ void expect_refused(const TempDir& dir, const std::string& scene,
     EXPECT_EQ(e.path().filename().string().rfind("out", 0), std::string::npos) << e.path();
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using c2d::test::read_text;
 
 nlohmann::json summary(const fs::path& dir) { return nlohmann::json::parse(read_text(dir / "summary.json")); }
 

@@ -15,6 +15,7 @@
 
 #include "app/report/html_blocks.hpp"
 #include "core/errors.hpp"
+#include "read_text.hpp"
 
 namespace fs = std::filesystem;
 using namespace c2d::app;
@@ -41,10 +42,7 @@ std::string gnuplot_like_svg(const std::string& title) {
          title + "</text>\n</g>\n</svg>\n";
 }
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using c2d::test::read_text;
 
 }  // namespace
 

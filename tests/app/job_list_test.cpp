@@ -21,6 +21,7 @@
 
 #include "app/process.hpp"
 #include "app/studies/bench.hpp"
+#include "read_text.hpp"
 
 namespace fs = std::filesystem;
 
@@ -32,12 +33,7 @@ size_t count_of(const std::string& text, const std::string& what) {
   return n;
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using c2d::test::read_text;
 
 std::vector<std::string> lines_of(const std::string& text) {
   std::vector<std::string> lines;

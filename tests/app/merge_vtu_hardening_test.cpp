@@ -21,6 +21,7 @@
 #include "app/report/json_file.hpp"
 #include "app/report/vtu_reader.hpp"
 #include "core/errors.hpp"
+#include "read_text.hpp"
 
 
 namespace fs = std::filesystem;
@@ -33,12 +34,7 @@ struct Outcome {
   std::string text;        ///< stdout and stderr
 };
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using c2d::test::read_text;
 
 /// Runs the program with ARGS (argv[1..]; no shell) for at most `seconds`, its output into a log.
 Outcome run_c2d(const std::vector<std::string>& args, int seconds = 60) {

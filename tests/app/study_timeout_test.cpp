@@ -20,17 +20,13 @@
 
 #include "app/process.hpp"
 #include "app/studies/study.hpp"
+#include "read_text.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using c2d::test::read_text;
 
 /// A fresh folder of this test under the suite's temporary folder.
 fs::path fresh_dir(const std::string& name) {
