@@ -44,11 +44,12 @@ struct StrategyOptions {
 
 /// What a method carries from one accepted load step to the next, per row slot (a row's
 /// identity across detections, ContactPairs::num_slots): its state (0 open, 1 closed and
-/// sticking, 2 closed and slipping along +t, 3 along −t) and, with friction, the friction force
-/// λ_t it held (empty: none yet).
+/// sticking, 2 closed and slipping along +t, 3 along −t), with friction the friction force λ_t
+/// it held, and the normal force λ_n (each empty: none yet).
 struct StepHistory {
   std::vector<char> states;
   VecX tangent_force;
+  VecX normal_force;
 };
 
 class ConstraintStrategy {

@@ -33,13 +33,17 @@ ConstrainedStep::ConstrainedStep(StructuralSystem& system, const ContactSet& con
   sets_.follow(previous_);
   // Small strain: the rows' gaps come from absolute coordinates. Finite strain: from positions
   // relative to a node of the row, with the displacement kept apart (gap_linearisation.hpp),
-  // so their round-off is that of the local lengths.
+  // so their round-off is that of the local lengths and of the displacements themselves: an
+  // iterate's u is known to ε|u| at best (a block dragged by 3 carries 7e-16 in each value,
+  // which a penalty of 5e6 turns into a force of 4e-9 that no Newton step can remove).
   // A rigid obstacle's rows (the slave node its only term) take their gaps from absolute
   // coordinates whatever the kinematics.
   for (const Vec2& xn : system.model().mesh.nodes)
     absolute_scale_ = std::max(absolute_scale_, xn.cwiseAbs().maxCoeff());
   absolute_scale_ += inf_norm(in.u_free) + contact.model_size();
-  coordinate_scale_ = system.is_linear() ? absolute_scale_ : contact.length_scale();
+  displacement_scale_ = inf_norm(in.u_free);
+  coordinate_scale_ =
+      system.is_linear() ? absolute_scale_ : contact.length_scale() + displacement_scale_;
 }
 
 ContactStepResult ConstrainedStep::run() {
@@ -50,7 +54,9 @@ ContactStepResult ConstrainedStep::run() {
   }
   if (out_.status == SolveStatus::kConverged) {
     out_.newton.status = SolveStatus::kConverged;
-    out_.history = {previous_, tangent_by_slot_};
+    out_.history = {previous_, tangent_by_slot_,
+                    Eigen::Map<const VecX>(force_by_slot_.data(),
+                                           static_cast<int>(force_by_slot_.size()))};
     verify_final_state();
   } else {
     fail(SolveStatus::kMaxIterations, "active set or geometry still changing after " +
@@ -69,10 +75,15 @@ bool ConstrainedStep::iterate(int outer) {
   ContactIteration it;
   it.outer = outer;
   // 1. The problem linearised at the current state. The first iteration starts from the
-  //    previous step's converged state and carries the prescribed increment as a lift.
+  //    stepper's extrapolated start when it has one (linearised there as any later iterate),
+  //    else from the previous step's converged state with the prescribed increment as a lift.
+  const bool guess = outer == 1 && in_.u_guess.size() == u_.size() &&
+                     system_.admissible(system_.full(in_.u_guess));
+  if (guess) u_ = in_.u_guess;
   const VecX u_full = system_.full(u_);
   VecX load;
-  if (outer == 1 ? !system_.step_predictor(in_.u_prev_full, load) : !linearise(u_full, load)) {
+  if (outer == 1 && !guess ? !system_.step_predictor(in_.u_prev_full, load)
+                           : !linearise(u_full, load)) {
     const std::string which = system_.evaluation_failure();
     fail(SolveStatus::kInvertedElement,
          where_ + (which.empty() ? std::string("an element is inverted") : which));
@@ -84,7 +95,7 @@ bool ConstrainedStep::iterate(int outer) {
     coordinate_scale_ =
         std::any_of(rows_.begin(), rows_.end(), [](const GapRow& r) { return r.terms.size() == 1; })
             ? absolute_scale_
-            : contact_.length_scale();
+            : contact_.length_scale() + displacement_scale_;
   out_.detection_seconds += detection.lap();
   // A linear system whose state reproduces the rows and gaps it was solved with poses the
   // same problem again: the strategy would return the same set and no step.
@@ -150,11 +161,21 @@ bool ConstrainedStep::solve_method(ConstrainedProblem& qp, const VecX& c, Contac
 
 SpMat ConstrainedStep::tangent(int outer, const VecX& u_full) const {
   SpMat k = system_.matrix();
-  if (outer == 1 || system_.is_linear()) return k;
+  if (system_.is_linear()) return k;
+  // The first iterate: the rows' curvature under the forces the last converged state held
+  // (the method's history), the best estimate of the forces there, so that its step is a
+  // Newton step too (before, the first iterate of every step went without the contact's
+  // geometric stiffness).
+  const VecX& start = strategy_.history().normal_force;
   VecX f(static_cast<int>(rows_.size()));
-  for (size_t i = 0; i < rows_.size(); ++i)
-    f[static_cast<int>(i)] = std::max(0.0, force_by_slot_[rows_[i].slot]);
-  k += contact_.geometric_stiffness(rows_, f);
+  for (size_t i = 0; i < rows_.size(); ++i) {
+    const int slot = rows_[i].slot;
+    f[static_cast<int>(i)] =
+        std::max(0.0, outer > 1 ? force_by_slot_[slot]
+                                : (slot < start.size() ? start[slot] : 0.0));
+  }
+  if (f.size() > 0 && f.maxCoeff() > 0.0) k += contact_.geometric_stiffness(rows_, f);
+  if (outer == 1) return k;
   if (contact_.has_nonlinear_equalities() && state_.eq_multiplier.size() > 0) {
     const std::vector<EqualityRow> eq = contact_.equality_rows_at(u_full, false);
     if (static_cast<int>(eq.size()) == state_.eq_multiplier.size())

@@ -2,8 +2,11 @@
 //
 // A load step is a Newton iteration over the method's sets. Each iterate ("outer iteration")
 //   1. detects the contact rows at the current configuration and linearises the problem there:
-//      K_T (with the contact's and the plates' geometric stiffness under the state's forces from
-//      the second iterate on), the out-of-balance force, the gap and tangential rows;
+//      K_T with the contact's geometric stiffness under the state's forces (the first iterate:
+//      the last converged state's) and the plates' (from the second iterate on), the
+//      out-of-balance force, the gap and tangential rows. The first iterate starts where the
+//      load stepper extrapolated the last increments to (a path that goes on in proportion),
+//      else from the tangent predictor at the converged state;
 //   2. hands it to the scene's ConstraintStrategy, which updates its active (and stick/slip)
 //      sets on that problem and returns the step, forces and (penalty-type methods)
 //      stiffnesses: friction on the condensed surface, one factorisation of K per iterate;
@@ -62,6 +65,9 @@ using ContactMemory = std::vector<char>;
 struct ContactStepInput {
   VecX u_free;          ///< converged free displacements of the previous step
   VecX u_prev_full;     ///< the same state as a full vector (previous prescribed values)
+  /// Where the step's first iterate starts (free displacements): the last step's increment
+  /// extrapolated. Empty: the tangent predictor from u_free (the prescribed increment lifted).
+  VecX u_guess;
   NewtonOptions newton; ///< tolerance and limits; the residual scale is set per step
   double floor_scale = 0.0;  ///< smallest residual scale (stress-free, displacement-driven)
   int max_outer = 15;

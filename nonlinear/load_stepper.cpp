@@ -90,6 +90,8 @@ class LoadStepper {
       }
     bool give_up = false;
     if (ok) accept(target, trial, cstep, rec);
+    else if (extrapolated_ && rec.newton.status != SolveStatus::kIllConditioned)
+      retry_from_predictor();  // the same increment again, from the tangent predictor
     else if (rec.newton.status == SolveStatus::kIllConditioned)
       give_up = true;  // a penalty beyond what double precision resolves: no step size cures it
     else if (rec.newton.status == SolveStatus::kCycling && with_contact_ && !strict_ &&
@@ -131,6 +133,8 @@ class LoadStepper {
       ContactStepInput in;
       in.u_free = u_free_;
       in.u_prev_full = u_prev_full_;
+      in.u_guess = extrapolate_ ? extrapolated_start(target) : VecX();
+      extrapolated_ = in.u_guess.size() > 0;
       in.newton = options_.newton;
       in.newton.residual_scale = load_scale;
       in.floor_scale = floor_scale_;
@@ -150,8 +154,12 @@ class LoadStepper {
     }
     // Linear predictor from the last converged state: K_T Δu_f = λ f − f_int − K_fc Δu_c (a
     // small-strain system's K is factorised once for the run: its predictor is the answer, and
-    // Newton finds the residual within its test at once).
+    // Newton finds the residual within its test at once). Not the extrapolated start of a
+    // contact step: a cantilever rolled up by a tip load stretches where its rotations are
+    // extrapolated linearly (the elastica's first residual doubles, and Newton needs as many
+    // iterations as from the predictor).
     const int factorized_before = system_.linear_report().numeric_factorizations;
+    extrapolated_ = false;
     VecX guess = u_free_, rhs, step;
     if (system_.step_predictor(u_prev_full_, rhs) && system_.factorize_jacobian_assembled())
       if (system_.solve(rhs, step) && step.allFinite()) guess = u_free_ + step;
@@ -161,6 +169,38 @@ class LoadStepper {
     rec.newton = solve_newton_with_fallback(system_, trial, newton);
     rec.factorizations = system_.linear_report().numeric_factorizations - factorized_before;
     return trial;
+  }
+
+  /// Where a finite-strain contact step's first iterate starts: the last accepted increment
+  /// scaled to this one, u + (Δλ/Δλ_last) Δu_last, while the load path goes on as it went (the
+  /// prescribed values and the loads change in proportion to the last step's change, to a
+  /// tenth) and so does the response (the last two increments alike, to a quarter). Empty, for
+  /// the tangent predictor from the converged state, in the first two steps (a first touch
+  /// from a stress-free state is no guide), where the path turns (a load followed by an
+  /// unload, a normal load by a tangential one), and for a small-strain system (its predictor
+  /// is its answer). A block dragged over a deforming base takes 3.0 Newton iterations a step
+  /// from there with lagrange and 4.2 with penalty, against 3.9 and 5.5 from the predictor,
+  /// whose linear step across a curved master leaves a penalty's gaps far off.
+  VecX extrapolated_start(double target) const {
+    if (system_.is_linear() || last_dlambda_ <= 0.0 || earlier_dlambda_ <= 0.0 ||
+        last_increment_.size() != u_free_.size() || earlier_increment_.size() != u_free_.size())
+      return {};
+    const double ratio = (target - lambda_) / last_dlambda_, before = lambda_ - last_dlambda_;
+    const auto in_proportion = [&](const VecX& a, const VecX& b, const VecX& c) {
+      const VecX now = c - b, last = b - a;  // the change this step asks for, and the last one
+      return (now - ratio * last).norm() <= 0.1 * std::max(now.norm(), ratio * last.norm());
+    };
+    // The response too: the last two increments alike (not a first touch from a stress-free
+    // state, nor the first step after the path turned).
+    const double r_last = last_dlambda_ / earlier_dlambda_;
+    if ((last_increment_ - r_last * earlier_increment_).norm() >
+        0.25 * std::max(last_increment_.norm(), r_last * earlier_increment_.norm()))
+      return {};
+    if (!in_proportion(prescribe(before), prescribe(lambda_), prescribe(target)) ||
+        !in_proportion(model_.external_force_at(before), model_.external_force_at(lambda_),
+                       model_.external_force_at(target)))
+      return {};
+    return u_free_ + ratio * last_increment_;
   }
 
   /// Adds an attempt's method work to the run's totals.
@@ -188,6 +228,11 @@ class LoadStepper {
     if (target >= inverted_lambda_) inverted_at_.clear();
     strict_ = false;
     ++converged_steps_;
+    extrapolate_ = true;
+    earlier_increment_ = std::move(last_increment_);
+    earlier_dlambda_ = last_dlambda_;
+    last_increment_ = trial - u_free_;
+    last_dlambda_ = target - lambda_;
     u_free_ = trial;
     u_prev_full_ = system_.full(u_free_);
     lambda_ = target;
@@ -223,6 +268,13 @@ class LoadStepper {
       easy_in_a_row_ = 0;
     }
     cutbacks_ = 0;
+  }
+
+  /// An attempt from the extrapolated start failed: the same increment once more from the
+  /// tangent predictor, before any cutback (extrapolation resumes after the next accepted step).
+  void retry_from_predictor() {
+    if (with_contact_) strategy_->step_rejected();
+    extrapolate_ = false;
   }
 
   void cut_back() {
@@ -337,6 +389,12 @@ class LoadStepper {
   std::unique_ptr<constraints::ConstraintStrategy> strategy_;
   // The converged state: everything a failed attempt must not touch.
   VecX u_free_, u_prev_full_;
+  VecX last_increment_;        ///< the last accepted step's Δu (free)
+  double last_dlambda_ = 0.0;  ///< and its Δλ
+  VecX earlier_increment_;     ///< the step's before (free)
+  double earlier_dlambda_ = 0.0;
+  bool extrapolate_ = true;    ///< false: the next attempt starts from the tangent predictor
+  bool extrapolated_ = false;  ///< the last attempt started from extrapolated_start
   double lambda_ = 0.0;
   /// The attempt at the lowest load (inverted_lambda_) beyond the converged state that
   /// inverted an element; empty when none has.
