@@ -70,10 +70,12 @@ class ConstrainedStep {
                 bool same_set, ContactIteration& it);
   /// Whether the method's rule keeps, at the state just kept, the set it was solved with: the
   /// rows detected afresh there, each held slot still a row that the rule holds (compressive),
-  /// every other row one it leaves open (not penetrating). Frictionless methods whose set
-  /// follows from the state (ConstraintStrategy::set_follows_state): friction's states follow
-  /// from slips the next linearisation measures.
-  bool settled(const ConstrainedProblem& qp) const;
+  /// every other row one it leaves open (not penetrating), and with friction each sticking row
+  /// within its bound, each slipping row slipping along its force with that force at the bound
+  /// of its normal force to `tolerance`. Methods whose set follows from the state
+  /// (ConstraintStrategy::set_follows_state), with friction the exact ones (a penalty's return
+  /// map reads the last step's forces too); not Tresca's rows, which carry friction open.
+  bool settled(const ConstrainedProblem& qp, double tolerance) const;
   /// Whether x already satisfies the equations. A gap detected from absolute coordinates
   /// carries their round-off, ε·|x|, which a row stiffness k turns into a force of k·ε·|x|:
   /// with penalties 1e3 times the element stiffness that floor can exceed the tolerance, so it

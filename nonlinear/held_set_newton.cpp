@@ -117,21 +117,30 @@ bool ConstrainedStep::hold_set(const ConstrainedProblem& qp0, const VecX& c0,
   keep_state(sys, x, s0, it, friction ? friction->stick : std::vector<int>());
   // A state that satisfies the equations with its set held, where the method's rule keeps
   // that set, ends the step: asking the method again would factorise only to confirm.
-  if (satisfied_now && out_.status != SolveStatus::kConverged && settled(qp0))
+  if (satisfied_now && out_.status != SolveStatus::kConverged &&
+      settled(qp0, tolerance(sys, newton)))
     out_.status = SolveStatus::kConverged;
   out_.iterations.push_back(it);
   return true;
 }
 
-bool ConstrainedStep::settled(const ConstrainedProblem& qp) const {
-  if (!method().set_follows_state() || qp.has_friction() || system_.is_linear()) return false;
+bool ConstrainedStep::settled(const ConstrainedProblem& qp, double tolerance) const {
+  const bool friction = qp.has_friction();
+  if (!method().set_follows_state() || system_.is_linear() || (friction && !method().exact()))
+    return false;
   const int slots = contact_.num_slots();
   std::vector<char> held(slots, 0), found(slots, 0);
+  std::vector<int> row_of(slots, -1);
+  for (size_t i = 0; i < rows_.size(); ++i) row_of[rows_[i].slot] = static_cast<int>(i);
   for (size_t i = 0; i < rows_.size() && i < state_.active.size(); ++i)
     held[rows_[i].slot] = state_.active[i] != 0;
   double scale = 0.0;
   for (const double f : force_by_slot_) scale = std::max(scale, std::abs(f));
   const RuleScales scales = rule_scales(qp, scale, saddle_point_scale(qp));
+  const SetRule& rule = method().set_rule();
+  const int m = qp.num_gaps();
+  const bool tangential_state = state_.tangent_force.size() == m && state_.slip.size() == m &&
+                                state_.friction_state.size() == static_cast<size_t>(m);
   for (const GapRow& r : contact_.detect(system_.full(u_), false, false)) {
     found[r.slot] = 1;
     RowSolution row;
@@ -141,7 +150,24 @@ bool ConstrainedStep::settled(const ConstrainedProblem& qp) const {
     // A regularised method whose set follows the state has no estimate (λ̂ = 0): its rule
     // reads −k g, whose sign any k > 0 gives.
     if (!method().exact()) row.penalty = 1.0, row.force_estimate = 0.0;
-    if (method().set_rule().normal(row, scales).held != row.held) return false;
+    const NormalDecision d = rule.normal(row, scales);
+    if (d.held != row.held) return false;
+    const int i = row_of[r.slot];
+    if (!friction || i < 0 || !qp.frictional(i)) continue;
+    // Friction (exact methods): the state's sticking rows within their bound, its slipping
+    // rows still slipping the way their force points, at the bound of the state's normal
+    // force (Newton held their forces at the solve's), as the rule decides from the state.
+    if (qp.friction_bound(i, 0.0).at(0.0) > 0 || !tangential_state) return false;  // Tresca
+    if (!row.held) continue;
+    row.tangent_force = state_.tangent_force[i];
+    row.slip = state_.slip[i];
+    const bool stick = state_.friction_state[i] == FrictionState::kStick;
+    row.tangential = stick ? kStick : row.tangent_force > 0 ? kSlipPlus : kSlipMinus;
+    double residual = 0.0;
+    const double bound = qp.friction_bound(i, d.normal).at(std::max(0.0, d.normal));
+    if (rule.tangential(row, d, bound, scales, residual) != row.tangential) return false;
+    const double at_state = qp.friction_bound(i, row.force).at(std::max(0.0, row.force));
+    if (!stick && std::abs(std::abs(row.tangent_force) - at_state) > tolerance) return false;
   }
   for (int k = 0; k < slots; ++k)
     if (held[k] && !found[k]) return false;
