@@ -45,8 +45,8 @@ class ConstrainedStep {
                     ConstraintSolution& s, ContactMemory& next);
   /// The stiffness the strategy linearises with: K_T and the rows' curvature under the state's
   /// forces (the contact's geometric stiffness, as Newton's Jacobian has it; in the first outer
-  /// iteration under the last converged state's forces), and from the second outer iteration on
-  /// the plates', so that the strategy's step is a Newton step.
+  /// iteration, from an extrapolated start, under the last converged state's forces), and from
+  /// the second outer iteration on the plates', so that the strategy's step is a Newton step.
   SpMat tangent(int outer, const VecX& u_full) const;
   /// The out-of-balance force and tangent at u_full (outer iterations after the first).
   bool linearise(const VecX& u_full, VecX& load);
@@ -146,6 +146,7 @@ class ConstrainedStep {
   double coordinate_scale_ = 0.0;  ///< the lengths a gap is computed from, for round-off
   double absolute_scale_ = 0.0;    ///< the coordinates' size (gaps from absolute positions)
   double displacement_scale_ = 0.0;  ///< the step's starting displacements' size, ‖u‖∞
+  bool from_guess_ = false;  ///< the first iterate started from the stepper's extrapolation
   std::vector<GapRow> rows_, state_rows_;
   ConstraintSolution state_;
   std::string where_;

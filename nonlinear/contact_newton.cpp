@@ -80,6 +80,7 @@ bool ConstrainedStep::iterate(int outer) {
   const bool guess = outer == 1 && in_.u_guess.size() == u_.size() &&
                      system_.admissible(system_.full(in_.u_guess));
   if (guess) u_ = in_.u_guess;
+  if (outer == 1) from_guess_ = guess;
   const VecX u_full = system_.full(u_);
   VecX load;
   if (outer == 1 && !guess ? !system_.step_predictor(in_.u_prev_full, load)
@@ -162,17 +163,19 @@ bool ConstrainedStep::solve_method(ConstrainedProblem& qp, const VecX& c, Contac
 SpMat ConstrainedStep::tangent(int outer, const VecX& u_full) const {
   SpMat k = system_.matrix();
   if (system_.is_linear()) return k;
-  // The first iterate: the rows' curvature under the forces the last converged state held
-  // (the method's history), the best estimate of the forces there, so that its step is a
-  // Newton step too (before, the first iterate of every step went without the contact's
-  // geometric stiffness).
+  // The first iterate from the extrapolated start: the rows' curvature under the forces the
+  // last converged state held (the method's history), the best estimate of the forces there,
+  // so that its step is a Newton step too (the frictional drag: 4.8 factorisations a step with
+  // penalty without it, 4.2 with it). Not from the tangent predictor, whose first iterate is a
+  // step across the whole increment: there the term joins the bodies' blocks of the surface
+  // factor for nothing (Cattaneo–Mindlin: the same iterations, 20 % more triangular work).
   const VecX& start = strategy_.history().normal_force;
   VecX f(static_cast<int>(rows_.size()));
   for (size_t i = 0; i < rows_.size(); ++i) {
     const int slot = rows_[i].slot;
     f[static_cast<int>(i)] =
         std::max(0.0, outer > 1 ? force_by_slot_[slot]
-                                : (slot < start.size() ? start[slot] : 0.0));
+                                : (from_guess_ && slot < start.size() ? start[slot] : 0.0));
   }
   if (f.size() > 0 && f.maxCoeff() > 0.0) k += contact_.geometric_stiffness(rows_, f);
   if (outer == 1) return k;

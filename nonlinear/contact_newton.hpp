@@ -2,11 +2,11 @@
 //
 // A load step is a Newton iteration over the method's sets. Each iterate ("outer iteration")
 //   1. detects the contact rows at the current configuration and linearises the problem there:
-//      K_T with the contact's geometric stiffness under the state's forces (the first iterate:
-//      the last converged state's) and the plates' (from the second iterate on), the
-//      out-of-balance force, the gap and tangential rows. The first iterate starts where the
-//      load stepper extrapolated the last increments to (a path that goes on in proportion),
-//      else from the tangent predictor at the converged state;
+//      K_T with the contact's geometric stiffness under the state's forces (the first iterate
+//      from an extrapolated start: the last converged state's) and the plates' (from the second
+//      iterate on), the out-of-balance force, the gap and tangential rows. The first iterate
+//      starts where the load stepper extrapolated the last increments to (a path that goes on
+//      in proportion), else from the tangent predictor at the converged state;
 //   2. hands it to the scene's ConstraintStrategy, which updates its active (and stick/slip)
 //      sets on that problem and returns the step, forces and (penalty-type methods)
 //      stiffnesses: friction on the condensed surface, one factorisation of K per iterate;
