@@ -7,6 +7,7 @@
 #include "core/errors.hpp"
 #include "core/mesh_budget.hpp"
 #include "core/mesher.hpp"
+#include "core/shape_check.hpp"
 
 namespace c2d::core {
 

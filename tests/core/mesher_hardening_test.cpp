@@ -8,6 +8,7 @@
 
 #include "core/errors.hpp"
 #include "core/mesher.hpp"
+#include "core/shape_check.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
 
