@@ -82,10 +82,10 @@ class SetSolver {
 
 }  // namespace
 
-void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_rows,
-                      const NextActiveSet& next_set, const std::string& step,
+void solve_active_set(const ConstrainedProblem& p, const RowMemory& memory, int max_iterations,
+                      bool all_rows, const NextActiveSet& next_set, const std::string& step,
                       ConstraintSolution& s) {
-  std::vector<char> active = initially_closed(p);
+  std::vector<char> active = initially_closed(p, memory);
   ActiveSetTracker tracker;
   tracker.record(active);
   StallMonitor stall;

@@ -8,6 +8,9 @@
 //   L = ½ uᵀ K u − fᵀ u − μᵀ (A u − b) − λᵀ (G u + g0),
 // so K u − f = Aᵀ μ + Gᵀ λ at a solution; λ ≥ 0 is the compressive normal contact force of a row
 // and μ the force a multipoint constraint exerts on the structure.
+//
+// What a method carries from one solve to the next (warm starts, the kept row stiffnesses) is
+// not the problem: it is a RowMemory (row_memory.hpp), handed to the solve beside the problem.
 #pragma once
 
 #include <limits>
@@ -16,6 +19,7 @@
 #include <vector>
 
 #include "constraints/friction_law.hpp"
+#include "constraints/row_memory.hpp"
 #include "core/fill_ordering.hpp"
 #include "core/solver_status.hpp"
 #include "core/spd_solver.hpp"
@@ -33,17 +37,6 @@ struct ConstrainedProblem {
   /// Per inequality row: a fixed penalty stiffness the input prescribes (the seed's gap
   /// elements), 0 where the strategy chooses. Empty = none prescribed.
   VecX gap_penalty;
-  /// Optional warm start: the inequality rows to treat as closed at the start (empty: the rows
-  /// with g0 ≤ 0). A re-detection or a Newton iteration passes the previous active set.
-  std::vector<char> initial_active;
-  /// Optional warm start of the row forces λ (empty: none). The augmented Lagrangian starts its
-  /// multiplier iteration from it; the other methods ignore it.
-  VecX initial_force;
-  /// Optional: each gap row's local stiffness to derive default penalties from (empty: from
-  /// K and G, see row_stiffness). A load step keeps its first outer iteration's values, so its
-  /// penalties do not drift with K_T and an outer iteration that changes no active set
-  /// confirms the step instead of posing a slightly different problem.
-  VecX gap_row_stiffness;
   /// Per gap row: its share of the slave surface (a mortar row's ∫Φ ds·t, a node-based row's
   /// slave tributary length·t), so that its force over it is the pressure at its node; the
   /// friction laws' traction bounds and the default penalties' spread use it. Empty: unknown.
@@ -64,12 +57,6 @@ struct ConstrainedProblem {
   /// m: each row's friction law (null: a frictionless row), shared with the scene's pairs.
   std::vector<std::shared_ptr<const FrictionLaw>> friction_law;
   VecX tangent_penalty_ratio; ///< m: k_t / k of penalty-type methods
-  /// m: the friction force each row carried at the last converged state (the penalty's
-  /// elastic tangential spring: its return map starts from it); empty: none.
-  VecX tangent_force0;
-  /// Optional warm start of the friction states per row: 1 stick, 2 slip along +t, 3 slip
-  /// along −t, 0 none given (a closed row then starts sticking).
-  std::vector<char> initial_friction;
   /// Optional fill-reducing elimination order of the n unknowns (core/fill_ordering.hpp, from
   /// the mesh); null or another size: CHOLMOD orders the matrices itself.
   std::shared_ptr<const core::FillOrder> ordering;
@@ -100,9 +87,9 @@ struct ConstrainedProblem {
   /// exactly (a row's own row_stiffness follows the mesh's topology node by node); rows without
   /// a surface or an area keep their row_stiffness.
   VecX surface_stiffness() const;
-  /// The gap rows' local stiffness, the base of default penalties: gap_row_stiffness when
-  /// given, else surface_stiffness().
-  VecX gap_local_stiffness() const;
+  /// The gap rows' local stiffness, the base of default penalties: the stiffness `memory`
+  /// kept for each row when it has one, else surface_stiffness().
+  VecX gap_local_stiffness(const RowMemory& memory) const;
 };
 
 /// The rows of `top` followed by those of `bottom` (same column count).

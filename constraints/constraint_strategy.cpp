@@ -24,9 +24,10 @@ std::string StrategyOptions::validate() const {
   return {};
 }
 
-ConstraintSolution ConstraintStrategy::solve(const ConstrainedProblem& problem) {
+ConstraintSolution ConstraintStrategy::solve(const ConstrainedProblem& problem,
+                                             const RowMemory& memory) {
   const auto t0 = std::chrono::steady_clock::now();
-  ConstraintSolution s = solve_problem(problem);
+  ConstraintSolution s = solve_problem(problem, memory);
   s.method = name();
   finish_solution(problem, s);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -9,6 +9,7 @@
 
 #include "constraints/active_set_terms.hpp"
 #include "constraints/constrained_problem.hpp"
+#include "constraints/row_memory.hpp"
 #include "constraints/set_rules.hpp"
 
 namespace c2d::constraints {
@@ -67,10 +68,11 @@ class ConstraintStrategy {
   /// the state's forces) and the pure penalty (its force −k g, λ̂ = 0: held where g < 0); not
   /// adaptive_penalty (it may raise k at that state) or auglag (its estimates λ̂ move).
   virtual bool set_follows_state() const { return exact(); }
-  /// Solves the problem. Never throws for numerical trouble: the status and message say what
-  /// happened, and every field is finite. Times the method, names it in the solution and
-  /// derives the gaps, penetration and equality violation from u.
-  ConstraintSolution solve(const ConstrainedProblem& problem);
+  /// Solves the problem, from what `memory` carries for its rows (nothing: a cold start).
+  /// Never throws for numerical trouble: the status and message say what happened, and every
+  /// field is finite. Times the method, names it in the solution and derives the gaps,
+  /// penetration and equality violation from u.
+  ConstraintSolution solve(const ConstrainedProblem& problem, const RowMemory& memory = {});
   /// The terms a Newton solve adds to hold the active set of `solution` (which this strategy
   /// returned for `problem`) fixed: the method's forces and stiffness, or its multipliers.
   /// Their rows are the gap rows followed by the equality rows, which are always held.
@@ -98,7 +100,8 @@ class ConstraintStrategy {
 
  protected:
   /// The method itself: u, forces, multipliers, active set, status, history.
-  virtual ConstraintSolution solve_problem(const ConstrainedProblem& problem) = 0;
+  virtual ConstraintSolution solve_problem(const ConstrainedProblem& problem,
+                                           const RowMemory& memory) = 0;
 
   /// A method's own per-step state beyond StepHistory: kept or restored here. Nothing by default.
   virtual void on_step_accepted() {}

@@ -63,10 +63,16 @@ std::vector<std::vector<std::pair<int, double>>> row_lists(const SpMat& a, doubl
 
 class FrictionalSolve {
  public:
-  explicit FrictionalSolve(const ConstrainedProblem& p)
-      : p_(p), n_(p.num_unknowns()), me_(p.num_equalities()), m_(p.num_gaps()),
-        s_(saddle_point_scale(p)), eq_rows_(row_lists(p.eq_jacobian, 1.0)),
-        gap_rows_(row_lists(p.gap_jacobian, 1.0)), slip_rows_(row_lists(p.slip_jacobian, -1.0)) {
+  FrictionalSolve(const ConstrainedProblem& p, const RowMemory& memory)
+      : p_(p),
+        memory_(memory),
+        n_(p.num_unknowns()),
+        me_(p.num_equalities()),
+        m_(p.num_gaps()),
+        s_(saddle_point_scale(p)),
+        eq_rows_(row_lists(p.eq_jacobian, 1.0)),
+        gap_rows_(row_lists(p.gap_jacobian, 1.0)),
+        slip_rows_(row_lists(p.slip_jacobian, -1.0)) {
     pieces_.resize(m_);
     binds_open_.assign(m_, 0);
     for (int i = 0; i < m_; ++i) binds_open_[i] = p.friction_binds_open(i);
@@ -145,16 +151,16 @@ class FrictionalSolve {
   }
 
  private:
-  /// The problem's closed rows, every frictional one (and every Tresca row) sticking, each on
+  /// The memory's closed rows, every frictional one (and every Tresca row) sticking, each on
   /// its law's piece at the warm start's normal force (or none).
   std::vector<char> cold_start() const {
     std::vector<char> cold(3 * m_, kFree);
-    const std::vector<char> closed = initially_closed(p_);
-    const bool forces = p_.initial_force.size() == m_;
+    const std::vector<char> closed = initially_closed(p_, memory_);
+    const bool forces = memory_.initial_force.size() == m_;
     for (int i = 0; i < m_; ++i) {
       cold[i] = closed[i] && (penalised_ || !gap_rows_[i].empty());
       if (frictional(i) && (cold[i] || tresca(i))) cold[m_ + i] = kStick;
-      if (frictional(i)) cold[2 * m_ + i] = piece_code(i, forces ? p_.initial_force[i] : 0.0);
+      if (frictional(i)) cold[2 * m_ + i] = piece_code(i, forces ? memory_.initial_force[i] : 0.0);
     }
     return cold;
   }
@@ -179,9 +185,9 @@ class FrictionalSolve {
   std::vector<char> warm_start(const std::vector<char>& cold) const {
     std::vector<char> code = cold;
     for (int i = 0; i < m_; ++i)
-      if (code[m_ + i] == kStick && static_cast<int>(p_.initial_friction.size()) == m_ &&
-          p_.initial_friction[i] >= 1 && p_.initial_friction[i] <= 3)
-        code[m_ + i] = p_.initial_friction[i];  // the same codes
+      if (code[m_ + i] == kStick && static_cast<int>(memory_.initial_friction.size()) == m_ &&
+          memory_.initial_friction[i] >= 1 && memory_.initial_friction[i] <= 3)
+        code[m_ + i] = memory_.initial_friction[i];  // the same codes
     const ConstraintSolution* st = o_->start;
     if (!st || static_cast<int>(st->active.size()) != m_ ||
         static_cast<int>(st->friction_state.size()) != m_ || st->tangent_force.size() != m_)
@@ -462,6 +468,7 @@ class FrictionalSolve {
   }
 
   const ConstrainedProblem& p_;
+  const RowMemory& memory_;  ///< where the sets start (cold_start, warm_start)
   const FrictionalOptions* o_ = nullptr;
   int n_, me_, m_;
   double s_;
@@ -486,8 +493,8 @@ class FrictionalSolve {
   double surface_rcond_ = 1.0;            ///< its dense block's condition estimate
 };
 
-FrictionalSolver::FrictionalSolver(const ConstrainedProblem& p)
-    : impl_(std::make_unique<FrictionalSolve>(p)) {}
+FrictionalSolver::FrictionalSolver(const ConstrainedProblem& p, const RowMemory& memory)
+    : impl_(std::make_unique<FrictionalSolve>(p, memory)) {}
 FrictionalSolver::~FrictionalSolver() = default;
 
 void FrictionalSolver::solve(const FrictionalOptions& options, ConstraintSolution& s) {
@@ -525,18 +532,18 @@ bool confirm_exactly(FrictionalSolver& solver, int max_solves, ConstraintSolutio
   return true;
 }
 
-void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
-                      ConstraintSolution& s) {
-  FrictionalSolver(p).solve(options, s);
+void solve_frictional(const ConstrainedProblem& p, const RowMemory& memory,
+                      const FrictionalOptions& options, ConstraintSolution& s) {
+  FrictionalSolver(p, memory).solve(options, s);
 }
 
-ConstraintSolution solve_frictional(const ConstrainedProblem& p, const SetRule& rule,
-                                    int max_iterations) {
+ConstraintSolution solve_frictional(const ConstrainedProblem& p, const RowMemory& memory,
+                                    const SetRule& rule, int max_iterations) {
   FrictionalOptions o;
   o.rule = &rule;
   o.max_iterations = max_iterations;
   ConstraintSolution s;
-  solve_frictional(p, o, s);
+  solve_frictional(p, memory, o, s);
   return s;
 }
 

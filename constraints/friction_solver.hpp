@@ -45,7 +45,7 @@ struct FrictionalOptions {
   VecX lambda_hat, tangent_hat, mu_hat;
   int max_iterations = 50;
   /// Optional starting sets: a solution's active rows held, its friction states, a slipping
-  /// row's direction from the sign of its friction force (null: the problem's warm start, every
+  /// row's direction from the sign of its friction force (null: the memory's warm start, every
   /// closed frictional row sticking).
   const ConstraintSolution* start = nullptr;
   /// Number of the first iteration in the history (a method that calls repeatedly numbers on).
@@ -56,9 +56,12 @@ class FrictionalSolve;
 
 /// The solver of one problem, kept across calls: a call whose sets and stiffnesses repeat the
 /// last factorised system's (an augmented Lagrangian's multiplier update) reuses its factor.
+/// Its sets start from `memory` (the rows it gives closed, their law's pieces at its forces,
+/// its friction states), or from a solution a call gives (FrictionalOptions::start).
 class FrictionalSolver {
  public:
-  explicit FrictionalSolver(const ConstrainedProblem& p);  ///< `p` must outlive the solver
+  /// `p` and `memory` must outlive the solver.
+  FrictionalSolver(const ConstrainedProblem& p, const RowMemory& memory);
   ~FrictionalSolver();
   FrictionalSolver(const FrictionalSolver&) = delete;
   FrictionalSolver& operator=(const FrictionalSolver&) = delete;
@@ -79,12 +82,12 @@ class FrictionalSolver {
 /// friction states, the active set, the history and the status (never throws; a failed or
 /// stopped solve keeps its last state with λ ≥ 0, or zeros when no system was solved).
 /// `s.history` is appended to.
-void solve_frictional(const ConstrainedProblem& p, const FrictionalOptions& options,
-                      ConstraintSolution& s);
+void solve_frictional(const ConstrainedProblem& p, const RowMemory& memory,
+                      const FrictionalOptions& options, ConstraintSolution& s);
 
-/// The same for an exact rule (primal-dual, semi-smooth) from the problem's warm start.
-ConstraintSolution solve_frictional(const ConstrainedProblem& p, const SetRule& rule,
-                                    int max_iterations);
+/// The same for an exact rule (primal-dual, semi-smooth) from the memory's warm start.
+ConstraintSolution solve_frictional(const ConstrainedProblem& p, const RowMemory& memory,
+                                    const SetRule& rule, int max_iterations);
 
 /// The crossover of a method whose own iteration identifies the sets (ipopt's interior point,
 /// auglag's multiplier rounds): the sets of `s` (its active rows, friction states, a slipping

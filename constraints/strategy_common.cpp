@@ -35,8 +35,9 @@ SpMat stack_rows(const SpMat& top, const SpMat& bottom) {
   return out;
 }
 
-VecX ConstrainedProblem::gap_local_stiffness() const {
-  return gap_row_stiffness.size() == num_gaps() ? gap_row_stiffness : surface_stiffness();
+VecX ConstrainedProblem::gap_local_stiffness(const RowMemory& memory) const {
+  return memory.gap_row_stiffness.size() == num_gaps() ? memory.gap_row_stiffness
+                                                       : surface_stiffness();
 }
 
 VecX ConstrainedProblem::surface_stiffness() const {
@@ -100,8 +101,8 @@ double next_normal_set(const SetRule& rule, const ConstrainedProblem& p, const V
   return residual;
 }
 
-std::vector<char> initially_closed(const ConstrainedProblem& p) {
-  if (static_cast<int>(p.initial_active.size()) == p.num_gaps()) return p.initial_active;
+std::vector<char> initially_closed(const ConstrainedProblem& p, const RowMemory& memory) {
+  if (static_cast<int>(memory.initial_active.size()) == p.num_gaps()) return memory.initial_active;
   std::vector<char> active(p.num_gaps(), 0);
   const double touch = touch_tolerance(p);
   for (int i = 0; i < p.num_gaps(); ++i) active[i] = p.gap0[i] <= touch;

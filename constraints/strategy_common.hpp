@@ -19,9 +19,9 @@ namespace c2d::constraints {
 /// Penetration tolerance: the absolute option, else relative × the problem's length scale.
 double penetration_tolerance(const StrategyOptions& options, const ConstrainedProblem& p);
 
-/// Rows closed at the start: the problem's warm start if it has one, else the rows with
+/// Rows closed at the start: the memory's warm start if it has one, else the rows with
 /// g0 ≤ 1e-12 × model size (touching or already penetrating).
-std::vector<char> initially_closed(const ConstrainedProblem& p);
+std::vector<char> initially_closed(const ConstrainedProblem& p, const RowMemory& memory);
 
 /// The margins a set rule compares with: 1e-10 of `force_scale` (the largest force; at least
 /// of c × the touch tolerance), the touch tolerance for gaps, and c.
@@ -142,15 +142,16 @@ void split_saddle_point(const ConstrainedProblem& p, const std::vector<char>& ac
 using NextActiveSet = std::function<double(const ConstraintSolution& s, const VecX& gap,
                                            double linear_residual, std::vector<char>& next)>;
 
-/// The active-set loop of the multiplier methods: solve the saddle-point system of the current
-/// set, propose the next set, stop when it repeats (converged). When the set returns to an
-/// earlier one (cycling), stops settling (see StallMonitor) or reaches `max_iterations`,
-/// dual_active_set() finishes from the last set; what remains is a named failure whose state
-/// carries no tension. With `all_rows` the system keeps every row (one pattern, one symbolic
-/// analysis); otherwise only the active rows, analysed anew each iteration. `step` names an
-/// iteration in messages ("iteration", "Newton step").
-void solve_active_set(const ConstrainedProblem& p, int max_iterations, bool all_rows,
-                      const NextActiveSet& next_set, const std::string& step,
+/// The active-set loop of the multiplier methods: from the rows initially_closed(p, memory),
+/// solve the saddle-point system of the current set, propose the next set, stop when it repeats
+/// (converged). When the set returns to an earlier one (cycling), stops settling (see
+/// StallMonitor) or reaches `max_iterations`, dual_active_set() finishes from the last set;
+/// what remains is a named failure whose state carries no tension. With `all_rows` the system
+/// keeps every row (one pattern, one symbolic analysis); otherwise only the active rows,
+/// analysed anew each iteration. `step` names an iteration in messages ("iteration", "Newton
+/// step").
+void solve_active_set(const ConstrainedProblem& p, const RowMemory& memory, int max_iterations,
+                      bool all_rows, const NextActiveSet& next_set, const std::string& step,
                       ConstraintSolution& s);
 
 }  // namespace c2d::constraints

@@ -26,6 +26,7 @@ class ConstrainedStep {
   using ConstraintStrategy = constraints::ConstraintStrategy;
   using ContactSet = constraints::ContactSet;
   using GapRow = constraints::GapRow;
+  using RowMemory = constraints::RowMemory;
 
  public:
   ConstrainedStep(StructuralSystem& system, const ContactSet& contact, ConstraintStrategy& strategy,
@@ -38,10 +39,10 @@ class ConstrainedStep {
   bool iterate(int outer);
   /// The method solving the step's iterates: the step's own, or its cycle fallback.
   ConstraintStrategy& method() const { return fallback_ ? *fallback_ : strategy_; }
-  /// The method's solve of the linearised problem `qp` (constants `c`), its work and set in
-  /// the iteration record `it`; `next` its active set by slot. False when it failed: its trial
-  /// state kept, the step failed with its status.
-  bool solve_method(ConstrainedProblem& qp, const VecX& c, ContactIteration& it,
+  /// The method's solve of the linearised problem `qp` (constants `c`) from memory_, its work
+  /// and set in the iteration record `it`; `next` its active set by slot. False when it failed:
+  /// its trial state kept, the step failed with its status.
+  bool solve_method(const ConstrainedProblem& qp, const VecX& c, ContactIteration& it,
                     ConstraintSolution& s, ContactMemory& next);
   /// The stiffness the strategy linearises with: K_T and the rows' curvature under the state's
   /// forces (the contact's geometric stiffness, as Newton's Jacobian has it; in the first outer
@@ -55,8 +56,9 @@ class ConstrainedStep {
   /// gap) and the open ones do not penetrate. An open row's gap need not match its
   /// linearisation (a node passing a free master end turns its normal): it carries no force.
   bool reproduces_state() const;
-  /// The rows' local stiffness (the base of default penalties) as the step first met each slot.
-  void keep_local_stiffness(ConstrainedProblem& qp);
+  /// The rows' local stiffness (the base of default penalties) as the step first met each slot,
+  /// into memory_.
+  void keep_local_stiffness(const ConstrainedProblem& qp);
   /// The strategy's figures in the iteration record; returns its active set by slot.
   ContactMemory record_strategy(const ConstrainedProblem& qp, const ConstraintSolution& s,
                                 ContactIteration& it) const;
@@ -136,6 +138,9 @@ class ConstrainedStep {
   std::vector<double> force_by_slot_;  ///< the last solve's row forces
   VecX tangent_by_slot_;               ///< friction: the held state's friction forces
   SlipOrigin slip_origin_;             ///< friction: where each row's slip starts in the step
+  /// What the method carries into its solve of the current iterate's problem, per row: the
+  /// warm start, the friction forces its springs start from, the kept local stiffness.
+  RowMemory memory_;
   const double step_decrease_;  ///< kStepDecrease, or kStrictStepDecrease (in.strict, regularised)
   std::vector<double> local_by_slot_;  ///< each slot's local stiffness, as first met (0: not yet)
   double step_scale_ = 0.0;            ///< the largest residual scale of the step so far

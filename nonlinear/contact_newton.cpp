@@ -106,16 +106,17 @@ bool ConstrainedStep::iterate(int outer) {
   }
   ConstrainedProblem qp = contact_.problem(tangent(outer, u_full), load, rows_, u_full,
                                            system_.is_linear(), &in_.u_prev_full);
+  memory_ = {};  // what the method carries into this problem, filled below
   VecX c(qp.num_gaps() + qp.num_equalities());  // g(u_f) = c + G u_f, then A u_f − b
   c << qp.gap0, -qp.eq_rhs;
   qp.gap0 += qp.gap_jacobian * u_;  // the gaps and equalities in terms of the step Δu
   qp.eq_rhs -= qp.eq_jacobian * u_;
   if (qp.slip0.size() == qp.num_gaps()) {  // friction: the slip since the last step
     qp.slip0 += qp.slip_jacobian * u_;
-    slip_origin_.apply(rows_, strategy_.history(), previous_, tangent_by_slot_, qp);
+    slip_origin_.apply(rows_, strategy_.history(), previous_, tangent_by_slot_, qp, memory_);
   }
   keep_local_stiffness(qp);
-  warm_start(qp, rows_, previous_, force_by_slot_);
+  warm_start(qp, rows_, previous_, force_by_slot_, memory_);
 
   // 2. The strategy on the linearised problem.
   ConstraintSolution s;
@@ -147,9 +148,10 @@ bool ConstrainedStep::iterate(int outer) {
   return true;
 }
 
-bool ConstrainedStep::solve_method(ConstrainedProblem& qp, const VecX& c, ContactIteration& it,
-                                   ConstraintSolution& s, ContactMemory& next) {
-  s = solve_catching_first_touch(method(), qp);
+bool ConstrainedStep::solve_method(const ConstrainedProblem& qp, const VecX& c,
+                                   ContactIteration& it, ConstraintSolution& s,
+                                   ContactMemory& next) {
+  s = solve_catching_first_touch(method(), qp, memory_);
   out_.strategy.add(s);
   it.factorizations += s.factorizations;
   next = record_strategy(qp, s, it);
@@ -209,15 +211,15 @@ bool ConstrainedStep::reproduces_state() const {
   return true;
 }
 
-void ConstrainedStep::keep_local_stiffness(ConstrainedProblem& qp) {
-  qp.gap_row_stiffness = qp.surface_stiffness();
+void ConstrainedStep::keep_local_stiffness(const ConstrainedProblem& qp) {
+  memory_.gap_row_stiffness = qp.surface_stiffness();
   local_by_slot_.resize(contact_.num_slots(), 0.0);
   for (int i = 0; i < qp.num_gaps(); ++i) {
     double& kept = local_by_slot_[rows_[i].slot];
     if (kept > 0.0)
-      qp.gap_row_stiffness[i] = kept;
+      memory_.gap_row_stiffness[i] = kept;
     else
-      kept = qp.gap_row_stiffness[i];
+      kept = memory_.gap_row_stiffness[i];
   }
 }
 

@@ -12,10 +12,10 @@ using namespace c2d::constraints;
 
 namespace {
 
-/// Closes the rows nearest to touching (gap within the touch tolerance of the smallest) when
-/// that smallest gap is at most `within`; rows on prescribed DOFs only cannot be closed.
-/// Returns whether it closed any.
-bool close_nearest(ConstrainedProblem& qp, double within) {
+/// Closes the rows nearest to touching (gap within the touch tolerance of the smallest) in
+/// `memory`'s initial active set when that smallest gap is at most `within`; rows on prescribed
+/// DOFs only cannot be closed. Returns whether it closed any.
+bool close_nearest(const ConstrainedProblem& qp, double within, RowMemory& memory) {
   const int m = qp.num_gaps();
   std::vector<char> free(m, 0);
   for (int k = 0; k < qp.gap_jacobian.outerSize(); ++k)
@@ -25,42 +25,44 @@ bool close_nearest(ConstrainedProblem& qp, double within) {
     if (free[i]) nearest = std::min(nearest, qp.gap0[i]);
   if (!(nearest <= within)) return false;
   const double touch = touch_tolerance(qp);
-  for (int i = 0; i < m; ++i) qp.initial_active[i] = free[i] && qp.gap0[i] <= nearest + touch;
+  for (int i = 0; i < m; ++i) memory.initial_active[i] = free[i] && qp.gap0[i] <= nearest + touch;
   return true;
 }
 
 }  // namespace
 
-void warm_start(ConstrainedProblem& qp, const std::vector<GapRow>& rows,
-                const std::vector<char>& previous, const std::vector<double>& force_by_slot) {
+void warm_start(const ConstrainedProblem& qp, const std::vector<GapRow>& rows,
+                const std::vector<char>& previous, const std::vector<double>& force_by_slot,
+                RowMemory& memory) {
   const int m = qp.num_gaps();
-  qp.initial_active.assign(m, 0);
-  qp.initial_force = VecX::Zero(m);
+  memory.initial_active.assign(m, 0);
+  memory.initial_force = VecX::Zero(m);
   const double touch = touch_tolerance(qp);
   bool any = false;
-  if (qp.has_friction()) qp.initial_friction.assign(m, 0);
+  if (qp.has_friction()) memory.initial_friction.assign(m, 0);
   for (int i = 0; i < m; ++i) {
-    if (qp.has_friction()) qp.initial_friction[i] = previous[rows[i].slot];
-    qp.initial_active[i] = previous[rows[i].slot] || qp.gap0[i] <= touch;
-    qp.initial_force[i] = force_by_slot[rows[i].slot];
-    any = any || qp.initial_active[i];
+    if (qp.has_friction()) memory.initial_friction[i] = previous[rows[i].slot];
+    memory.initial_active[i] = previous[rows[i].slot] || qp.gap0[i] <= touch;
+    memory.initial_force[i] = force_by_slot[rows[i].slot];
+    any = any || memory.initial_active[i];
   }
   // A body held only by its contact (a cylinder on a floor) is otherwise singular in the first
   // solve; a wrong guess costs one active-set iteration. Node rows at a first touch have gap 0,
   // but a mortar row's gap is a mean under its hat, positive on a curved surface. Farther rows
   // are closed only when the open solve is singular (solve_catching_first_touch).
-  if (!any) close_nearest(qp, 1e-2 * qp.length_scale);
+  if (!any) close_nearest(qp, 1e-2 * qp.length_scale, memory);
 }
 
-ConstraintSolution solve_catching_first_touch(ConstraintStrategy& strategy, ConstrainedProblem& qp) {
-  ConstraintSolution s = strategy.solve(qp);
-  const bool none_closed =
-      std::none_of(qp.initial_active.begin(), qp.initial_active.end(), [](char a) { return a; });
+ConstraintSolution solve_catching_first_touch(ConstraintStrategy& strategy,
+                                              const ConstrainedProblem& qp, RowMemory& memory) {
+  ConstraintSolution s = strategy.solve(qp, memory);
+  const bool none_closed = std::none_of(memory.initial_active.begin(), memory.initial_active.end(),
+                                        [](char a) { return a; });
   if (s.status != SolveStatus::kSingular || !none_closed ||
-      !close_nearest(qp, std::numeric_limits<double>::infinity()))
+      !close_nearest(qp, std::numeric_limits<double>::infinity(), memory))
     return s;
   const ConstraintSolution open = std::move(s);
-  s = strategy.solve(qp);
+  s = strategy.solve(qp, memory);
   s.factorizations += open.factorizations;  // the singular attempt's work counts too
   s.iterations += open.iterations;
   s.seconds += open.seconds;

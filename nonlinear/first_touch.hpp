@@ -10,19 +10,21 @@
 
 namespace c2d::nonlinear {
 
-/// Warm start of `qp` (its initial active set, friction states and forces): the rows closed at
-/// the last state (`previous`, by slot: 0 open, 1 closed and sticking, 2/3 slipping) with their
-/// forces `force_by_slot`, and the rows touching or penetrating now. When nothing touches but
-/// some rows nearly do (within 1 % of the smallest contact edge), the nearest are guessed closed.
-void warm_start(constraints::ConstrainedProblem& qp,
+/// Warm start of `qp`'s rows in `memory` (their initial active set, friction states and
+/// forces): the rows closed at the last state (`previous`, by slot: 0 open, 1 closed and
+/// sticking, 2/3 slipping) with their forces `force_by_slot`, and the rows touching or
+/// penetrating now. When nothing touches but some rows nearly do (within 1 % of the smallest
+/// contact edge), the nearest are guessed closed.
+void warm_start(const constraints::ConstrainedProblem& qp,
                 const std::vector<constraints::GapRow>& rows, const std::vector<char>& previous,
-                const std::vector<double>& force_by_slot);
+                const std::vector<double>& force_by_slot, constraints::RowMemory& memory);
 
-/// The strategy's solve of `qp`; a body held only by its contact, caught at first touch from
-/// farther than the warm start guesses, is singular with every row open: then the nearest rows
-/// close and the strategy solves again (the active-set iteration opens them if the load says
-/// so). The work of both solves is counted.
-constraints::ConstraintSolution solve_catching_first_touch(constraints::ConstraintStrategy& strategy,
-                                                           constraints::ConstrainedProblem& qp);
+/// The strategy's solve of `qp` from `memory`; a body held only by its contact, caught at first
+/// touch from farther than the warm start guesses, is singular with every row open: then the
+/// nearest rows close (in `memory`'s initial active set) and the strategy solves again (the
+/// active-set iteration opens them if the load says so). The work of both solves is counted.
+constraints::ConstraintSolution solve_catching_first_touch(
+    constraints::ConstraintStrategy& strategy, const constraints::ConstrainedProblem& qp,
+    constraints::RowMemory& memory);
 
 }  // namespace c2d::nonlinear

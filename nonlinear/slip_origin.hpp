@@ -22,12 +22,12 @@ class SlipOrigin {
  public:
   explicit SlipOrigin(int slots) : slip_(slots, kNone), force_(slots, 0.0) {}
 
-  /// Sets `qp`'s slip0 (given from the step's start) and tangent_force0 for its rows: `history`
-  /// the method's at the step's start, `closed` the step's current set by slot, `tangent` the
-  /// friction forces by slot of the step's last state (empty: none).
-  void apply(const std::vector<constraints::GapRow>& rows,
-             const constraints::StepHistory& history, const std::vector<char>& closed,
-             const VecX& tangent, constraints::ConstrainedProblem& qp);
+  /// Sets `qp`'s slip0 (given from the step's start) and `memory`'s tangent_force0 for its
+  /// rows: `history` the method's at the step's start, `closed` the step's current set by slot,
+  /// `tangent` the friction forces by slot of the step's last state (empty: none).
+  void apply(const std::vector<constraints::GapRow>& rows, const constraints::StepHistory& history,
+             const std::vector<char>& closed, const VecX& tangent,
+             constraints::ConstrainedProblem& qp, constraints::RowMemory& memory);
 
  private:
   static constexpr double kNone = -1e300;  ///< not yet found closed in the step

@@ -9,20 +9,21 @@
 
 namespace c2d::constraints {
 
-ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
+ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProblem& p,
+                                                          const RowMemory& memory) {
   ConstraintSolution s;
   VecX k_gap, k_eq;
-  default_penalties(p, 0.0, 1.0, k_gap, k_eq);  // always start from the local stiffness
+  default_penalties(p, memory, 0.0, 1.0, k_gap, k_eq);  // always start from the local stiffness
   const VecX cap_gap = k_gap * options_.max_penalty_factor;
   const VecX cap_eq = k_eq * options_.max_penalty_factor;
   const double tol = penetration_tolerance(options_, p);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
-  std::vector<char> active = initially_closed(p);
+  std::vector<char> active = initially_closed(p, memory);
   PenalizedSolver solver(p, set_rule());
   // With friction, one solver over the raises: its condensed K stays, a raise changes the
   // surface block only.
   std::unique_ptr<FrictionalSolver> frictional;
-  if (p.has_friction()) frictional = std::make_unique<FrictionalSolver>(p);
+  if (p.has_friction()) frictional = std::make_unique<FrictionalSolver>(p, memory);
   s.status = SolveStatus::kMaxIterations;
   s.message = "penetration above tolerance after " + std::to_string(options_.max_iterations) +
               " stiffness raises";
@@ -30,7 +31,8 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
     const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
     PenalizedSolver::Outcome outcome;
     if (p.has_friction()) {
-      FrictionalOptions o = penalised_friction(set_rule(), p, k_gap, zero_gap, k_eq, zero_eq);
+      FrictionalOptions o =
+          penalised_friction(set_rule(), p, memory, k_gap, zero_gap, k_eq, zero_eq);
       o.max_iterations = options_.max_iterations;
       o.first_iteration = first;
       frictional->solve(o, s);

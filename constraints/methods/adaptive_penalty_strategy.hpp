@@ -12,7 +12,8 @@ class AdaptivePenaltyStrategy final : public RegularisedStrategy {
   using RegularisedStrategy::RegularisedStrategy;
 
  protected:
-  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem,
+                                   const RowMemory& memory) override;
 };
 
 }  // namespace c2d::constraints

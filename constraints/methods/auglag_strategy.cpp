@@ -27,21 +27,21 @@ double update_round_off(const ConstrainedProblem& p, const VecX& k_gap, const Ve
 /// frictional problem for the multiplier estimates (the return map of both rows, Coulomb's
 /// bound from the trial normal force), then sets them to the forces found (Uzawa).
 ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedProblem& p,
-                                       const StrategyOptions& opt, const VecX& k_gap,
-                                       const VecX& k_eq) {
+                                       const RowMemory& memory, const StrategyOptions& opt,
+                                       const VecX& k_gap, const VecX& k_eq) {
   ConstraintSolution s;
   const double tol = penetration_tolerance(opt, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
-  if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
-  FrictionalOptions o = penalised_friction(rule, p, k_gap, lambda, k_eq, mu);
+  if (memory.initial_force.size() == p.num_gaps()) lambda = memory.initial_force.cwiseMax(0.0);
+  FrictionalOptions o = penalised_friction(rule, p, memory, k_gap, lambda, k_eq, mu);
   o.max_iterations = opt.max_iterations;
   s.status = SolveStatus::kMaxIterations;
   std::string why = "penetration above tolerance or multipliers still changing after " +
                     std::to_string(opt.max_iterations) + " multiplier updates";
   double floor = update_round_off(p, k_gap, k_eq);
   if (o.k_tangent.size()) floor = std::max(floor, update_round_off(p, o.k_tangent, VecX()));
-  ConstraintSolution previous;  // each round starts from the last round's sets
-  FrictionalSolver solver(p);   // and reuses its factor while they hold
+  ConstraintSolution previous;         // each round starts from the last round's sets
+  FrictionalSolver solver(p, memory);  // and reuses its factor while they hold
   for (int round = 0; round < opt.max_iterations; ++round) {
     o.first_iteration = s.history.empty() ? 1 : s.history.back().iteration + 1;
     if (round > 0) {
@@ -94,15 +94,16 @@ ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedPro
 
 }  // namespace
 
-ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p) {
+ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p,
+                                                 const RowMemory& memory) {
   ConstraintSolution s;
   VecX k_gap, k_eq;
-  default_penalties(p, 0.0, options_.augmentation_factor, k_gap, k_eq);
-  if (p.has_friction()) return solve_with_friction(set_rule(), p, options_, k_gap, k_eq);
+  default_penalties(p, memory, 0.0, options_.augmentation_factor, k_gap, k_eq);
+  if (p.has_friction()) return solve_with_friction(set_rule(), p, memory, options_, k_gap, k_eq);
   const double tol = penetration_tolerance(options_, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
-  if (p.initial_force.size() == p.num_gaps()) lambda = p.initial_force.cwiseMax(0.0);
-  std::vector<char> active = initially_closed(p);
+  if (memory.initial_force.size() == p.num_gaps()) lambda = memory.initial_force.cwiseMax(0.0);
+  std::vector<char> active = initially_closed(p, memory);
   PenalizedSolver solver(p, set_rule());
   s.status = SolveStatus::kMaxIterations;
   s.message = "penetration above tolerance or multipliers still changing after " +

@@ -51,11 +51,13 @@ VecX add_tresca_rows(const ConstrainedProblem& p, const VecX& bound, RowSet& row
 }
 
 /// The first problem of a Coulomb fixed point without normal forces to start from: the rows
-/// closed at the start stick (T_i u = −s0_i, an equality; friction_sign 2), which holds a body
-/// that only friction holds sideways (a frictionless first problem would let it slide away).
-void add_stick_rows(const ConstrainedProblem& p, RowSet& rows, std::vector<int>& friction_sign) {
+/// closed at the start (`memory`'s) stick (T_i u = −s0_i, an equality; friction_sign 2), which
+/// holds a body that only friction holds sideways (a frictionless first problem would let it
+/// slide away).
+void add_stick_rows(const ConstrainedProblem& p, const RowMemory& memory, RowSet& rows,
+                    std::vector<int>& friction_sign) {
   const SpMat tt = p.slip_jacobian.transpose();
-  const std::vector<char> closed = initially_closed(p);
+  const std::vector<char> closed = initially_closed(p, memory);
   friction_sign.resize(rows.rows.size(), 0);
   for (int i = 0; i < p.num_gaps(); ++i) {
     if (!closed[i] || tt.col(i).nonZeros() == 0 || !p.frictional(i)) continue;
@@ -117,19 +119,19 @@ VecX touching_forces(const ConstrainedProblem& p, const StrategyOptions& o,
 
 }  // namespace
 
-std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const StrategyOptions& o,
-                                     const RowSet& base, FrictionalSolver& solver,
-                                     bool try_surface, ConstraintSolution& s,
-                                     int& total_iterations, VecX& bound, bool& exact,
-                                     bool& on_surface) {
+std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const RowMemory& memory,
+                                     const StrategyOptions& o, const RowSet& base,
+                                     FrictionalSolver& solver, bool try_surface,
+                                     ConstraintSolution& s, int& total_iterations, VecX& bound,
+                                     bool& exact, bool& on_surface) {
   // Each problem is a QP whose friction forces a row's bound b (μ λ for Coulomb) limits; the
   // bound comes from the normal force of the previous QP (the first sees the warm start's
   // forces, or none), and the iteration ends when no bound changes by more than 1e-9 of the
   // largest. On the surface (SurfaceDual) each problem is the dual with |w_t| ≤ b, K factorised
   // once for all of them; otherwise the primal on the whole KKT system, the cone's two faces as
   // the linear inequalities p ≥ ±s with cost b p.
-  bound = friction_bounds(p, p.initial_force.size() == p.num_gaps()
-                                 ? p.initial_force
+  bound = friction_bounds(p, memory.initial_force.size() == p.num_gaps()
+                                 ? memory.initial_force
                                  : VecX(VecX::Zero(p.num_gaps())));
   // No normal force to start from: the first problem holds the closed rows sticking.
   bool stick_first = bound.lpNorm<Eigen::Infinity>() == 0.0;
@@ -141,7 +143,7 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
   on_surface = dual != nullptr;
   // The crossover solves on the dual's factor (its rows appended), not on one of its own.
   if (dual) solver.share(dual->surface());
-  const std::vector<char> closed = initially_closed(p);
+  const std::vector<char> closed = initially_closed(p, memory);
   struct Report {  // the surface's factorisation into s on every way out
     const SurfaceDual* dual;
     ConstraintSolution& s;
@@ -163,7 +165,7 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const Strategy
       RowSet rows = base;
       std::vector<int> friction_sign;
       const VecX cost = add_tresca_rows(p, bound, rows, friction_sign);
-      if (stick_first) add_stick_rows(p, rows, friction_sign);
+      if (stick_first) add_stick_rows(p, memory, rows, friction_sign);
       qp = run_ipopt(p, rows, cost, o, o.ipopt_tolerance);
       extract_forces(p, rows, friction_sign, qp, s);
     }

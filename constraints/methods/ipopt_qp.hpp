@@ -157,14 +157,15 @@ void settle_active_set(const ConstrainedProblem& p, const StrategyOptions& o,
 
 /// Friction: the fixed point of Tresca problems (ipopt_friction.cpp), on the surface's dual
 /// when `try_surface` and the rows condense (`on_surface`; K factorised once for every
-/// problem) and on the whole KKT system otherwise. It ends as soon as a problem's sets pass the crossover (`solver`'s exact
-/// solve of them; `exact`: s is then the exact solution). Fills s (its history, status and the
-/// surface's work), the QP iterations, and the last bounds; returns the message.
-std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const StrategyOptions& o,
-                                     const RowSet& base, FrictionalSolver& solver,
-                                     bool try_surface, ConstraintSolution& s,
-                                     int& total_iterations, VecX& bound, bool& exact,
-                                     bool& on_surface);
+/// problem) and on the whole KKT system otherwise, from the rows `memory` gives closed and its
+/// forces. It ends as soon as a problem's sets pass the crossover (`solver`'s exact solve of
+/// them; `exact`: s is then the exact solution). Fills s (its history, status and the surface's
+/// work), the QP iterations, and the last bounds; returns the message.
+std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const RowMemory& memory,
+                                     const StrategyOptions& o, const RowSet& base,
+                                     FrictionalSolver& solver, bool try_surface,
+                                     ConstraintSolution& s, int& total_iterations, VecX& bound,
+                                     bool& exact, bool& on_surface);
 
 /// After the fixed point: unless it ended exact, the active rows, each one's stick or slip
 /// (slip where its force reached the bound, to 1e-6) and the crossover that solves those sets

@@ -345,16 +345,16 @@ int solve_frictionless(const ConstrainedProblem& p, const RowSet& base, const St
 
 /// Coulomb: the fixed point of Tresca problems, on the surface when the rows condense; when its
 /// sets are not confirmed there, again on the whole KKT system. Returns the iterations.
-int solve_with_friction(const ConstrainedProblem& p, const RowSet& base, const StrategyOptions& o,
-                        ConstraintSolution& s) {
-  FrictionalSolver crossover(p);  // one factor for every crossover of the fixed point
+int solve_with_friction(const ConstrainedProblem& p, const RowMemory& memory, const RowSet& base,
+                        const StrategyOptions& o, ConstraintSolution& s) {
+  FrictionalSolver crossover(p, memory);  // one factor for every crossover of the fixed point
   int iterations = 0;
   for (const bool surface : {true, false}) {
     ConstraintSolution attempt;
     add_solution_work(s, attempt);
     VecX bound;
     bool exact = false, on_surface = false;
-    attempt.message = solve_tresca_fixed_point(p, o, base, crossover, surface, attempt,
+    attempt.message = solve_tresca_fixed_point(p, memory, o, base, crossover, surface, attempt,
                                                iterations, bound, exact, on_surface);
     exact = finish_friction(p, o, bound, exact, crossover, attempt);
     if (!on_surface) attempt.factorizations += iterations;  // one per KKT iteration
@@ -372,7 +372,8 @@ std::unique_ptr<ConstraintStrategy> IpoptStrategy::cycle_fallback() const {
   return ConstraintStrategy::create(o);
 }
 
-ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
+ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p,
+                                                const RowMemory& memory) {
   ConstraintSolution s;
   const RowSet base = prepare_rows(p);
   if (!base.inconsistent.empty()) {
@@ -381,7 +382,7 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p) {
     return s;
   }
   const bool friction = p.has_friction();
-  const int iterations = friction ? solve_with_friction(p, base, options_, s)
+  const int iterations = friction ? solve_with_friction(p, memory, base, options_, s)
                                   : solve_frictionless(p, base, options_, rule_, s);
   if (base.dropped_zero + base.dropped_duplicate > 0)
     s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +

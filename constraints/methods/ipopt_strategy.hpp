@@ -21,7 +21,8 @@ class IpoptStrategy final : public ExactStrategy {
   std::unique_ptr<ConstraintStrategy> cycle_fallback() const override;
 
  protected:
-  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem,
+                                   const RowMemory& memory) override;
 
  private:
   PrimalDualRule rule_;

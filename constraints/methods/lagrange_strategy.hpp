@@ -14,7 +14,8 @@ class LagrangeStrategy final : public ExactStrategy {
   const SetRule& set_rule() const override { return rule_; }
 
  protected:
-  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem,
+                                   const RowMemory& memory) override;
 
  private:
   PrimalDualRule rule_;

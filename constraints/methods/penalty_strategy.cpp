@@ -9,9 +9,9 @@
 
 namespace c2d::constraints {
 
-void default_penalties(const ConstrainedProblem& p, double absolute_k, double factor, VecX& k_gap,
-                       VecX& k_eq) {
-  const VecX local_gap = p.gap_local_stiffness();
+void default_penalties(const ConstrainedProblem& p, const RowMemory& memory, double absolute_k,
+                       double factor, VecX& k_gap, VecX& k_eq) {
+  const VecX local_gap = p.gap_local_stiffness(memory);
   const VecX local_eq = p.row_stiffness(p.eq_jacobian);
   auto pick = [&](const VecX& local, int i) {
     return absolute_k > 0 ? absolute_k : factor * (local[i] > 0 ? local[i] : 1.0);
@@ -25,8 +25,8 @@ void default_penalties(const ConstrainedProblem& p, double absolute_k, double fa
 }
 
 FrictionalOptions penalised_friction(const SetRule& rule, const ConstrainedProblem& p,
-                                     const VecX& k_gap, const VecX& lambda, const VecX& k_eq,
-                                     const VecX& mu) {
+                                     const RowMemory& memory, const VecX& k_gap, const VecX& lambda,
+                                     const VecX& k_eq, const VecX& mu) {
   FrictionalOptions o;
   o.rule = &rule;
   o.k_gap = k_gap;
@@ -35,8 +35,8 @@ FrictionalOptions penalised_friction(const SetRule& rule, const ConstrainedProbl
   o.lambda_hat = lambda;
   o.mu_hat = mu;
   // The return map's tangential spring starts from the force of the last converged state.
-  o.tangent_hat = p.tangent_force0.size() == p.num_gaps() ? p.tangent_force0
-                                                          : VecX(VecX::Zero(p.num_gaps()));
+  o.tangent_hat = memory.tangent_force0.size() == p.num_gaps() ? memory.tangent_force0
+                                                               : VecX(VecX::Zero(p.num_gaps()));
   return o;
 }
 
@@ -48,9 +48,10 @@ constexpr double kForceDigits = 1e-3;
 // Largest ratio of a row's penalty to its local stiffness: how many digits the penalty costs.
 // Rows whose local stiffness is not positive (a tangent that lost definiteness around a
 // collapsing element) have no such measure and are left out: their trouble is not the penalty.
-double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX& k_eq) {
+double penalty_ratio(const ConstrainedProblem& p, const RowMemory& memory, const VecX& k_gap,
+                     const VecX& k_eq) {
   double r = 0.0;
-  const VecX lg = p.gap_local_stiffness(), le = p.row_stiffness(p.eq_jacobian);
+  const VecX lg = p.gap_local_stiffness(memory), le = p.row_stiffness(p.eq_jacobian);
   for (int i = 0; i < k_gap.size(); ++i)
     if (lg[i] > 0) r = std::max(r, k_gap[i] / lg[i]);
   for (int j = 0; j < k_eq.size(); ++j)
@@ -59,19 +60,20 @@ double penalty_ratio(const ConstrainedProblem& p, const VecX& k_gap, const VecX&
 }
 }  // namespace
 
-ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
+ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p,
+                                                  const RowMemory& memory) {
   ConstraintSolution s;
   VecX k_gap, k_eq;
-  default_penalties(p, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
+  default_penalties(p, memory, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
   bool assembled = true;  // whether the solve factorised K + Gᵀ k G itself
   PenalizedSolver solver(p, set_rule());
   if (p.has_friction()) {
-    FrictionalOptions o = penalised_friction(set_rule(), p, k_gap, zero_gap, k_eq, zero_eq);
+    FrictionalOptions o = penalised_friction(set_rule(), p, memory, k_gap, zero_gap, k_eq, zero_eq);
     o.max_iterations = options_.max_iterations;
-    solve_frictional(p, o, s);
+    solve_frictional(p, memory, o, s);
   } else {
-    std::vector<char> active = initially_closed(p);
+    std::vector<char> active = initially_closed(p, memory);
     const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
                                       active, s.u, s.history, 1);
     s.status = outcome.status;
@@ -90,7 +92,7 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p) {
   // ratio). Condensed, the factor keeps its digits, but the forces k·g that the run's Newton
   // and report take from the gaps carry the gaps' round-off times k: measured as their
   // distance from the condensed solve's own forces.
-  const double ratio = penalty_ratio(p, k_gap, k_eq);
+  const double ratio = penalty_ratio(p, memory, k_gap, k_eq);
   if (ratio > 1e6) {
     double force = 0.0;
     if (solved) {

@@ -14,19 +14,21 @@ class PenaltyStrategy final : public RegularisedStrategy {
   bool set_follows_state() const override { return true; }
 
  protected:
-  ConstraintSolution solve_problem(const ConstrainedProblem& problem) override;
+  ConstraintSolution solve_problem(const ConstrainedProblem& problem,
+                                   const RowMemory& memory) override;
 };
 
 /// Penalty stiffness per gap row and per equality row: the input's fixed k where it gives one,
-/// else `absolute_k` when > 0, else factor × the row's local stiffness.
-void default_penalties(const ConstrainedProblem& p, double absolute_k, double factor, VecX& k_gap,
-                       VecX& k_eq);
+/// else `absolute_k` when > 0, else factor × the row's local stiffness (a gap row's as `memory`
+/// kept it, ConstrainedProblem::gap_local_stiffness).
+void default_penalties(const ConstrainedProblem& p, const RowMemory& memory, double absolute_k,
+                       double factor, VecX& k_gap, VecX& k_eq);
 
 /// The frictional solve of a penalised problem (friction_solver.hpp) with these stiffnesses and
-/// multiplier estimates; k_t = the rows' tangential ratio × k, λ̂_t = the problem's
+/// multiplier estimates; k_t = the rows' tangential ratio × k, λ̂_t = the memory's
 /// tangent_force0 (the last converged state's friction force; 0 without one).
 FrictionalOptions penalised_friction(const SetRule& rule, const ConstrainedProblem& p,
-                                     const VecX& k_gap,
-                                     const VecX& lambda, const VecX& k_eq, const VecX& mu);
+                                     const RowMemory& memory, const VecX& k_gap, const VecX& lambda,
+                                     const VecX& k_eq, const VecX& mu);
 
 }  // namespace c2d::constraints

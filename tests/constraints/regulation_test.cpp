@@ -329,13 +329,14 @@ TEST(DefaultPenalties, OneStiffnessPerAreaOfEachSurface) {
   p.gap_node_area = (VecX(5) << 1.0, 2.0, 1.0, 1.0, 0.0).finished();
   p.gap_area = (VecX(5) << 1.0, 2.0, 1e-6, 1.0, 0.0).finished();
   p.gap_surface = {0, 0, 0, 1, -1};
-  const VecX k = p.gap_local_stiffness();
+  const VecX k = p.gap_local_stiffness(RowMemory());
   EXPECT_DOUBLE_EQ(k[0], 4.0);
   EXPECT_DOUBLE_EQ(k[1], 8.0);   // twice the area, twice the stiffness: one penetration
   EXPECT_DOUBLE_EQ(k[2], 4e-6);  // the sliver: its share, not a κ of its own
   EXPECT_DOUBLE_EQ(k[3], 5.0);
   EXPECT_DOUBLE_EQ(k[4], 7.0);
   // Given per-row values (a load step keeps its first), they are used as they are.
-  p.gap_row_stiffness = VecX::Constant(5, 3.0);
-  EXPECT_DOUBLE_EQ(p.gap_local_stiffness()[2], 3.0);
+  RowMemory kept;
+  kept.gap_row_stiffness = VecX::Constant(5, 3.0);
+  EXPECT_DOUBLE_EQ(p.gap_local_stiffness(kept)[2], 3.0);
 }

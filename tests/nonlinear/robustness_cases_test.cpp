@@ -719,12 +719,13 @@ TEST_P(HeldJacobian, MatchesFiniteDifferences) {
   qp.eq_rhs -= qp.eq_jacobian * u_free;
   ASSERT_EQ(qp.slip0.size(), m);
   qp.slip0 += qp.slip_jacobian * u_free;
-  qp.tangent_force0 = VecX::Zero(m);  // the friction force each row held (on the master: −t)
+  constraints::RowMemory memory;
+  memory.tangent_force0 = VecX::Zero(m);  // the friction force each row held (on the master: −t)
   for (int i = 0; i < m; ++i)
     for (const ContactNodeResult& n : report_before.nodes)
-      if (n.node == rows[i].slave) qp.tangent_force0[i] = -n.tangent_force;
+      if (n.node == rows[i].slave) memory.tangent_force0[i] = -n.tangent_force;
   auto strategy = constraints::ConstraintStrategy::create(contact.options());
-  const constraints::ConstraintSolution sol = strategy->solve(qp);
+  const constraints::ConstraintSolution sol = strategy->solve(qp, memory);
   ASSERT_EQ(sol.status, SolveStatus::kConverged) << sol.message;
   int stick = 0, slip = 0;
   for (int i = 0; i < m; ++i)
