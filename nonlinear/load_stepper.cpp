@@ -391,8 +391,8 @@ class LoadStepper {
   VecX u_free_, u_prev_full_;
   VecX last_increment_;        ///< the last accepted step's Δu (free)
   double last_dlambda_ = 0.0;  ///< and its Δλ
-  VecX earlier_increment_;     ///< the step's before (free)
-  double earlier_dlambda_ = 0.0;
+  VecX earlier_increment_;     ///< the increment of the step before it (free)
+  double earlier_dlambda_ = 0.0;  ///< and its Δλ
   bool extrapolate_ = true;    ///< false: the next attempt starts from the tangent predictor
   bool extrapolated_ = false;  ///< the last attempt started from extrapolated_start
   double lambda_ = 0.0;
