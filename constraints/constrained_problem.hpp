@@ -72,6 +72,8 @@ struct ConstrainedProblem {
   bool frictional(int i) const;
   /// The piece of frictional row i's bound at normal force λ (clamped at 0).
   FrictionBound friction_bound(int i, double normal_force) const;
+  /// Frictional row i's bound at normal force λ (clamped at 0): the largest |λ_t| it allows.
+  double friction_limit(int i, double normal_force) const;
   /// Whether frictional row i carries friction while open (a Tresca bound).
   bool friction_binds_open(int i) const;
   /// Whether some gap row has friction.

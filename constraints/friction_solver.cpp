@@ -13,26 +13,6 @@
 
 namespace c2d::constraints {
 
-bool ConstrainedProblem::frictional(int i) const {
-  return static_cast<int>(friction_law.size()) == num_gaps() && slip0.size() == num_gaps() &&
-         friction_law[i] != nullptr;
-}
-
-FrictionBound ConstrainedProblem::friction_bound(int i, double normal_force) const {
-  const double area = gap_area.size() == num_gaps() ? gap_area[i] : 0.0;
-  return friction_law[i]->bound(std::max(0.0, normal_force), area);
-}
-
-bool ConstrainedProblem::friction_binds_open(int i) const {
-  return frictional(i) && friction_bound(i, 0.0).at(0.0) > 0;
-}
-
-bool ConstrainedProblem::has_friction() const {
-  for (int i = 0; i < num_gaps(); ++i)
-    if (frictional(i)) return true;
-  return false;
-}
-
 VecX tangent_penalties(const ConstrainedProblem& p, const VecX& k_gap) {
   VecX k_t = k_gap;
   if (p.tangent_penalty_ratio.size() == k_gap.size())
@@ -199,7 +179,7 @@ class FrictionalSolve {
       code[2 * m_ + i] = piece_code(i, st->contact_force.size() == m_ ? st->contact_force[i] : 0.0);
       if (!code[i] && !tresca(i)) continue;
       // (an open Tresca row carries friction: it slips when its force reached the bound)
-      const double open_bound = p_.friction_bound(i, 0.0).at(0.0);
+      const double open_bound = p_.friction_limit(i, 0.0);
       const bool slips = st->friction_state[i] == FrictionState::kSlip ||
                          (!code[i] && std::abs(st->tangent_force[i]) >= (1 - 1e-6) * open_bound);
       code[m_ + i] = slips ? (st->tangent_force[i] >= 0 ? kSlipPlus : kSlipMinus) : kStick;
@@ -424,7 +404,7 @@ class FrictionalSolve {
       next[2 * m_ + i] = piece_code(i, r.held ? d.normal : 0.0);
       r.entry_slip_allowance = tresca(i) ? scales.gap_tolerance
                                          : p_.friction_bound(i, 0.0).slope * std::abs(g[i]);
-      const double bound = p_.friction_bound(i, d.normal).at(std::max(0.0, d.normal));
+      const double bound = p_.friction_limit(i, d.normal);
       next[m_ + i] = rule_->tangential(r, d, bound, scales, residual);
     }
     return residual;

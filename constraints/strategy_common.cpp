@@ -35,6 +35,30 @@ SpMat stack_rows(const SpMat& top, const SpMat& bottom) {
   return out;
 }
 
+bool ConstrainedProblem::frictional(int i) const {
+  return static_cast<int>(friction_law.size()) == num_gaps() && slip0.size() == num_gaps() &&
+         friction_law[i] != nullptr;
+}
+
+FrictionBound ConstrainedProblem::friction_bound(int i, double normal_force) const {
+  const double area = gap_area.size() == num_gaps() ? gap_area[i] : 0.0;
+  return friction_law[i]->bound(std::max(0.0, normal_force), area);
+}
+
+double ConstrainedProblem::friction_limit(int i, double normal_force) const {
+  return friction_bound(i, normal_force).at(std::max(0.0, normal_force));
+}
+
+bool ConstrainedProblem::friction_binds_open(int i) const {
+  return frictional(i) && friction_limit(i, 0.0) > 0;
+}
+
+bool ConstrainedProblem::has_friction() const {
+  for (int i = 0; i < num_gaps(); ++i)
+    if (frictional(i)) return true;
+  return false;
+}
+
 VecX ConstrainedProblem::gap_local_stiffness(const RowMemory& memory) const {
   return memory.gap_row_stiffness.size() == num_gaps() ? memory.gap_row_stiffness
                                                        : surface_stiffness();

@@ -40,8 +40,8 @@ ConstrainedStep::ConstrainedStep(StructuralSystem& system, const ContactSet& con
   // coordinates whatever the kinematics.
   for (const Vec2& xn : system.model().mesh.nodes)
     absolute_scale_ = std::max(absolute_scale_, xn.cwiseAbs().maxCoeff());
-  absolute_scale_ += inf_norm(in.u_free) + contact.model_size();
   displacement_scale_ = inf_norm(in.u_free);
+  absolute_scale_ += displacement_scale_ + contact.model_size();
   coordinate_scale_ =
       system.is_linear() ? absolute_scale_ : contact.length_scale() + displacement_scale_;
 }

@@ -157,16 +157,15 @@ bool ConstrainedStep::settled(const ConstrainedProblem& qp, double tolerance) co
     // Friction (exact methods): the state's sticking rows within their bound, its slipping
     // rows still slipping the way their force points, at the bound of the state's normal
     // force (Newton held their forces at the solve's), as the rule decides from the state.
-    if (qp.friction_bound(i, 0.0).at(0.0) > 0 || !tangential_state) return false;  // Tresca
+    if (qp.friction_binds_open(i) || !tangential_state) return false;  // Tresca: the method's
     if (!row.held) continue;
     row.tangent_force = state_.tangent_force[i];
     row.slip = state_.slip[i];
     const bool stick = state_.friction_state[i] == FrictionState::kStick;
     row.tangential = stick ? kStick : row.tangent_force > 0 ? kSlipPlus : kSlipMinus;
     double residual = 0.0;
-    const double bound = qp.friction_bound(i, d.normal).at(std::max(0.0, d.normal));
+    const double bound = qp.friction_limit(i, d.normal), at_state = qp.friction_limit(i, row.force);
     if (rule.tangential(row, d, bound, scales, residual) != row.tangential) return false;
-    const double at_state = qp.friction_bound(i, row.force).at(std::max(0.0, row.force));
     if (!stick && std::abs(std::abs(row.tangent_force) - at_state) > tolerance) return false;
   }
   for (int k = 0; k < slots; ++k)

@@ -99,10 +99,8 @@ void classify(const ConstrainedProblem& p, const StrategyOptions& o, const VecX&
 /// Each frictional row's bound at the given normal force (its law's).
 VecX friction_bounds(const ConstrainedProblem& p, const VecX& normal) {
   VecX b = VecX::Zero(p.num_gaps());
-  for (int i = 0; i < p.num_gaps(); ++i) {
-    const double n = std::max(0.0, normal[i]);
-    if (p.frictional(i)) b[i] = p.friction_bound(i, n).at(n);
-  }
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (p.frictional(i)) b[i] = p.friction_limit(i, normal[i]);
   return b;
 }
 
