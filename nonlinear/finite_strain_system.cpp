@@ -72,6 +72,20 @@ VecX FiniteStrainSystem::full(const VecX& u_free) const {
 }
 
 bool FiniteStrainSystem::internal_force(const VecX& u, VecX& f) const {
+  if (last_.u.size() == u.size() && last_.lambda == lambda_ && last_.u == u) {
+    f = last_.f;
+    inverted_ = last_.inverted;
+    return last_.ok;
+  }
+  last_.u = u;
+  last_.lambda = lambda_;
+  last_.ok = evaluate_internal_force(u, last_.f);
+  last_.inverted = inverted_;
+  f = last_.f;
+  return last_.ok;
+}
+
+bool FiniteStrainSystem::evaluate_internal_force(const VecX& u, VecX& f) const {
   const Mesh& mesh = model_.mesh;
   const int nn = mesh.nodes_per_element();
   f = VecX::Zero(model_.dofs.num_dofs());

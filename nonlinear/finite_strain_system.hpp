@@ -42,9 +42,8 @@ class FiniteStrainSystem final : public StructuralSystem {
   bool admissible(const VecX& u_full) const override;
   VecX reactions(const VecX& u_full) const override;
   double assemble_seconds() const override { return assemble_seconds_; }
-  /// The dead loads at λ = 1 (full): the external force less the follower pressures, which
-  /// internal_force counts at the current positions.
-  /// The dead loads at load factor λ, amplitudes included (full vector).
+  /// The dead loads at load factor λ, amplitudes included (full vector): the external force
+  /// less the follower pressures, which internal_force counts at the current positions.
   VecX dead_load_at(double lambda) const;
   /// The load step's linearisation about the converged full state u0 (with its own prescribed
   /// values): assembles K_T(u0) into matrix() and returns the out-of-balance force at the
@@ -64,7 +63,20 @@ class FiniteStrainSystem final : public StructuralSystem {
   std::string evaluation_failure() const override;
 
  private:
+  /// internal_force without the memory of the last evaluation.
+  bool evaluate_internal_force(const VecX& u_full, VecX& f) const;
   mutable int inverted_ = -1;  ///< the first inverted element of the last evaluation
+  /// The last internal force evaluated: Newton asks for the force at one state several times
+  /// (the residual that ends an outer iteration is the next one's linearisation point, the
+  /// reaction scale and the admissibility check read the same state).
+  struct LastForce {
+    VecX u;
+    double lambda = 0.0;
+    VecX f;
+    bool ok = false;
+    int inverted = -1;
+  };
+  mutable LastForce last_;
   const core::Model& model_;
   core::Assembler assembler_;
   bool extra_ = false;  ///< springs or follower loads add to the elements' K_T
