@@ -62,6 +62,8 @@ double shape_area(const ShapeSpec& s) {
   if (s.type == "rectangle") return (s.max - s.min).prod();
   if (s.type == "polygon") return std::abs(signed_area(s.points));
   if (s.type == "disk") return std::numbers::pi * s.radius * s.radius;
+  if (s.type == "annulus")
+    return std::numbers::pi * (s.radius * s.radius - s.inner_radius * s.inner_radius);
   if (s.type == "disk_segment") return 0.5 * s.radius * s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0;
   return 0.0;
 }
@@ -83,6 +85,9 @@ double boundary_segments(const ShapeSpec& s, double size) {
       n += pieces((s.points[(i + 1) % s.points.size()] - s.points[i]).norm());
   } else if (s.type == "disk") {
     n = std::max(3.0, pieces(2.0 * std::numbers::pi * s.radius));
+  } else if (s.type == "annulus") {
+    n = std::max(3.0, pieces(2.0 * std::numbers::pi * s.radius)) +
+        std::max(3.0, pieces(2.0 * std::numbers::pi * s.inner_radius));
   } else if (s.type == "disk_segment") {
     n = pieces(s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0) +
         2.0 * pieces(s.radius);

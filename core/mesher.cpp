@@ -111,6 +111,26 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
     for (size_t i = 0; i < pts.size(); ++i)
       add_line(tags[i], tags[(i + 1) % pts.size()],
                s.type == "rectangle" ? rect_names[i] : "edge" + std::to_string(i));
+  } else if (s.type == "annulus") {
+    // Two full circles, each of four quarter arcs; the inner one bounds the hole.
+    const int center = geo::addPoint(s.center.x(), s.center.y(), 0.0);
+    std::vector<int> loops;
+    for (const auto& [radius, name] : {std::pair{s.radius, "outer"}, std::pair{s.inner_radius, "inner"}}) {
+      std::vector<int> points, arcs;
+      for (int i = 0; i < 4; ++i) {
+        const double t = i * std::numbers::pi / 2.0;
+        points.push_back(geo::addPoint(s.center.x() + radius * std::cos(t),
+                                       s.center.y() + radius * std::sin(t), 0.0));
+      }
+      for (int i = 0; i < 4; ++i) {
+        arcs.push_back(geo::addCircleArc(points[i], center, points[(i + 1) % 4]));
+        curves.push_back({arcs.back(), name, true, s.center, radius});
+      }
+      loops.push_back(geo::addCurveLoop(arcs));
+    }
+    geo::addPlaneSurface(loops);
+    geo::synchronize();
+    return curves;
   } else {
     const bool full = s.type == "disk" || s.to_deg - s.from_deg >= 360.0 - 1e-9;
     const double from = full ? 0.0 : s.from_deg, to = full ? 360.0 : s.to_deg;

@@ -36,12 +36,13 @@ struct RefineSpec {
 };
 
 struct ShapeSpec {
-  std::string type;  ///< rectangle | polygon | disk | disk_segment | points
+  std::string type;  ///< rectangle | polygon | disk | disk_segment | annulus | points
   Vec2 min = Vec2::Zero(), max = Vec2::Zero();  ///< rectangle
   std::vector<Vec2> points;                     ///< polygon (either orientation); points: the cloud
   std::vector<Vec2> boundary;                   ///< points: optional boundary polygon
   Vec2 center = Vec2::Zero();
   double radius = 0, from_deg = 0, to_deg = 360;
+  double inner_radius = 0;  ///< annulus: its hole's radius (radius is the outer one)
 };
 
 struct BodySpec {

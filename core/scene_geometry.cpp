@@ -136,7 +136,7 @@ std::vector<Vec2> bounded_points(const TomlView& v) {
 ShapeSpec parse_shape(const TomlView& v) {
   v.require_table();
   ShapeSpec s;
-  s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment", "points"});
+  s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment", "annulus", "points"});
   if (s.type == "rectangle") {
     v.check_keys({"type", "min", "max"});
     s.min = shape_point(v["min"]);
@@ -164,11 +164,17 @@ ShapeSpec parse_shape(const TomlView& v) {
   } else {
     if (s.type == "disk")
       v.check_keys({"type", "center", "radius"});
+    else if (s.type == "annulus")
+      v.check_keys({"type", "center", "radius", "inner_radius"});
     else
       v.check_keys({"type", "center", "radius", "from_deg", "to_deg"});
     s.center = shape_point(v["center"]);
     s.radius = v["radius"].positive();
     if (!(s.radius <= kMaxCoordinate)) v["radius"].fail("a radius of at most 1e15");
+    if (s.type == "annulus") {
+      s.inner_radius = v["inner_radius"].positive();
+      if (!(s.inner_radius < s.radius)) v["inner_radius"].fail("inner_radius < radius");
+    }
     if (s.type == "disk_segment") {
       s.from_deg = v["from_deg"].number();
       s.to_deg = v["to_deg"].number();

@@ -58,7 +58,7 @@ std::optional<ShapeDefect> shape_defect(const ShapeSpec& s) {
     farthest = std::max(farthest, p.cwiseAbs().maxCoeff());
   if (s.type == "rectangle")
     farthest = std::max(s.min.cwiseAbs().maxCoeff(), s.max.cwiseAbs().maxCoeff());
-  if (s.type == "disk" || s.type == "disk_segment")
+  if (s.type == "disk" || s.type == "disk_segment" || s.type == "annulus")
     farthest = s.center.cwiseAbs().maxCoeff() + s.radius;
   if (s.type != "points" && !(extent >= kThinnestFeature * farthest)) {
     const std::string key = s.type == "rectangle" ? "min"
@@ -83,6 +83,11 @@ std::optional<ShapeDefect> shape_defect(const ShapeSpec& s) {
       return ShapeDefect{s.type == "polygon" ? "points" : "boundary",
                          "expected a polygon with no feature thinner than " +
                              shown(polygon_thinnest) + why + ", found " + *feature};
+  } else if (s.type == "annulus") {
+    const double wall = s.radius - s.inner_radius;
+    if (!(wall >= thinnest))
+      return ShapeDefect{"inner_radius", "expected an annulus whose wall is thicker than " +
+                                             shown(thinnest) + why + ", found " + shown(wall)};
   } else if (s.type == "disk_segment") {
     // The thinnest part of a wedge is at its arc: the arc's end to the other straight edge is
     // r sin(angle) for an opening (or a gap left to 360 degrees) below 90 degrees.
