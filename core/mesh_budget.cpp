@@ -59,8 +59,10 @@ std::string polygon_problem(const std::vector<Vec2>& p) {
 }
 
 double shape_area(const ShapeSpec& s) {
-  if (s.type == "rectangle") return (s.max - s.min).prod();
-  if (s.type == "polygon") return std::abs(signed_area(s.points));
+  double holes = 0.0;
+  for (const auto& h : s.holes) holes += std::numbers::pi * h.radius * h.radius;
+  if (s.type == "rectangle") return (s.max - s.min).prod() - holes;
+  if (s.type == "polygon") return std::abs(signed_area(s.points)) - holes;
   if (s.type == "disk") return std::numbers::pi * s.radius * s.radius;
   if (s.type == "annulus")
     return std::numbers::pi * (s.radius * s.radius - s.inner_radius * s.inner_radius);
@@ -92,6 +94,7 @@ double boundary_segments(const ShapeSpec& s, double size) {
     n = pieces(s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0) +
         2.0 * pieces(s.radius);
   }
+  for (const auto& h : s.holes) n += std::max(3.0, pieces(2.0 * std::numbers::pi * h.radius));
   return n;
 }
 

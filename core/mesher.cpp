@@ -87,6 +87,24 @@ struct NamedCurve {
   double radius = 0.0;
 };
 
+/// A full circle of four quarter arcs named `name`: its curve loop's tag.
+int add_circle(const Vec2& center, double radius, const std::string& name,
+               std::vector<NamedCurve>& curves) {
+  namespace geo = gmsh::model::geo;
+  const int c = geo::addPoint(center.x(), center.y(), 0.0);
+  std::vector<int> points, arcs;
+  for (int i = 0; i < 4; ++i) {
+    const double t = i * std::numbers::pi / 2.0;
+    points.push_back(geo::addPoint(center.x() + radius * std::cos(t),
+                                   center.y() + radius * std::sin(t), 0.0));
+  }
+  for (int i = 0; i < 4; ++i) {
+    arcs.push_back(geo::addCircleArc(points[i], c, points[(i + 1) % 4]));
+    curves.push_back({arcs.back(), name, true, center, radius});
+  }
+  return geo::addCurveLoop(arcs);
+}
+
 // Builds the primitive in gmsh's built-in (geo) kernel; returns the named boundary curves.
 std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
   namespace geo = gmsh::model::geo;
@@ -112,23 +130,9 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
       add_line(tags[i], tags[(i + 1) % pts.size()],
                s.type == "rectangle" ? rect_names[i] : "edge" + std::to_string(i));
   } else if (s.type == "annulus") {
-    // Two full circles, each of four quarter arcs; the inner one bounds the hole.
-    const int center = geo::addPoint(s.center.x(), s.center.y(), 0.0);
-    std::vector<int> loops;
-    for (const auto& [radius, name] : {std::pair{s.radius, "outer"}, std::pair{s.inner_radius, "inner"}}) {
-      std::vector<int> points, arcs;
-      for (int i = 0; i < 4; ++i) {
-        const double t = i * std::numbers::pi / 2.0;
-        points.push_back(geo::addPoint(s.center.x() + radius * std::cos(t),
-                                       s.center.y() + radius * std::sin(t), 0.0));
-      }
-      for (int i = 0; i < 4; ++i) {
-        arcs.push_back(geo::addCircleArc(points[i], center, points[(i + 1) % 4]));
-        curves.push_back({arcs.back(), name, true, s.center, radius});
-      }
-      loops.push_back(geo::addCurveLoop(arcs));
-    }
-    geo::addPlaneSurface(loops);
+    // Two full circles; the inner one bounds the hole.
+    const int outer = add_circle(s.center, s.radius, "outer", curves);
+    geo::addPlaneSurface({outer, add_circle(s.center, s.inner_radius, "inner", curves)});
     geo::synchronize();
     return curves;
   } else {
@@ -156,8 +160,10 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
       add_line(center, arc_points.front(), "start");
     }
   }
-  const int cl = geo::addCurveLoop(loop);
-  const int surface = geo::addPlaneSurface({cl});
+  std::vector<int> loops = {geo::addCurveLoop(loop)};
+  for (size_t k = 0; k < s.holes.size(); ++k)
+    loops.push_back(add_circle(s.holes[k].center, s.holes[k].radius, "hole" + std::to_string(k), curves));
+  const int surface = geo::addPlaneSurface(loops);
   std::vector<int> inside;
   for (const auto& q : interior) inside.push_back(geo::addPoint(q.x(), q.y(), 0.0));
   geo::synchronize();

@@ -34,7 +34,8 @@ std::vector<Vec2> convex_hull(std::vector<Vec2> p, double tol) {
   return h;
 }
 
-/// Winding-number test of a point against a closed polygon.
+}  // namespace
+
 bool inside_polygon(const std::vector<Vec2>& polygon, const Vec2& q) {
   int winding = 0;
   for (size_t i = 0; i < polygon.size(); ++i) {
@@ -47,8 +48,6 @@ bool inside_polygon(const std::vector<Vec2>& polygon, const Vec2& q) {
   }
   return winding != 0;
 }
-
-}  // namespace
 
 /// The checked point cloud of a `points` shape: its boundary polygon (given, else the convex
 /// hull) with the cloud points on its edges inserted as vertices, and the interior points.

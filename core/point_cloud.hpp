@@ -10,6 +10,8 @@ namespace c2d::core {
 
 /// Twice the signed area of the triangle (o, a, b): positive when counter-clockwise.
 double orientation(const Vec2& o, const Vec2& a, const Vec2& b);
+/// Winding-number test of a point against a closed polygon (either orientation).
+bool inside_polygon(const std::vector<Vec2>& polygon, const Vec2& q);
 
 /// The checked point cloud of a `points` shape: its boundary polygon (given, else the convex
 /// hull) with the cloud points on its edges inserted as vertices, and the interior points.

@@ -43,6 +43,12 @@ struct ShapeSpec {
   Vec2 center = Vec2::Zero();
   double radius = 0, from_deg = 0, to_deg = 360;
   double inner_radius = 0;  ///< annulus: its hole's radius (radius is the outer one)
+  /// rectangle, polygon: circular holes (edges hole0, hole1, ...)
+  struct Hole {
+    Vec2 center = Vec2::Zero();
+    double radius = 0;
+  };
+  std::vector<Hole> holes;
 };
 
 struct BodySpec {

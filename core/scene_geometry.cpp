@@ -138,13 +138,13 @@ ShapeSpec parse_shape(const TomlView& v) {
   ShapeSpec s;
   s.type = v["type"].choice({"rectangle", "polygon", "disk", "disk_segment", "annulus", "points"});
   if (s.type == "rectangle") {
-    v.check_keys({"type", "min", "max"});
+    v.check_keys({"type", "min", "max", "holes"});
     s.min = shape_point(v["min"]);
     s.max = shape_point(v["max"]);
     if (!(s.max.array() > s.min.array()).all())
       v["max"].fail("max > min in both coordinates");
   } else if (s.type == "polygon") {
-    v.check_keys({"type", "points"});
+    v.check_keys({"type", "points", "holes"});
     s.points = bounded_points(v["points"]);
     if (s.points.size() < 3) v["points"].fail("at least 3 points");
     if (const std::string why = polygon_problem(s.points); !why.empty())
@@ -180,6 +180,15 @@ ShapeSpec parse_shape(const TomlView& v) {
       s.to_deg = v["to_deg"].number();
       if (!(s.to_deg > s.from_deg) || s.to_deg - s.from_deg > 360.0)
         v["to_deg"].fail("to_deg in (from_deg, from_deg + 360]");
+    }
+  }
+  if (v.has("holes")) {
+    for (const TomlView& h : v["holes"].tables()) {
+      h.check_keys({"center", "radius"});
+      ShapeSpec::Hole hole;
+      hole.center = shape_point(h["center"]);
+      hole.radius = h["radius"].positive();
+      s.holes.push_back(hole);
     }
   }
   if (const auto defect = shape_defect(s)) v[defect->key].fail_message(defect->message);

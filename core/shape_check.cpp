@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/mesh_budget.hpp"
+#include "core/point_cloud.hpp"
 
 namespace c2d::core {
 
@@ -42,6 +43,29 @@ std::optional<std::string> thin_polygon_feature(const std::vector<Vec2>& p, doub
         return "vertex " + std::to_string(v + 1) + " at " + shown(d) + " from edge " +
                std::to_string(e + 1);
     }
+  return std::nullopt;
+}
+
+/// The first hole that leaves the shape, comes thinner than `thinnest` to its boundary or to
+/// another hole, or is itself smaller than that.
+std::optional<std::string> hole_problem(const ShapeSpec& s, double thinnest) {
+  std::vector<Vec2> outline = s.points;
+  if (s.type == "rectangle") outline = {s.min, {s.max.x(), s.min.y()}, s.max, {s.min.x(), s.max.y()}};
+  for (size_t k = 0; k < s.holes.size(); ++k) {
+    const ShapeSpec::Hole& h = s.holes[k];
+    const std::string name = "hole " + std::to_string(k) + " (center " + shown(h.center.x()) +
+                             ", " + shown(h.center.y()) + ", radius " + shown(h.radius) + ")";
+    if (!(h.radius >= thinnest)) return name + " smaller than " + shown(thinnest);
+    if (!inside_polygon(outline, h.center)) return name + " centred outside the shape";
+    double wall = 1e300;
+    for (size_t e = 0; e < outline.size(); ++e)
+      wall = std::min(wall, distance_to_segment(h.center, outline[e], outline[(e + 1) % outline.size()]) - h.radius);
+    if (!(wall >= thinnest)) return name + " at " + shown(wall) + " from the boundary";
+    for (size_t j = 0; j < k; ++j) {
+      const double gap = (h.center - s.holes[j].center).norm() - h.radius - s.holes[j].radius;
+      if (!(gap >= thinnest)) return name + " at " + shown(gap) + " from hole " + std::to_string(j);
+    }
+  }
   return std::nullopt;
 }
 
@@ -83,7 +107,13 @@ std::optional<ShapeDefect> shape_defect(const ShapeSpec& s) {
       return ShapeDefect{s.type == "polygon" ? "points" : "boundary",
                          "expected a polygon with no feature thinner than " +
                              shown(polygon_thinnest) + why + ", found " + *feature};
-  } else if (s.type == "annulus") {
+  }
+  if (!s.holes.empty())
+    if (const auto problem = hole_problem(s, thinnest))
+      return ShapeDefect{"holes", "expected circular holes inside the shape, each at least " +
+                                      shown(thinnest) + " from its boundary and from the others" +
+                                      why + ", found " + *problem};
+  if (s.type == "annulus") {
     const double wall = s.radius - s.inner_radius;
     if (!(wall >= thinnest))
       return ShapeDefect{"inner_radius", "expected an annulus whose wall is thicker than " +
