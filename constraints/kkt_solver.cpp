@@ -72,6 +72,13 @@ SolveStatus KktSolver::solve(const VecX& b, VecX& x) {
     report_.status = SolveStatus::kFailed;
     report_.message = "UMFPACK solve failed";
     x.setZero(b.size());
+  } else if (!(report_.relative_residual < 1.0)) {
+    // Not one digit: the factorisation passed its pivot test, but the matrix is singular to
+    // working precision (a body free to turn about the few rows that hold it).
+    report_.status = SolveStatus::kSingular;
+    report_.message = "saddle-point matrix is singular to working precision (solve residual " +
+                      number_text(report_.relative_residual) +
+                      "): linearly dependent constraint rows or an unsupported body";
   } else if (report_.relative_residual > 1e-6) {
     report_.status = SolveStatus::kIllConditioned;
     report_.message = "saddle-point solve residual " + number_text(report_.relative_residual);

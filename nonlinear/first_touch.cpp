@@ -12,9 +12,13 @@ using namespace c2d::constraints;
 
 namespace {
 
-/// Closes the rows nearest to touching (gap within the touch tolerance of the smallest) in
-/// `memory`'s initial active set when that smallest gap is at most `within`; rows on prescribed
-/// DOFs only cannot be closed. Returns whether it closed any.
+/// Solves after the first singular one, each with the next nearest rows closed.
+constexpr int kFirstTouchAttempts = 3;
+
+/// Closes, in `memory`'s initial active set, the open rows nearest to touching (gap within the
+/// touch tolerance of the smallest open gap) when that gap is at most `within`; the rows already
+/// closed stay closed, and rows on prescribed DOFs only cannot be closed. Returns whether it
+/// closed any.
 bool close_nearest(const ConstrainedProblem& qp, double within, RowMemory& memory) {
   const int m = qp.num_gaps();
   std::vector<char> free(m, 0);
@@ -22,10 +26,11 @@ bool close_nearest(const ConstrainedProblem& qp, double within, RowMemory& memor
     for (SpMat::InnerIterator it(qp.gap_jacobian, k); it; ++it) free[it.row()] = 1;
   double nearest = std::numeric_limits<double>::infinity();
   for (int i = 0; i < m; ++i)
-    if (free[i]) nearest = std::min(nearest, qp.gap0[i]);
+    if (free[i] && !memory.initial_active[i]) nearest = std::min(nearest, qp.gap0[i]);
   if (!(nearest <= within)) return false;
   const double touch = touch_tolerance(qp);
-  for (int i = 0; i < m; ++i) memory.initial_active[i] = free[i] && qp.gap0[i] <= nearest + touch;
+  for (int i = 0; i < m; ++i)
+    memory.initial_active[i] = memory.initial_active[i] || (free[i] && qp.gap0[i] <= nearest + touch);
   return true;
 }
 
@@ -56,16 +61,23 @@ void warm_start(const ConstrainedProblem& qp, const std::vector<GapRow>& rows,
 ConstraintSolution solve_catching_first_touch(ConstraintStrategy& strategy,
                                               const ConstrainedProblem& qp, RowMemory& memory) {
   ConstraintSolution s = strategy.solve(qp, memory);
+  // Singular with the rows it started from: the next nearest rows close and the method solves
+  // again, a few times at most. With every row open, the nearest catch a body held only by its
+  // contact; with a few closed, the next ones hold what those leave free (a pin first touching
+  // a conformal hole at one node turns about it, held by friction only where rows stick).
   const bool none_closed = std::none_of(memory.initial_active.begin(), memory.initial_active.end(),
                                         [](char a) { return a; });
-  if (s.status != SolveStatus::kSingular || !none_closed ||
-      !close_nearest(qp, std::numeric_limits<double>::infinity(), memory))
-    return s;
-  const ConstraintSolution open = std::move(s);
-  s = strategy.solve(qp, memory);
-  s.factorizations += open.factorizations;  // the singular attempt's work counts too
-  s.iterations += open.iterations;
-  s.seconds += open.seconds;
+  const double within = none_closed ? std::numeric_limits<double>::infinity()
+                                    : 1e-2 * qp.length_scale;
+  for (int attempt = 0; attempt < kFirstTouchAttempts && s.status == SolveStatus::kSingular;
+       ++attempt) {
+    if (!close_nearest(qp, within, memory)) break;
+    const ConstraintSolution failed = std::move(s);
+    s = strategy.solve(qp, memory);
+    s.factorizations += failed.factorizations;  // the singular attempts' work counts too
+    s.iterations += failed.iterations;
+    s.seconds += failed.seconds;
+  }
   return s;
 }
 

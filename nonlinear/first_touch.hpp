@@ -20,9 +20,11 @@ void warm_start(const constraints::ConstrainedProblem& qp,
                 const std::vector<double>& force_by_slot, constraints::RowMemory& memory);
 
 /// The strategy's solve of `qp` from `memory`; a body held only by its contact, caught at first
-/// touch from farther than the warm start guesses, is singular with every row open: then the
-/// nearest rows close (in `memory`'s initial active set) and the strategy solves again (the
-/// active-set iteration opens them if the load says so). The work of both solves is counted.
+/// touch from farther than the warm start guesses, is singular with every row open, and one
+/// touching a conformal surface at a node can be singular with that node's rows alone: then the
+/// nearest open rows close (in `memory`'s initial active set; with some closed already, only
+/// rows within 1 % of the smallest contact edge) and the strategy solves again, at most three
+/// times (the active-set iteration opens them if the load says so). All the solves' work counts.
 constraints::ConstraintSolution solve_catching_first_touch(
     constraints::ConstraintStrategy& strategy, const constraints::ConstrainedProblem& qp,
     constraints::RowMemory& memory);

@@ -209,3 +209,60 @@ TEST(PlateWithHole, MisplacedHolesAreRefusedByName) {
     }
   }
 }
+
+// Conformal frictional contact between elastic bodies (issue 33 item 5, first touch): a pin
+// (R 0.98) in a plate's hole (R 1), touching it at one node, held by the contact alone, pressed
+// down by 20 and then dragged sideways by 4 (μ 0.3), load-stepped with geometric nonlinearity.
+// At first touch the pin turns freely about the one node that touches (frictionless it turns
+// freely for good: every normal passes near its centre), so the first solve is singular until
+// the next nearest rows close. Every method converges, and the contact forces on the pin carry
+// the applied load (to 1e-3: the load is the body force over the meshed pin, whose chords cut
+// off 3e-5 of the disk).
+TEST(PinInPlate, ConformalFrictionalContactIsCaughtAtFirstTouchByEveryMethod) {
+  const core::Scene scene = core::parse_scene(R"(
+[analysis]
+kind = "plane_strain"
+element = "T6"
+geometric_nonlinearity = true
+steps = 4
+[[material]]
+name = "m"
+E = 1000.0
+nu = 0.3
+[[body]]
+name = "plate"
+material = "m"
+shape = { type = "rectangle", min = [-3.0, -3.0], max = [3.0, 1.5], holes = [ { center = [0.0, 0.0], radius = 1.0 } ] }
+mesh = { size = 0.4, refine = [ { near = [0.0, -1.0], size = 0.08, radius = 0.5, growth = 1.3 } ] }
+[[body]]
+name = "pin"
+material = "m"
+shape = { type = "disk", center = [0.0, -0.02], radius = 0.98 }
+mesh = { size = 0.3, refine = [ { near = [0.0, -1.0], size = 0.08, radius = 0.5, growth = 1.3 } ] }
+[[support]]
+on = { body = "plate", edge = "bottom" }
+fix = ["ux", "uy"]
+[[load]]
+on = { body = "pin" }
+body_force = [0.0, -6.6284]
+amplitude = [[0.0, 0.0], [0.5, 1.0], [1.0, 1.0]]
+[[load]]
+on = { body = "pin" }
+body_force = [1.3257, 0.0]
+amplitude = [[0.0, 0.0], [0.5, 0.0], [1.0, 1.0]]
+[[contact]]
+slave = { body = "pin", edge = "arc" }
+master = { body = "plate", edge = "hole0" }
+friction = { coefficient = 0.3 }
+)",
+                                              "pin_plate.toml");
+  const double area = std::numbers::pi * 0.98 * 0.98;
+  for (const std::string& method : constraints::method_names()) {
+    SCOPED_TRACE(method);
+    const test::SceneRun r = test::run_scene(scene, method);
+    ASSERT_EQ(r.results.status, SolveStatus::kConverged) << r.results.message;
+    EXPECT_NEAR(r.report.resultant.x(), -1.3257 * area, 1e-3 * 1.3257 * area);
+    EXPECT_NEAR(r.report.resultant.y(), 6.6284 * area, 1e-3 * 6.6284 * area);
+    EXPECT_GT(r.report.active_nodes, 5);
+  }
+}
