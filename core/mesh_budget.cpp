@@ -58,14 +58,20 @@ std::string polygon_problem(const std::vector<Vec2>& p) {
   return {};
 }
 
+std::vector<Vec2> polygon_outline(const ShapeSpec& s) {
+  if (s.type == "rectangle") return {s.min, {s.max.x(), s.min.y()}, s.max, {s.min.x(), s.max.y()}};
+  if (s.type == "polygon") return s.points;
+  return {};
+}
+
 double shape_area(const ShapeSpec& s) {
+  auto disk = [](double r) { return std::numbers::pi * r * r; };
   double holes = 0.0;
-  for (const auto& h : s.holes) holes += std::numbers::pi * h.radius * h.radius;
+  for (const auto& h : s.holes) holes += disk(h.radius);
   if (s.type == "rectangle") return (s.max - s.min).prod() - holes;
   if (s.type == "polygon") return std::abs(signed_area(s.points)) - holes;
-  if (s.type == "disk") return std::numbers::pi * s.radius * s.radius;
-  if (s.type == "annulus")
-    return std::numbers::pi * (s.radius * s.radius - s.inner_radius * s.inner_radius);
+  if (s.type == "disk") return disk(s.radius);
+  if (s.type == "annulus") return disk(s.radius) - disk(s.inner_radius);
   if (s.type == "disk_segment") return 0.5 * s.radius * s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0;
   return 0.0;
 }
@@ -78,6 +84,7 @@ double shape_diagonal(const ShapeSpec& s) {
 
 double boundary_segments(const ShapeSpec& s, double size) {
   auto pieces = [size](double length) { return std::max(1.0, std::ceil(length / size)); };
+  auto circle = [&](double r) { return std::max(3.0, pieces(2.0 * std::numbers::pi * r)); };
   double n = 0.0;
   if (s.type == "rectangle") {
     const Vec2 d = s.max - s.min;
@@ -86,15 +93,14 @@ double boundary_segments(const ShapeSpec& s, double size) {
     for (size_t i = 0; i < s.points.size(); ++i)
       n += pieces((s.points[(i + 1) % s.points.size()] - s.points[i]).norm());
   } else if (s.type == "disk") {
-    n = std::max(3.0, pieces(2.0 * std::numbers::pi * s.radius));
+    n = circle(s.radius);
   } else if (s.type == "annulus") {
-    n = std::max(3.0, pieces(2.0 * std::numbers::pi * s.radius)) +
-        std::max(3.0, pieces(2.0 * std::numbers::pi * s.inner_radius));
+    n = circle(s.radius) + circle(s.inner_radius);
   } else if (s.type == "disk_segment") {
     n = pieces(s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0) +
         2.0 * pieces(s.radius);
   }
-  for (const auto& h : s.holes) n += std::max(3.0, pieces(2.0 * std::numbers::pi * h.radius));
+  for (const auto& h : s.holes) n += circle(h.radius);
   return n;
 }
 

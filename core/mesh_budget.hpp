@@ -17,8 +17,12 @@ std::string polygon_problem(const std::vector<Vec2>& points);
 /// The signed area of a closed polygon (positive when counter-clockwise).
 double signed_area(const std::vector<Vec2>& polygon);
 
-/// The area and the bounding-box diagonal of a shape (rectangle, polygon, disk, disk segment);
-/// 0 for a point cloud.
+/// The outline of a rectangle (its corners from min, counter-clockwise: the edges bottom, right,
+/// top, left) or a polygon (its points); empty for other shapes.
+std::vector<Vec2> polygon_outline(const ShapeSpec& s);
+
+/// The area (less the holes) and the bounding-box diagonal of a shape (rectangle, polygon,
+/// disk, disk segment, annulus); 0 for a point cloud.
 double shape_area(const ShapeSpec& s);
 double shape_diagonal(const ShapeSpec& s);
 

@@ -117,8 +117,7 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
   };
   std::vector<Vec2> interior;
   if (s.type == "rectangle" || s.type == "polygon" || s.type == "points") {
-    std::vector<Vec2> pts = s.points;
-    if (s.type == "rectangle") pts = {s.min, {s.max.x(), s.min.y()}, s.max, {s.min.x(), s.max.y()}};
+    std::vector<Vec2> pts = polygon_outline(s);
     if (s.type == "points") {
       pts.clear();
       split_point_cloud(s, pts, interior);

@@ -49,8 +49,7 @@ std::optional<std::string> thin_polygon_feature(const std::vector<Vec2>& p, doub
 /// The first hole that leaves the shape, comes thinner than `thinnest` to its boundary or to
 /// another hole, or is itself smaller than that.
 std::optional<std::string> hole_problem(const ShapeSpec& s, double thinnest) {
-  std::vector<Vec2> outline = s.points;
-  if (s.type == "rectangle") outline = {s.min, {s.max.x(), s.min.y()}, s.max, {s.min.x(), s.max.y()}};
+  const std::vector<Vec2> outline = polygon_outline(s);
   for (size_t k = 0; k < s.holes.size(); ++k) {
     const ShapeSpec::Hole& h = s.holes[k];
     const std::string name = "hole " + std::to_string(k) + " (center " + shown(h.center.x()) +

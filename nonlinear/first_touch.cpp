@@ -14,6 +14,8 @@ namespace {
 
 /// Solves after the first singular one, each with the next nearest rows closed.
 constexpr int kFirstTouchAttempts = 3;
+/// Rows this near to touching (a fraction of the smallest contact edge) are guessed closed.
+constexpr double kNearlyTouching = 1e-2;
 
 /// Closes, in `memory`'s initial active set, the open rows nearest to touching (gap within the
 /// touch tolerance of the smallest open gap) when that gap is at most `within`; the rows already
@@ -55,7 +57,7 @@ void warm_start(const ConstrainedProblem& qp, const std::vector<GapRow>& rows,
   // solve; a wrong guess costs one active-set iteration. Node rows at a first touch have gap 0,
   // but a mortar row's gap is a mean under its hat, positive on a curved surface. Farther rows
   // are closed only when the open solve is singular (solve_catching_first_touch).
-  if (!any) close_nearest(qp, 1e-2 * qp.length_scale, memory);
+  if (!any) close_nearest(qp, kNearlyTouching * qp.length_scale, memory);
 }
 
 ConstraintSolution solve_catching_first_touch(ConstraintStrategy& strategy,
@@ -68,13 +70,13 @@ ConstraintSolution solve_catching_first_touch(ConstraintStrategy& strategy,
   const bool none_closed = std::none_of(memory.initial_active.begin(), memory.initial_active.end(),
                                         [](char a) { return a; });
   const double within = none_closed ? std::numeric_limits<double>::infinity()
-                                    : 1e-2 * qp.length_scale;
+                                    : kNearlyTouching * qp.length_scale;
   for (int attempt = 0; attempt < kFirstTouchAttempts && s.status == SolveStatus::kSingular;
        ++attempt) {
     if (!close_nearest(qp, within, memory)) break;
     const ConstraintSolution failed = std::move(s);
     s = strategy.solve(qp, memory);
-    s.factorizations += failed.factorizations;  // the singular attempts' work counts too
+    add_solution_work(failed, s);  // the singular attempts' work counts too
     s.iterations += failed.iterations;
     s.seconds += failed.seconds;
   }
