@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "constraints/kkt_solver.hpp"
 #include "constraints/set_rules.hpp"
@@ -52,7 +53,11 @@ class FrictionalSolve {
         s_(saddle_point_scale(p)),
         eq_rows_(row_lists(p.eq_jacobian, 1.0)),
         gap_rows_(row_lists(p.gap_jacobian, 1.0)),
-        slip_rows_(row_lists(p.slip_jacobian, -1.0)) {
+        slip_rows_(row_lists(p.slip_jacobian, -1.0)),
+        slip0_(p.slip0.size() == m_ ? p.slip0 : VecX::Zero(m_)) {
+    // A frictionless problem has no tangential rows: each row's is empty, its slip zero, and
+    // its tangential force zero (the row is free along the surface).
+    slip_rows_.resize(m_);
     pieces_.resize(m_);
     binds_open_.assign(m_, 0);
     for (int i = 0; i < m_; ++i) binds_open_[i] = p.friction_binds_open(i);
@@ -63,8 +68,8 @@ class FrictionalSolve {
     rule_ = o_->rule ? o_->rule : &primal_dual_;
     penalised_ = rule_->regularised();
     const KktSolveReport before = kkt_.report();
-    const core::SpdSolveReport surface_before = surface_report();
-    const double dense_before = surface_ ? surface_->dense_seconds() : 0.0;
+    counted_ = surface_report();
+    dense_counted_ = surface_ ? surface_->dense_seconds() : 0.0;
     const std::vector<char> cold = cold_start();
     std::vector<char> code = warm_start(cold);
     bool warm = code != cold;
@@ -75,6 +80,7 @@ class FrictionalSolve {
                 std::to_string(o_->max_iterations) + " iterations";
     bool solved = false;
     int it = 0;
+    StallMonitor stall;
     for (int k = 0; k < o_->max_iterations; ++k) {
       it = o_->first_iteration + k;
       core::check_interrupt();
@@ -91,12 +97,22 @@ class FrictionalSolve {
         break;
       }
       solved = true;
-      const VecX g = p_.gap0 + p_.gap_jacobian * s.u;
-      const VecX sl = p_.slip0 + p_.slip_jacobian * s.u;
+      VecX g = p_.gap0 + p_.gap_jacobian * s.u;
+      const VecX sl = slip(s.u);
+      // (a row left out of the condensation has no value on the tail: its gap is read on the
+      // whole displacement once the sets settle)
+      for (int i = 0; i < m_; ++i)
+        if (surface_last_ && !in_play(i)) g[i] = std::max(p_.gap0[i], 0.0);
       std::vector<char> next = code;
       const double residual = update(s, g, sl, next);
       s.history.push_back(record(it, code, next, g, residual));
       const ActiveSetTracker::Change change = sets.record(next);
+      if (change.unchanged && surface_last_ && bring_into_play(s, next)) {
+        drop_surface(s);  // (made again with them)
+        sets.restart(next);
+        code = next;
+        continue;
+      }
       if (change.unchanged) {
         s.status = SolveStatus::kConverged;
         s.message.clear();
@@ -119,18 +135,70 @@ class FrictionalSolve {
           break;
         }
       }
+      if (safeguarded() && !stall.progress(change)) {
+        s.message = "contact set not settling after " + std::to_string(it) + " iterations";
+        break;
+      }
       code = next;
     }
+    if (solved && safeguarded() &&
+        (s.status == SolveStatus::kCycling || s.status == SolveStatus::kMaxIterations))
+      safeguard(it, code, s);
     if (solved && surface_last_) complete_displacement(s);
     // Summed: a method may call repeatedly (stiffness raises, multiplier updates).
     add_solver_work(kkt_.report(), before, s);
-    add_solver_work(surface_report(), surface_before, s);
-    if (surface_) s.solve_seconds += surface_->dense_seconds() - dense_before;
+    count_surface_work(s);
     s.pivot_ratio = surface_last_ ? surface_rcond_ : kkt_.report().rcond;
+    // The factorisation the solution came from, named in the solver section.
+    if (surface_last_)
+      s.factor = surface_report();
+    else if (kkt_.report().numeric_factorizations > 0)
+      s.factor = kkt_.report();
     finish(code, solved, s);
   }
 
  private:
+  /// Whether a set iteration that cycles or wanders is finished by the dual active-set
+  /// safeguard: a frictionless problem with an exact rule (the safeguard's steps keep λ ≥ 0
+  /// and raise the dual objective, which a friction law's slip conditions do not fit).
+  bool safeguarded() const { return o_->safeguard && !penalised_ && !p_.has_friction(); }
+
+  /// The sets of a frictionless problem: the gap rows of `set` held, every tangential row free.
+  std::vector<char> normal_code(const std::vector<char>& set) const {
+    std::vector<char> code(3 * m_, kFree);
+    std::copy(set.begin(), set.end(), code.begin());
+    return code;
+  }
+
+  /// The dual active-set method (strategy_common.hpp) from the sets `code`, every row in play
+  /// (it reads every gap), each set solved on the same factor; then the last set solved on
+  /// its own, so that the state is that set's solution. `s` gets the status, the history and
+  /// the state; `code` the last set.
+  void safeguard(int it, std::vector<char>& code, ConstraintSolution& s) {
+    if (!all_in_play()) drop_surface(s);
+    play_.assign(m_, 1);
+    std::vector<char> active(code.begin(), code.begin() + m_);
+    const SetSolve solve_set = [&](const std::vector<char>& set, ConstraintSolution& out,
+                                   std::string& why) {
+      const SolveStatus st = solve(normal_code(set), out);
+      if (st != SolveStatus::kConverged) why = kkt_.report().message;
+      return st;
+    };
+    std::string why;
+    const SolveStatus st = dual_active_set(p_, solve_set, VecX::Zero(m_),
+                                           o_->max_iterations + 2 * m_, it, active, s, why);
+    code = normal_code(active);
+    ConstraintSolution whole;
+    if (solve(code, whole) == SolveStatus::kConverged) {
+      s.u = whole.u;
+      s.eq_multiplier = whole.eq_multiplier;
+      s.contact_force = whole.contact_force;
+      s.tangent_force = whole.tangent_force;
+    }
+    s.message = st == SolveStatus::kConverged ? "" : s.message + "; " + why;
+    s.status = st;
+  }
+
   /// The memory's closed rows, every frictional one (and every Tresca row) sticking, each on
   /// its law's piece at the warm start's normal force (or none).
   std::vector<char> cold_start() const {
@@ -188,6 +256,12 @@ class FrictionalSolve {
   }
 
   bool frictional(int i) const { return p_.frictional(i); }
+  /// The rows' slip at u (zero without tangential rows).
+  VecX slip(const VecX& u) const {
+    return p_.slip_jacobian.rows() == m_ && p_.slip_jacobian.cols() == n_
+               ? VecX(slip0_ + p_.slip_jacobian * u)
+               : slip0_;
+  }
   bool tresca(int i) const { return binds_open_[i] != 0; }
   double compliance(const VecX& k, int i) const { return penalised_ ? 1.0 / k[i] : 0.0; }
 
@@ -196,11 +270,16 @@ class FrictionalSolve {
   /// whole saddle point. On the condensed path s.u holds the tail's values only (all the rules
   /// read) until complete_displacement().
   SolveStatus solve(const std::vector<char>& code, ConstraintSolution& out) {
-    if (surface_ready() && solve_condensed(code, out) == SolveStatus::kConverged) {
-      surface_last_ = true;
-      return SolveStatus::kConverged;
+    if (surface_ready(code)) {
+      if (solve_condensed(code, out) == SolveStatus::kConverged) {
+        surface_last_ = true;
+        return SolveStatus::kConverged;
+      }
+      // The whole saddle point has every row in play, and so has a condensation made again.
+      if (!all_in_play()) drop_surface(out);
     }
     surface_last_ = false;
+    play_.assign(m_, 1);
     return solve_lu(code, out);
   }
 
@@ -249,7 +328,7 @@ class FrictionalSolve {
       const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
       t.emplace_back(rt, rn, slip ? -s * b.slope * sigma : 0.0);
       if (stick)
-        rhs[rt] = -s * p_.slip0[i] - (penalised_ ? s * ct * o_->tangent_hat[i] : 0.0);
+        rhs[rt] = -s * slip0_[i] - (penalised_ ? s * ct * o_->tangent_hat[i] : 0.0);
       else if (slip)
         rhs[rt] = sigma * b.offset;
     }
@@ -282,12 +361,18 @@ class FrictionalSolve {
     return surface_ ? surface_->report() : core::SpdSolveReport{};
   }
 
-  /// The condensation of K onto every row (equality, normal, tangential: row r = j, me + i,
-  /// me + m + i), factorised on first use with R = the equality rows and the eight normal rows
-  /// nearest to closing with their tangential rows, or every row when those leave a rigid mode.
-  bool surface_ready() {
+  /// The condensation of K onto the rows in play (equality, normal, tangential: row r = j,
+  /// me + i, me + m + i), factorised on first use with R = the equality rows and the eight
+  /// normal rows nearest to closing with their tangential rows, or every row when those leave
+  /// a rigid mode. In play: every equality row, the gap rows the sets `code` hold or that are
+  /// closed at the linearisation point, every Tresca row (bound while open), and a margin of
+  /// the open rows nearest to closing (choose_play()); the others are free and stay out of the
+  /// tail, whose dense factor costs the cube of its size (a contact zone of 155 rows among 253
+  /// candidates: half the flops). bring_into_play() checks them on the whole displacement.
+  bool surface_ready(const std::vector<char>& code) {
     if (surface_tried_) return surface_ != nullptr;
     surface_tried_ = true;
+    if (play_.empty()) choose_play(code);
     SpMat ct = surface_rows();
     std::vector<int> eq(me_);
     for (int j = 0; j < me_; ++j) eq[j] = j;
@@ -311,6 +396,7 @@ class FrictionalSolve {
     surface_ = surface;
     first_row_ = first;
     surface_tried_ = true;
+    play_.assign(m_, 1);
     return true;
   }
 
@@ -322,7 +408,8 @@ class FrictionalSolve {
       for (const auto& [j, a] : coef) t.emplace_back(j, r, a);
     };
     for (int j = 0; j < me_; ++j) put(j, eq_rows_[j]);
-    for (int i = 0; i < m_; ++i) put(me_ + i, gap_rows_[i]), put(me_ + m_ + i, slip_rows_[i]);
+    for (int i = 0; i < m_; ++i)
+      if (in_play(i)) put(me_ + i, gap_rows_[i]), put(me_ + m_ + i, slip_rows_[i]);
     SpMat ct(n_, me_ + 2 * m_);
     ct.setFromTriplets(t.begin(), t.end());
     return ct;
@@ -346,7 +433,7 @@ class FrictionalSolve {
       const char ts = code[m_ + i];
       if (ts == kStick && (penalised_ || !slip_rows_[i].empty())) {
         const double c = compliance(o_->k_tangent, i);
-        st.hold(tangential + i, c, p_.slip0[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
+        st.hold(tangential + i, c, slip0_[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
       } else if (ts == kSlipPlus || ts == kSlipMinus) {
         const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
         const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
@@ -368,6 +455,81 @@ class FrictionalSolve {
     if (surface_->complete(u) == SolveStatus::kConverged) s.u = u;
   }
 
+  bool in_play(int i) const { return play_.empty() || play_[i]; }
+  bool all_in_play() const {
+    return std::all_of(play_.begin(), play_.end(), [](char c) { return c != 0; });
+  }
+
+  /// The condensation's work since it was last counted, added to `s`.
+  void count_surface_work(ConstraintSolution& s) {
+    add_solver_work(surface_report(), counted_, s);
+    const double dense = surface_ ? surface_->dense_seconds() : 0.0;
+    s.solve_seconds += dense - dense_counted_;
+    counted_ = surface_report();
+    dense_counted_ = dense;
+  }
+
+  /// Counts the condensation's work and drops it: the next solve makes it again (with the
+  /// rows in play then).
+  void drop_surface(ConstraintSolution& s) {
+    count_surface_work(s);
+    surface_.reset();
+    surface_tried_ = false;
+    counted_ = {};
+    dense_counted_ = 0.0;
+  }
+
+  /// The rows in play (see surface_ready()): those `code` holds, the closed and the Tresca rows,
+  /// and a margin of the open rows nearest to closing (an eighth as many as those, at least
+  /// 8). Every row when that would leave out fewer than a quarter of them or 48 (a dense tail
+  /// that small costs less than the second factorisation a row that closes outside would take),
+  /// or when fewer than an eighth of them or 8 are closed: a contact that is only beginning
+  /// grows out of any margin (on Cattaneo–Mindlin, from 1 row to 79), and a body it alone
+  /// holds is singular on its first rows.
+  void choose_play(const std::vector<char>& code) {
+    play_.assign(m_, 0);
+    std::vector<int> open;
+    int count = 0;
+    for (int i = 0; i < m_; ++i) {
+      play_[i] = code[i] || tresca(i) || p_.gap0[i] <= 0.0;
+      play_[i] ? void(++count) : open.push_back(i);
+    }
+    const int margin = std::min<int>(open.size(), std::max(8, count / 8));
+    std::partial_sort(open.begin(), open.begin() + margin, open.end(),
+                      [&](int a, int b) { return p_.gap0[a] < p_.gap0[b]; });
+    for (int k = 0; k < margin; ++k) play_[open[k]] = 1;
+    const int left_out = static_cast<int>(open.size()) - margin;
+    if (count < std::max(8, m_ / 8) || left_out < std::max(48, m_ / 4)) play_.assign(m_, 1);
+  }
+
+  /// Settled sets on a condensation without some rows: their gaps on the whole displacement,
+  /// and where the rule would hold one, those rows (and the open rows within a tenth of the
+  /// largest closure of this solve) brought into play, held in `next`, for a condensation made
+  /// again. False when every left-out row stays open.
+  bool bring_into_play(ConstraintSolution& s, std::vector<char>& next) {
+    if (all_in_play()) return false;
+    complete_displacement(s);
+    const VecX g = p_.gap0 + p_.gap_jacobian * s.u;
+    const VecX sl = slip(s.u);
+    std::vector<char> full = next;
+    const std::vector<char> play = std::exchange(play_, {});
+    update(s, g, sl, full);
+    play_ = play;
+    double closure = 0.0;
+    for (int i = 0; i < m_; ++i)
+      if (play_[i]) closure = std::max(closure, p_.gap0[i] - g[i]);
+    bool brought = false;
+    for (int i = 0; i < m_; ++i) {
+      if (play_[i] || (!full[i] && !(g[i] < 0.1 * closure))) continue;
+      play_[i] = 1;
+      brought = true;
+      for (const int k : {i, m_ + i, 2 * m_ + i}) next[k] = full[k];
+    }
+    // (a third time, every row: the condensation is not made again and again)
+    if (brought && ++broadened_ == 3) play_.assign(m_, 1);
+    return brought;
+  }
+
   /// The method's rule: the next sets from the solution; returns the iteration's residual (the
   /// largest violation of the complementarity conditions, as a force).
   double update(const ConstraintSolution& sol, const VecX& g, const VecX& sl,
@@ -379,6 +541,11 @@ class FrictionalSolve {
     const RuleScales scales = rule_scales(p_, scale, s_);
     double residual = 0.0;
     for (int i = 0; i < m_; ++i) {
+      if (!in_play(i)) {
+        next[i] = 0;
+        next[m_ + i] = kFree;
+        continue;
+      }
       RowSolution r;
       r.force = lambda[i];
       r.gap = g[i];
@@ -459,6 +626,7 @@ class FrictionalSolve {
   /// Per row: the pieces of its law seen so far (the sets name a piece by its number).
   mutable std::vector<std::vector<FrictionBound>> pieces_;
   std::vector<std::vector<std::pair<int, double>>> eq_rows_, gap_rows_, slip_rows_;
+  VecX slip0_;  ///< the rows' slip at the start (zero without tangential rows)
   KktSolver kkt_;
   bool analysed_ = false;
   bool factored_ = false;                 ///< kkt_ holds the factor of factored_code_'s system
@@ -469,6 +637,11 @@ class FrictionalSolve {
   std::shared_ptr<SurfaceCondensation> surface_;
   int first_row_ = 0;
   bool surface_tried_ = false;
+  /// Per gap row: in the condensation (empty: every row; see surface_ready()).
+  std::vector<char> play_;
+  int broadened_ = 0;                     ///< times bring_into_play() added rows
+  core::SpdSolveReport counted_;          ///< the condensation's work counted so far
+  double dense_counted_ = 0.0;
   bool surface_last_ = false;             ///< the last solve took the condensed path
   double surface_rcond_ = 1.0;            ///< its dense block's condition estimate
 };
@@ -491,6 +664,7 @@ bool confirm_exactly(FrictionalSolver& solver, int max_solves, ConstraintSolutio
   FrictionalOptions o;
   o.rule = &rule;
   o.max_iterations = max_solves;
+  o.safeguard = false;
   o.start = &s;
   ConstraintSolution exact;
   solver.solve(o, exact);

@@ -50,6 +50,9 @@ struct FrictionalOptions {
   const ConstraintSolution* start = nullptr;
   /// Number of the first iteration in the history (a method that calls repeatedly numbers on).
   int first_iteration = 1;
+  /// A frictionless exact iteration that cycles or stops settling is finished by the dual
+  /// active-set safeguard (strategy_common.hpp); off for a crossover that only confirms.
+  bool safeguard = true;
 };
 
 class FrictionalSolve;

@@ -11,6 +11,12 @@ namespace {
 /// Below this pivot ratio K_ρ is taken as singular: S would be meaningless (as the
 /// saddle-point solver's).
 constexpr double kMinPivotRatio = 1e-11;
+/// A regularising row's equation in the dense block whose every entry is below this fraction
+/// of its largest term cancelled to round-off: the auxiliary force ζ_q is the only thing holding
+/// a rigid mode (S_qq = 1/ρ_q exactly), and the block is singular whatever its pivots say.
+/// Measured: such a block cancels to 1e-10 of its terms, with an LU rcond of 0.15; a row that
+/// K supports keeps S_qq ≤ 1/ρ_q by a fraction of one.
+constexpr double kCancelled = 1e-8;
 }  // namespace
 
 SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<int>& rows,
@@ -359,11 +365,7 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
     if (col_of[r] < 0) col_of[r] = static_cast<int>(cols.size()), cols.push_back(r);
     return col_of[r];
   };
-  struct Entry {
-    int col, x;
-    double v;
-  };
-  std::vector<Entry> b_map;
+  std::vector<BlockEntry> b_map;
   std::vector<std::pair<int, double>> w0;
   for (int h = 0; h < nh; ++h) {
     const int r = states.held[h];
@@ -388,7 +390,7 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
   const core::Stopwatch clock;
   const int nx = nh + nr;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(nx, nx);
-  for (const Entry& e : b_map) a.col(e.x) += e.v * s_ej.col(e.col);
+  for (const BlockEntry& e : b_map) a.col(e.x) += e.v * s_ej.col(e.col);
   VecX b = -y0;
   for (int h = 0; h < nh; ++h) a(h, h) += states.compliance[h], b[h] += states.target[h];
   for (int q = 0; q < nr; ++q) a(nh + q, nh + q) -= 1.0 / rho_[reg[q]];
@@ -396,11 +398,22 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
   VecX x = VecX::Zero(nx);
   rcond = 1.0;
   relative_residual_ = 0.0;
+  if (cancels(a, s_ej, b_map, nh, reg)) {
+    dense_seconds_ += clock.elapsed();
+    rcond = 0.0;
+    message_ = "the rows' condensed block is singular: a body moves freely beside its rows "
+               "(its regularising row's equation cancels to round-off)";
+    return SolveStatus::kSingular;
+  }
   if (nx > 0) {
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
     const VecX d = lu.matrixLU().diagonal().cwiseAbs();
     const double dmax = d.maxCoeff();
-    rcond = dmax > 0 && d.allFinite() ? std::min(lu.rcond(), d.minCoeff() / dmax) : 0.0;
+    // (pivots against the regularising rows' terms too: a block that cancels as a whole has
+    // small pivots of even size)
+    double terms = dmax;
+    for (int q = 0; q < nr; ++q) terms = std::max(terms, 1.0 / rho_[reg[q]]);
+    rcond = dmax > 0 && d.allFinite() ? std::min(lu.rcond(), d.minCoeff() / terms) : 0.0;
     if (!(rcond > 1e-13)) {
       dense_seconds_ += clock.elapsed();
       message_ = "the rows' condensed block is singular: linearly dependent rows or an "
@@ -417,7 +430,7 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
     }
   }
   last_w_ = VecX::Zero(static_cast<int>(cols.size()));
-  for (const Entry& e : b_map) last_w_[e.col] += e.v * x[e.x];
+  for (const BlockEntry& e : b_map) last_w_[e.col] += e.v * x[e.x];
   for (const auto& [c, v] : w0) last_w_[c] += v;
   last_cols_ = cols;
   force = VecX::Zero(rows_);
@@ -429,6 +442,21 @@ SolveStatus SurfaceCondensation::solve(const VecX& f, const RowStates& states, V
   }
   dense_seconds_ += clock.elapsed();
   return displacement(f, last_cols_, last_w_, u, true);
+}
+
+bool SurfaceCondensation::cancels(const Eigen::MatrixXd& a, const Eigen::MatrixXd& s_ej,
+                                  const std::vector<BlockEntry>& b_map, int nh,
+                                  const std::vector<int>& reg) const {
+  const int nr = static_cast<int>(reg.size());
+  VecX terms = VecX::Zero(nr);  // per regularising equation: its largest term
+  for (const BlockEntry& e : b_map)
+    for (int q = 0; q < nr; ++q)
+      terms[q] = std::max(terms[q], std::abs(e.v * s_ej(nh + q, e.col)));
+  for (int q = 0; q < nr; ++q) {
+    const double scale = std::max(terms[q], 1.0 / rho_[reg[q]]);
+    if (a.row(nh + q).cwiseAbs().maxCoeff() < kCancelled * scale) return true;
+  }
+  return false;
 }
 
 SolveStatus SurfaceCondensation::complete(VecX& u) {

@@ -133,6 +133,16 @@ class SurfaceCondensation {
   const std::string& message() const { return message_; }
 
  private:
+  /// One entry of the map from the block's unknowns X (held rows' forces, auxiliary forces) to
+  /// the row forces W_J: W_col += v X_x.
+  struct BlockEntry {
+    int col, x;
+    double v;
+  };
+  /// Whether a regularising row's equation in the dense block `a` (held rows first, then those
+  /// of `reg`) cancelled to round-off against its terms (S[eq, cols] through `b_map`, 1/ρ).
+  bool cancels(const Eigen::MatrixXd& a, const Eigen::MatrixXd& s_ej,
+               const std::vector<BlockEntry>& b_map, int nh, const std::vector<int>& reg) const;
   /// v_r for every row of `rows` (new ones in one dense triangular solve) and S's new columns.
   void prepare(const std::vector<int>& rows);
   SolveStatus forward(const VecX& f);
