@@ -46,11 +46,14 @@ struct StrategyOptions {
 /// What a method carries from one accepted load step to the next, per row slot (a row's
 /// identity across detections, ContactPairs::num_slots): its state (0 open, 1 closed and
 /// sticking, 2 closed and slipping along +t, 3 along −t), with friction the friction force λ_t
-/// it held, and the normal force λ_n (each empty: none yet).
+/// it held, and the normal force λ_n (each empty: none yet); and how far the step's contact
+/// grew: the largest gap, at its linearisation point, of a row that closed in one of the
+/// step's solves (0: none closed).
 struct StepHistory {
   std::vector<char> states;
   VecX tangent_force;
   VecX normal_force;
+  double closing_reach = 0.0;
 };
 
 class ConstraintStrategy {

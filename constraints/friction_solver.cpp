@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -86,7 +87,7 @@ class FrictionalSolve {
       core::check_interrupt();
       if (const SolveStatus st = solve(code, s); st != SolveStatus::kConverged) {
         s.status = st;
-        s.message = kkt_.report().message;
+        s.message = message_.empty() ? kkt_.report().message : message_;
         bool sticks = false, slips = false;
         for (int i = 0; i < m_; ++i)
           if (code[i] && frictional(i))
@@ -170,33 +171,42 @@ class FrictionalSolve {
     return code;
   }
 
-  /// The dual active-set method (strategy_common.hpp) from the sets `code`, every row in play
-  /// (it reads every gap), each set solved on the same factor; then the last set solved on
-  /// its own, so that the state is that set's solution. `s` gets the status, the history and
-  /// the state; `code` the last set.
+  /// The dual active-set method (strategy_common.hpp) from the sets `code`, each set solved on
+  /// the same factor, among the rows in play (the others cannot enter: their gaps are not on
+  /// the tail); then the last set solved on its own, so that the state is that set's solution,
+  /// and the left-out rows checked on the whole displacement: where one closes, they come into
+  /// play and the safeguard runs again on the condensation made with them. `s` gets the
+  /// status, the history and the state; `code` the last set.
   void safeguard(int it, std::vector<char>& code, ConstraintSolution& s) {
-    if (!all_in_play()) drop_surface(s);
-    play_.assign(m_, 1);
-    std::vector<char> active(code.begin(), code.begin() + m_);
     const SetSolve solve_set = [&](const std::vector<char>& set, ConstraintSolution& out,
                                    std::string& why) {
       const SolveStatus st = solve(normal_code(set), out);
-      if (st != SolveStatus::kConverged) why = kkt_.report().message;
+      if (st != SolveStatus::kConverged) why = message_.empty() ? kkt_.report().message : message_;
       return st;
     };
-    std::string why;
-    const SolveStatus st = dual_active_set(p_, solve_set, VecX::Zero(m_),
-                                           o_->max_iterations + 2 * m_, it, active, s, why);
-    code = normal_code(active);
-    ConstraintSolution whole;
-    if (solve(code, whole) == SolveStatus::kConverged) {
-      s.u = whole.u;
-      s.eq_multiplier = whole.eq_multiplier;
-      s.contact_force = whole.contact_force;
-      s.tangent_force = whole.tangent_force;
+    const std::string before = s.message;
+    for (;;) {
+      VecX shift = VecX::Zero(m_);
+      for (int i = 0; i < m_; ++i)
+        if (!in_play(i)) shift[i] = -std::numeric_limits<double>::infinity();
+      std::vector<char> active(code.begin(), code.begin() + m_);
+      std::string why;
+      const SolveStatus st = dual_active_set(p_, solve_set, shift, o_->max_iterations + 2 * m_,
+                                             it, active, s, why);
+      code = normal_code(active);
+      ConstraintSolution whole;
+      if (solve(code, whole) == SolveStatus::kConverged) {
+        s.u = whole.u;
+        s.eq_multiplier = whole.eq_multiplier;
+        s.contact_force = whole.contact_force;
+        s.tangent_force = whole.tangent_force;
+      }
+      s.message = st == SolveStatus::kConverged ? "" : before + "; " + why;
+      s.status = st;
+      if (st != SolveStatus::kConverged || !surface_last_ || !bring_into_play(s, code)) return;
+      drop_surface(s);
+      it = s.history.empty() ? it : s.history.back().iteration;
     }
-    s.message = st == SolveStatus::kConverged ? "" : s.message + "; " + why;
-    s.status = st;
   }
 
   /// The memory's closed rows, every frictional one (and every Tresca row) sticking, each on
@@ -270,17 +280,28 @@ class FrictionalSolve {
   /// whole saddle point. On the condensed path s.u holds the tail's values only (all the rules
   /// read) until complete_displacement().
   SolveStatus solve(const std::vector<char>& code, ConstraintSolution& out) {
+    SolveStatus condensed = SolveStatus::kFailed;
     if (surface_ready(code)) {
-      if (solve_condensed(code, out) == SolveStatus::kConverged) {
+      condensed = solve_condensed(code, out);
+      if (condensed == SolveStatus::kConverged) {
         surface_last_ = true;
         return SolveStatus::kConverged;
       }
+      surface_message_ = surface_->message();
       // The whole saddle point has every row in play, and so has a condensation made again.
       if (!all_in_play()) drop_surface(out);
     }
     surface_last_ = false;
     play_.assign(m_, 1);
-    return solve_lu(code, out);
+    const SolveStatus st = solve_lu(code, out);
+    // A set whose condensed block is singular and whose LU solve keeps no precision is
+    // singular: the block says why (a free body, dependent rows).
+    if (st == SolveStatus::kIllConditioned && condensed == SolveStatus::kSingular) {
+      message_ = surface_message_;
+      return SolveStatus::kSingular;
+    }
+    message_.clear();
+    return st;
   }
 
   SolveStatus solve_lu(const std::vector<char>& code, ConstraintSolution& out) {
@@ -480,8 +501,8 @@ class FrictionalSolve {
   }
 
   /// The rows in play (see surface_ready()): those `code` holds, the closed and the Tresca rows,
-  /// and a margin of the open rows nearest to closing (an eighth as many as those, at least
-  /// 8). Every row when that would leave out fewer than a quarter of them or 48 (a dense tail
+  /// those within the memory's closing reach (how far the last load step's contact grew), and
+  /// a margin of the open rows nearest to closing (an eighth as many as those, at least 8). Every row when that would leave out fewer than a quarter of them or 48 (a dense tail
   /// that small costs less than the second factorisation a row that closes outside would take),
   /// or when fewer than an eighth of them or 8 are closed: a contact that is only beginning
   /// grows out of any margin (on Cattaneo–Mindlin, from 1 row to 79), and a body it alone
@@ -491,7 +512,7 @@ class FrictionalSolve {
     std::vector<int> open;
     int count = 0;
     for (int i = 0; i < m_; ++i) {
-      play_[i] = code[i] || tresca(i) || p_.gap0[i] <= 0.0;
+      play_[i] = code[i] || tresca(i) || p_.gap0[i] <= std::max(0.0, memory_.closing_reach);
       play_[i] ? void(++count) : open.push_back(i);
     }
     const int margin = std::min<int>(open.size(), std::max(8, count / 8));
@@ -640,6 +661,9 @@ class FrictionalSolve {
   /// Per gap row: in the condensation (empty: every row; see surface_ready()).
   std::vector<char> play_;
   int broadened_ = 0;                     ///< times bring_into_play() added rows
+  /// Why the last solve failed where the LU's report does not say it (else empty), and the
+  /// condensed block's message of the last failed condensed solve.
+  std::string message_, surface_message_;
   core::SpdSolveReport counted_;          ///< the condensation's work counted so far
   double dense_counted_ = 0.0;
   bool surface_last_ = false;             ///< the last solve took the condensed path

@@ -1,5 +1,8 @@
-// Frictional contact, 2D Coulomb or Tresca, for every method: one active-set iteration on the
-// rows' complementarity conditions, whose rules are the method's.
+// The set iteration of contact, 2D Coulomb or Tresca friction or none: one active-set iteration
+// on the rows' complementarity conditions, whose rules are the method's. It solves every problem
+// of the exact methods (lagrange, ssn: a frictionless problem has no tangential rows), every
+// method's frictional problems and ipopt's crossover; only the penalty-type methods'
+// frictionless problems take PenalizedSolver.
 //
 // Every row is one of three kinds, with a multiplier scaled by s (z = λ / s):
 //   equality rows   c = A u − b      force  Aᵀμ
@@ -21,7 +24,15 @@
 // iteration ends when the sets repeat (converged), return to an earlier combination (cycling)
 // or reach the iteration limit; each is a named status. Where a rule without globalisation
 // cycles (the semi-smooth step), its fallback (the primal-dual rule, its limit c → 0)
-// continues from those sets; a warm start that cycles is dropped for the cold one.
+// continues from those sets; a warm start that cycles is dropped for the cold one. Without
+// friction, an exact rule whose sets still cycle, or stop settling (StallMonitor), is finished
+// by the dual active-set safeguard on the same factor (strategy_common.hpp).
+//
+// Rows in play. The condensation takes only the rows that may carry force in this solve: the
+// held and closed ones, those within the load step's closing reach (RowMemory) and a margin
+// of the nearest open ones. The rest stay free and out of the dense tail (its factor costs the
+// cube of its size); once the sets settle their gaps are read on the whole displacement, and a
+// row the rule would hold brings them into a condensation made again.
 #pragma once
 
 #include <memory>

@@ -31,6 +31,10 @@ struct RowMemory {
   /// values, so its penalties do not drift with K_T and an outer iteration that changes no
   /// active set confirms the step instead of posing a slightly different problem.
   VecX gap_row_stiffness;
+  /// How far the gaps may close in this solve: open rows whose gap is below it are likely to
+  /// close (the first iterate of a load step: from how far the last step's contact grew; 0:
+  /// unknown). A solve that condenses only the rows in play takes them in.
+  double closing_reach = 0.0;
 };
 
 }  // namespace c2d::constraints

@@ -1,7 +1,8 @@
 // The one set engine's rules (issue 33, item 3): how a method chooses the next normal and
-// tangential state of each row from a solve. Every set iteration, frictionless
-// (solve_active_set, PenalizedSolver) or frictional (FrictionalSolver), asks the method's rule;
-// no loop switches on the method.
+// tangential state of each row from a solve. Every set iteration asks the method's rule, and
+// none switches on the method: FrictionalSolver (friction_solver.hpp) for the exact methods
+// with and without friction, every method's frictional problems and ipopt's crossover, and
+// PenalizedSolver for the penalty-type methods' frictionless problems.
 //
 // A rule reads one row at a time (RowSolution: its force, gap, tangential force and slip, its
 // state in the solve, its penalties and estimates when the method regularises it) and returns

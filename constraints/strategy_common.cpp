@@ -297,6 +297,19 @@ std::vector<int> gap_positions(const ConstrainedProblem& p, const std::vector<ch
   return pos;
 }
 
+VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& active, double s,
+                      bool all_rows) {
+  const int n = p.num_unknowns(), me = p.num_equalities();
+  int size = 0;
+  const auto pos = gap_positions(p, active, all_rows, size);
+  VecX b = VecX::Zero(size);
+  b.head(n) = p.load;
+  if (me > 0) b.segment(n, me) = -s * p.eq_rhs;
+  for (int i = 0; i < p.num_gaps(); ++i)
+    if (pos[i] >= 0 && active[i]) b[pos[i]] = s * p.gap0[i];
+  return b;
+}
+
 SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& active, double s,
                           bool all_rows) {
   const int n = p.num_unknowns();

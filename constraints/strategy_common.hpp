@@ -132,26 +132,5 @@ SpMat saddle_point_matrix(const ConstrainedProblem& p, const std::vector<char>& 
 /// Right-hand side [f; −s b; s g0_A] of the same system.
 VecX saddle_point_rhs(const ConstrainedProblem& p, const std::vector<char>& active, double s,
                       bool all_rows);
-/// Splits a saddle-point solution into u, μ and λ (inactive rows: 0).
-void split_saddle_point(const ConstrainedProblem& p, const std::vector<char>& active, double s,
-                        bool all_rows, const VecX& x, ConstraintSolution& out);
-
-/// Proposes the next active set from a saddle-point solution (`next` holds the current set on
-/// entry) and returns the iteration's residual for the history; `linear_residual` is that of
-/// the saddle-point solve.
-using NextActiveSet = std::function<double(const ConstraintSolution& s, const VecX& gap,
-                                           double linear_residual, std::vector<char>& next)>;
-
-/// The active-set loop of the multiplier methods: from the rows initially_closed(p, memory),
-/// solve the saddle-point system of the current set, propose the next set, stop when it repeats
-/// (converged). When the set returns to an earlier one (cycling), stops settling (see
-/// StallMonitor) or reaches `max_iterations`, dual_active_set() finishes from the last set;
-/// what remains is a named failure whose state carries no tension. With `all_rows` the system
-/// keeps every row (one pattern, one symbolic analysis); otherwise only the active rows,
-/// analysed anew each iteration. `step` names an iteration in messages ("iteration", "Newton
-/// step").
-void solve_active_set(const ConstrainedProblem& p, const RowMemory& memory, int max_iterations,
-                      bool all_rows, const NextActiveSet& next_set, const std::string& step,
-                      ConstraintSolution& s);
 
 }  // namespace c2d::constraints

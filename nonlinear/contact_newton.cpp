@@ -56,7 +56,8 @@ ContactStepResult ConstrainedStep::run() {
     out_.newton.status = SolveStatus::kConverged;
     out_.history = {previous_, tangent_by_slot_,
                     Eigen::Map<const VecX>(force_by_slot_.data(),
-                                           static_cast<int>(force_by_slot_.size()))};
+                                           static_cast<int>(force_by_slot_.size())),
+                    closing_reach_};
     verify_final_state();
   } else {
     fail(SolveStatus::kMaxIterations, "active set or geometry still changing after " +
@@ -117,6 +118,8 @@ bool ConstrainedStep::iterate(int outer) {
   }
   keep_local_stiffness(qp);
   warm_start(qp, rows_, previous_, force_by_slot_, memory_);
+  // A step's first iterate may close rows as far as the last step's did, and a little more.
+  if (outer == 1) memory_.closing_reach = kReachMargin * strategy_.history().closing_reach;
 
   // 2. The strategy on the linearised problem.
   ConstraintSolution s;
@@ -153,6 +156,11 @@ bool ConstrainedStep::solve_method(const ConstrainedProblem& qp, const VecX& c,
                                    ContactMemory& next) {
   s = solve_catching_first_touch(method(), qp, memory_);
   out_.strategy.add(s);
+  if (s.status == SolveStatus::kConverged && static_cast<int>(s.active.size()) == qp.num_gaps() &&
+      static_cast<int>(memory_.initial_active.size()) == qp.num_gaps())
+    for (int i = 0; i < qp.num_gaps(); ++i)
+      if (s.active[i] && !memory_.initial_active[i])
+        closing_reach_ = std::max(closing_reach_, qp.gap0[i]);
   it.factorizations += s.factorizations;
   next = record_strategy(qp, s, it);
   if (s.status == SolveStatus::kConverged) return true;
