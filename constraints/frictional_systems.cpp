@@ -1,0 +1,253 @@
+// How FrictionalSolve solves the system of one set of row states (frictional_solve.hpp): on K
+// condensed onto the rows in play (surface_condensation.hpp), or, where K does not factorise
+// or the rows' dense block fails, the whole saddle point by UMFPACK; and the rows in play,
+// chosen, checked and brought in.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "constraints/frictional_solve.hpp"
+
+namespace c2d::constraints {
+
+SolveStatus FrictionalSolve::solve(const std::vector<char>& code, ConstraintSolution& out) {
+  SolveStatus condensed = SolveStatus::kFailed;
+  if (surface_ready(code)) {
+    condensed = solve_condensed(code, out);
+    if (condensed == SolveStatus::kConverged) {
+      surface_last_ = true;
+      return SolveStatus::kConverged;
+    }
+    surface_message_ = surface_->message();
+    // The whole saddle point has every row in play, and so has a condensation made again.
+    if (!all_in_play()) drop_surface(out);
+  }
+  surface_last_ = false;
+  play_.assign(m_, 1);
+  const SolveStatus st = solve_lu(code, out);
+  // A set whose condensed block is singular and whose LU solve keeps no precision is
+  // singular: the block says why (a free body, dependent rows).
+  if (st == SolveStatus::kIllConditioned && condensed == SolveStatus::kSingular) {
+    message_ = surface_message_;
+    return SolveStatus::kSingular;
+  }
+  message_.clear();
+  return st;
+}
+
+SolveStatus FrictionalSolve::solve_lu(const std::vector<char>& code, ConstraintSolution& out) {
+  const int size = n_ + me_ + 2 * m_;
+  const double s = s_;
+  std::vector<Triplet> t;
+  t.reserve(p_.stiffness.nonZeros() + 4 * (p_.eq_jacobian.nonZeros() +
+                                           p_.gap_jacobian.nonZeros() +
+                                           p_.slip_jacobian.nonZeros()) + 3 * (me_ + 2 * m_));
+  for (int c = 0; c < p_.stiffness.outerSize(); ++c)
+    for (SpMat::InnerIterator it(p_.stiffness, c); it; ++it) t.emplace_back(it.row(), c, it.value());
+  VecX rhs = VecX::Zero(size);
+  rhs.head(n_) = p_.load;
+  // One row: its coefficients in both blocks (the row's own only when it holds c = 0).
+  auto add_row = [&](int r, const std::vector<std::pair<int, double>>& coef, bool holds) {
+    for (const auto& [j, a] : coef) {
+      t.emplace_back(j, r, -s * a);
+      t.emplace_back(r, j, holds ? -s * a : 0.0);
+    }
+  };
+  for (int j = 0; j < me_; ++j) {
+    const int r = n_ + j;
+    add_row(r, eq_rows_[j], true);
+    const double cmp = compliance(o_->k_eq, j);
+    t.emplace_back(r, r, -s * s * cmp);
+    rhs[r] = -s * p_.eq_rhs[j] - (penalised_ ? s * cmp * o_->mu_hat[j] : 0.0);
+  }
+  for (int i = 0; i < m_; ++i) {
+    const int rn = n_ + me_ + i, rt = n_ + me_ + m_ + i;
+    const bool on = code[i];
+    add_row(rn, gap_rows_[i], on);
+    const double cn = compliance(o_->k_gap, i);
+    t.emplace_back(rn, rn, on ? -s * s * cn : s);
+    rhs[rn] = on ? s * p_.gap0[i] - (penalised_ ? s * cn * o_->lambda_hat[i] : 0.0) : 0.0;
+    // The tangential row: held when sticking (with a tangential row to hold), a slip
+    // condition when slipping, λ_t = 0 otherwise.
+    const char ts = code[m_ + i];
+    const bool stick = ts == kStick && (penalised_ || !slip_rows_[i].empty());
+    const bool slip = ts == kSlipPlus || ts == kSlipMinus;
+    const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
+    add_row(rt, slip_rows_[i], stick);
+    const double ct = compliance(o_->k_tangent, i);
+    t.emplace_back(rt, rt, stick ? -s * s * ct : s);
+    // slipping: λ_t = σ (offset + slope λ) on the row's piece of its law
+    const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
+    t.emplace_back(rt, rn, slip ? -s * b.slope * sigma : 0.0);
+    if (stick)
+      rhs[rt] = -s * slip0_[i] - (penalised_ ? s * ct * o_->tangent_hat[i] : 0.0);
+    else if (slip)
+      rhs[rt] = sigma * b.offset;
+  }
+  // The matrix depends on the sets and the stiffnesses only: an augmented Lagrangian's next
+  // multiplier update with the same sets needs a new right-hand side, not a new factor.
+  const bool same = factored_ && code == factored_code_ && (!penalised_ ||
+                    (o_->k_gap == factored_k_[0] && o_->k_tangent == factored_k_[1] &&
+                     o_->k_eq == factored_k_[2]));
+  SolveStatus st = SolveStatus::kConverged;
+  if (!same) {
+    SpMat a(size, size);
+    a.setFromTriplets(t.begin(), t.end());
+    st = kkt_.factorize(a, analysed_);
+    analysed_ = true;
+    factored_ = st == SolveStatus::kConverged;
+    factored_code_ = code;
+    if (penalised_) factored_k_ = {o_->k_gap, o_->k_tangent, o_->k_eq};
+  }
+  VecX x;
+  if (st == SolveStatus::kConverged) st = kkt_.solve(rhs, x);
+  if (st != SolveStatus::kConverged) return st;
+  out.u = x.head(n_);
+  out.eq_multiplier = s * x.segment(n_, me_);
+  out.contact_force = s * x.segment(n_ + me_, m_);
+  out.tangent_force = s * x.segment(n_ + me_ + m_, m_);
+  return st;
+}
+
+core::SpdSolveReport FrictionalSolve::surface_report() const {
+  return surface_ ? surface_->report() : core::SpdSolveReport{};
+}
+
+bool FrictionalSolve::surface_ready(const std::vector<char>& code) {
+  if (surface_tried_) return surface_ != nullptr;
+  surface_tried_ = true;
+  if (play_.empty()) choose_play(code);
+  SpMat ct = surface_rows();
+  std::vector<int> eq(me_);
+  for (int j = 0; j < me_; ++j) eq[j] = j;
+  std::vector<std::vector<int>> groups(m_);
+  for (int i = 0; i < m_; ++i) groups[i] = {me_ + i, me_ + m_ + i};
+  surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq,
+                                std::move(groups),
+                                std::vector<double>(p_.gap0.begin(), p_.gap0.end()));
+  first_row_ = 0;
+  return surface_ != nullptr;
+}
+
+bool FrictionalSolve::share(const std::shared_ptr<SurfaceCondensation>& surface) {
+  if (surface_tried_ || !surface) return false;
+  const int first = surface->add_rows(surface_rows());
+  if (first < 0) return false;
+  surface_ = surface;
+  first_row_ = first;
+  surface_tried_ = true;
+  play_.assign(m_, 1);
+  return true;
+}
+
+SpMat FrictionalSolve::surface_rows() const {
+  std::vector<Triplet> t;
+  auto put = [&](int r, const std::vector<std::pair<int, double>>& coef) {
+    for (const auto& [j, a] : coef) t.emplace_back(j, r, a);
+  };
+  for (int j = 0; j < me_; ++j) put(j, eq_rows_[j]);
+  for (int i = 0; i < m_; ++i)
+    if (in_play(i)) put(me_ + i, gap_rows_[i]), put(me_ + m_ + i, slip_rows_[i]);
+  SpMat ct(n_, me_ + 2 * m_);
+  ct.setFromTriplets(t.begin(), t.end());
+  return ct;
+}
+
+SolveStatus FrictionalSolve::solve_condensed(const std::vector<char>& code, ConstraintSolution& out) {
+  SurfaceCondensation::RowStates st;
+  const int eq = first_row_, normal = first_row_ + me_, tangential = normal + m_;
+  for (int j = 0; j < me_; ++j) {
+    const double c = compliance(o_->k_eq, j);
+    st.hold(eq + j, c, p_.eq_rhs[j] + (penalised_ ? c * o_->mu_hat[j] : 0.0));
+  }
+  for (int i = 0; i < m_; ++i) {
+    if (code[i]) {
+      const double c = compliance(o_->k_gap, i);
+      st.hold(normal + i, c, -p_.gap0[i] + (penalised_ ? c * o_->lambda_hat[i] : 0.0));
+    }
+    const char ts = code[m_ + i];
+    if (ts == kStick && (penalised_ || !slip_rows_[i].empty())) {
+      const double c = compliance(o_->k_tangent, i);
+      st.hold(tangential + i, c, slip0_[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
+    } else if (ts == kSlipPlus || ts == kSlipMinus) {
+      const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
+      const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
+      st.follow(tangential + i, code[i] ? normal + i : -1, sigma * b.offset, sigma * b.slope);
+    }
+  }
+  VecX w;
+  const SolveStatus status = surface_->solve(p_.load, st, w, out.u, surface_rcond_);
+  if (status != SolveStatus::kConverged) return status;
+  out.eq_multiplier = w.segment(eq, me_);
+  out.contact_force = w.segment(normal, m_);
+  out.tangent_force = w.segment(tangential, m_);
+  return status;
+}
+
+void FrictionalSolve::complete_displacement(ConstraintSolution& s) {
+  VecX u;
+  if (surface_->complete(u) == SolveStatus::kConverged) s.u = u;
+}
+
+bool FrictionalSolve::all_in_play() const {
+  return std::all_of(play_.begin(), play_.end(), [](char c) { return c != 0; });
+}
+
+void FrictionalSolve::count_surface_work(ConstraintSolution& s) {
+  add_solver_work(surface_report(), counted_, s);
+  const double dense = surface_ ? surface_->dense_seconds() : 0.0;
+  s.solve_seconds += dense - dense_counted_;
+  counted_ = surface_report();
+  dense_counted_ = dense;
+}
+
+void FrictionalSolve::drop_surface(ConstraintSolution& s) {
+  count_surface_work(s);
+  surface_.reset();
+  surface_tried_ = false;
+  counted_ = {};
+  dense_counted_ = 0.0;
+}
+
+void FrictionalSolve::choose_play(const std::vector<char>& code) {
+  play_.assign(m_, 0);
+  std::vector<int> open;
+  int count = 0;
+  for (int i = 0; i < m_; ++i) {
+    play_[i] = code[i] || tresca(i) || p_.gap0[i] <= std::max(0.0, memory_.closing_reach);
+    play_[i] ? void(++count) : open.push_back(i);
+  }
+  const int margin = std::min<int>(open.size(), std::max(8, count / 8));
+  std::partial_sort(open.begin(), open.begin() + margin, open.end(),
+                    [&](int a, int b) { return p_.gap0[a] < p_.gap0[b]; });
+  for (int k = 0; k < margin; ++k) play_[open[k]] = 1;
+  const int left_out = static_cast<int>(open.size()) - margin;
+  if (count < std::max(8, m_ / 8) || left_out < std::max(48, m_ / 4)) play_.assign(m_, 1);
+}
+
+bool FrictionalSolve::bring_into_play(ConstraintSolution& s, std::vector<char>& next) {
+  if (all_in_play()) return false;
+  complete_displacement(s);
+  const VecX g = p_.gap0 + p_.gap_jacobian * s.u;
+  const VecX sl = slip(s.u);
+  std::vector<char> full = next;
+  const std::vector<char> play = std::exchange(play_, {});
+  update(s, g, sl, full);
+  play_ = play;
+  double closure = 0.0;
+  for (int i = 0; i < m_; ++i)
+    if (play_[i]) closure = std::max(closure, p_.gap0[i] - g[i]);
+  bool brought = false;
+  for (int i = 0; i < m_; ++i) {
+    if (play_[i] || (!full[i] && !(g[i] < 0.1 * closure))) continue;
+    play_[i] = 1;
+    brought = true;
+    for (const int k : {i, m_ + i, 2 * m_ + i}) next[k] = full[k];
+  }
+  // (a third time, every row: the condensation is not made again and again)
+  if (brought && ++broadened_ == 3) play_.assign(m_, 1);
+  return brought;
+}
+
+}  // namespace c2d::constraints
