@@ -83,6 +83,12 @@ void FrictionalSolve::run(const FrictionalOptions& options, ConstraintSolution& 
     // whole displacement once the sets settle)
     for (int i = 0; i < m_; ++i)
       if (surface_last_ && !in_play(i)) g[i] = std::max(p_.gap0[i], 0.0);
+    // A penalised row held on the condensed surface: its gap from its force, g = (λ̂ − w)/k,
+    // as its row of the block states it. From u, a stiff penalty's gap (1000 N / 1e20 N/mm)
+    // sits at the round-off of the tail's displacements, and its sign is noise.
+    if (penalised_ && surface_last_)
+      for (int i = 0; i < m_; ++i)
+        if (code[i]) g[i] = (o_->lambda_hat[i] - s.contact_force[i]) / o_->k_gap[i];
     std::vector<char> next = code;
     const double residual = update(s, g, sl, next);
     s.history.push_back(record(it, code, next, g, residual));
@@ -165,9 +171,11 @@ void FrictionalSolve::safeguard(int it, std::vector<char>& code, ConstraintSolut
   };
   const std::string before = s.message;
   for (;;) {
-    VecX shift = VecX::Zero(m_);
+    VecX shift = VecX::Zero(m_);  // (a penalised row enters where λ̂ − k g > 0)
     for (int i = 0; i < m_; ++i)
-      if (!in_play(i)) shift[i] = -std::numeric_limits<double>::infinity();
+      shift[i] = !in_play(i) ? -std::numeric_limits<double>::infinity()
+                 : penalised_ ? o_->lambda_hat[i] / o_->k_gap[i]
+                              : 0.0;
     std::vector<char> active(code.begin(), code.begin() + m_);
     std::string why;
     const SolveStatus st = dual_active_set(p_, solve_set, shift, o_->max_iterations + 2 * m_,

@@ -1,8 +1,8 @@
 // The set iteration of contact, 2D Coulomb or Tresca friction or none: one active-set iteration
-// on the rows' complementarity conditions, whose rules are the method's. It solves every problem
-// of the exact methods (lagrange, ssn: a frictionless problem has no tangential rows), every
-// method's frictional problems and ipopt's crossover; only the penalty-type methods'
-// frictionless problems take PenalizedSolver.
+// on the rows' complementarity conditions, whose rules are the method's. It solves every
+// method's problems, with friction and without (a frictionless problem has no tangential rows):
+// lagrange's and ssn's, the penalty-type methods' (their rows compliances 1/k, each penalty
+// raise or multiplier round a new dense block on the same factor), ipopt's crossover.
 //
 // Every row is one of three kinds, with a multiplier scaled by s (z = λ / s):
 //   equality rows   c = A u − b      force  Aᵀμ

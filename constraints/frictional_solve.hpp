@@ -37,9 +37,10 @@ class FrictionalSolve {
 
  private:
   /// Whether a set iteration that cycles or wanders is finished by the dual active-set
-  /// safeguard: a frictionless problem with an exact rule (the safeguard's steps keep λ ≥ 0
-  /// and raise the dual objective, which a friction law's slip conditions do not fit).
-  bool safeguarded() const { return o_->safeguard && !penalised_ && !p_.has_friction(); }
+  /// safeguard: a frictionless problem (the safeguard's steps keep λ ≥ 0 and raise the dual
+  /// objective, which a friction law's slip conditions do not fit; a penalised row's gap is
+  /// shifted by λ̂/k).
+  bool safeguarded() const { return o_->safeguard && !p_.has_friction(); }
 
   /// A set's solve failed with `st`: the status, and the message with what the sets say.
   void solve_failed(SolveStatus st, const std::vector<char>& code, ConstraintSolution& s) const;
@@ -109,8 +110,24 @@ class FrictionalSolve {
   /// row's, w_t = σ(offset + slope w_n); a free row's is zero.
   SolveStatus solve_condensed(const std::vector<char>& code, ConstraintSolution& out);
 
-  /// The whole u of the last condensed solve (the rules needed its tail only).
+  /// The whole u of the last condensed solve (the rules needed its tail only); a penalised
+  /// solve's refined (refine()).
   void complete_displacement(ConstraintSolution& s);
+
+  /// Row forces w (the condensation's row order) into out's multipliers and forces.
+  void take_forces(const VecX& w, ConstraintSolution& out) const;
+
+  /// A penalised solve's residual at (u, w), relative to the largest load or force: K u − f −
+  /// Cᵀ w (into r_u) and, per held row, k (target − c·u) − w (into r_rows).
+  double penalised_residual(const SpMat& ct, const VecX& u, const VecX& w, VecX& r_u,
+                            VecX& r_rows) const;
+
+  /// Iterative refinement of a penalised condensed solve on the same factor, up to three
+  /// corrections while each divides the residual by ten and it exceeds 1e-12: a stiff penalty's
+  /// small penetration w/k then carries its own relative precision, and the forces k·g that
+  /// the run's Newton takes from the gaps agree with the solve's (k = 1e20 on two bars'
+  /// supports: the reactions exact).
+  void refine(ConstraintSolution& s);
 
   bool in_play(int i) const { return play_.empty() || play_[i]; }
   bool all_in_play() const;
@@ -179,6 +196,9 @@ class FrictionalSolve {
   std::string message_, surface_message_;
   core::SpdSolveReport counted_;          ///< the condensation's work counted so far
   double dense_counted_ = 0.0;
+  /// The last condensed solve's row states and row forces (refine() corrects them).
+  SurfaceCondensation::RowStates last_states_;
+  VecX last_w_;
   bool surface_last_ = false;             ///< the last solve took the condensed path
   double surface_rcond_ = 1.0;            ///< its dense block's condition estimate
 };

@@ -176,18 +176,76 @@ SolveStatus FrictionalSolve::solve_condensed(const std::vector<char>& code, Cons
       st.follow(tangential + i, code[i] ? normal + i : -1, sigma * b.offset, sigma * b.slope);
     }
   }
-  VecX w;
-  const SolveStatus status = surface_->solve(p_.load, st, w, out.u, surface_rcond_);
+  const SolveStatus status = surface_->solve(p_.load, st, last_w_, out.u, surface_rcond_);
   if (status != SolveStatus::kConverged) return status;
-  out.eq_multiplier = w.segment(eq, me_);
-  out.contact_force = w.segment(normal, m_);
-  out.tangent_force = w.segment(tangential, m_);
+  last_states_ = std::move(st);
+  take_forces(last_w_, out);
   return status;
+}
+
+void FrictionalSolve::take_forces(const VecX& w, ConstraintSolution& out) const {
+  out.eq_multiplier = w.segment(first_row_, me_);
+  out.contact_force = w.segment(first_row_ + me_, m_);
+  out.tangent_force = w.segment(first_row_ + me_ + m_, m_);
 }
 
 void FrictionalSolve::complete_displacement(ConstraintSolution& s) {
   VecX u;
-  if (surface_->complete(u) == SolveStatus::kConverged) s.u = u;
+  if (surface_->complete(u) != SolveStatus::kConverged) return;
+  s.u = u;
+  if (penalised_) refine(s);
+}
+
+double FrictionalSolve::penalised_residual(const SpMat& ct, const VecX& u, const VecX& w,
+                                           VecX& r_u, VecX& r_rows) const {
+  r_u = p_.load - p_.stiffness * u + ct * w;
+  double scale = p_.load.size() ? p_.load.cwiseAbs().maxCoeff() : 0.0;
+  if (w.size()) scale = std::max(scale, w.cwiseAbs().maxCoeff());
+  const int nh = static_cast<int>(last_states_.held.size());
+  r_rows.resize(nh);
+  double largest = r_u.size() ? r_u.cwiseAbs().maxCoeff() : 0.0;
+  const VecX cu = ct.transpose() * u;
+  for (int h = 0; h < nh; ++h) {
+    const int r = last_states_.held[h];
+    // As a force: k (target − c·u) − w, the compliance 1/k.
+    r_rows[h] = (last_states_.target[h] - cu[r]) / last_states_.compliance[h] - w[r];
+    largest = std::max(largest, std::abs(r_rows[h]));
+  }
+  return scale > 0 ? largest / scale : largest;
+}
+
+void FrictionalSolve::refine(ConstraintSolution& s) {
+  const std::vector<double>& compliance = last_states_.compliance;
+  if (first_row_ != 0 || last_w_.size() != me_ + 2 * m_ ||
+      std::any_of(compliance.begin(), compliance.end(), [](double c) { return !(c > 0); }))
+    return;
+  const SpMat ct = surface_rows();
+  VecX u = s.u, w = last_w_, r_u, r_rows;
+  double before = penalised_residual(ct, u, w, r_u, r_rows);
+  for (int step = 0; step < 3 && before > 1e-12; ++step) {
+    // The correction solves the same rows with the residuals as load and targets (a slipping
+    // row's force follows its normal row's exactly: no offset of its own).
+    SurfaceCondensation::RowStates correction = last_states_;
+    for (size_t h = 0; h < correction.held.size(); ++h)
+      correction.target[h] = r_rows[static_cast<int>(h)] * correction.compliance[h];
+    std::fill(correction.offset.begin(), correction.offset.end(), 0.0);
+    VecX du, dw;
+    double rcond = 0.0;
+    if (surface_->solve(r_u, correction, dw, du, rcond) != SolveStatus::kConverged ||
+        surface_->complete(du) != SolveStatus::kConverged)
+      break;
+    const VecX u_next = u + du, w_next = w + dw;
+    VecX r_u_next, r_rows_next;
+    const double after = penalised_residual(ct, u_next, w_next, r_u_next, r_rows_next);
+    if (!(after < before)) break;  // no gain: the solution before this step stands
+    u = u_next, w = w_next, r_u = r_u_next, r_rows = r_rows_next;
+    const bool paid = after < 0.1 * before;
+    before = after;
+    if (!paid) break;
+  }
+  s.u = u;
+  last_w_ = w;
+  take_forces(w, s);
 }
 
 bool FrictionalSolve::all_in_play() const {

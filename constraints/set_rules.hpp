@@ -1,8 +1,7 @@
 // The one set engine's rules (issue 33, item 3): how a method chooses the next normal and
-// tangential state of each row from a solve. Every set iteration asks the method's rule, and
-// none switches on the method: FrictionalSolver (friction_solver.hpp) for the exact methods
-// with and without friction, every method's frictional problems and ipopt's crossover, and
-// PenalizedSolver for the penalty-type methods' frictionless problems.
+// tangential state of each row from a solve. The one set iteration, FrictionalSolver
+// (friction_solver.hpp), solves every method's problems, with and without friction, and asks
+// the method's rule; it never switches on the method.
 //
 // A rule reads one row at a time (RowSolution: its force, gap, tangential force and slip, its
 // state in the solve, its penalties and estimates when the method regularises it) and returns

@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "constraints/methods/penalty_strategy.hpp"
-#include "constraints/penalized_solver.hpp"
+#include "constraints/strategy_common.hpp"
 #include "core/errors.hpp"
 
 namespace c2d::constraints {
@@ -18,37 +18,26 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
   const VecX cap_eq = k_eq * options_.max_penalty_factor;
   const double tol = penetration_tolerance(options_, p);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
-  std::vector<char> active = initially_closed(p, memory);
-  PenalizedSolver solver(p, set_rule());
-  // With friction, one solver over the raises: its condensed K stays, a raise changes the
-  // surface block only.
-  std::unique_ptr<FrictionalSolver> frictional;
-  if (p.has_friction()) frictional = std::make_unique<FrictionalSolver>(p, memory);
+  // One solver over the raises: its condensed K stays, a raise changes the surface block only;
+  // each raise starts from the last one's sets.
+  FrictionalSolver solver(p, memory);
+  ConstraintSolution previous;
   s.status = SolveStatus::kMaxIterations;
   s.message = "penetration above tolerance after " + std::to_string(options_.max_iterations) +
               " stiffness raises";
   for (int round = 0; round < options_.max_iterations; ++round) {
     const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
-    PenalizedSolver::Outcome outcome;
-    if (p.has_friction()) {
-      FrictionalOptions o =
-          penalised_friction(set_rule(), p, memory, k_gap, zero_gap, k_eq, zero_eq);
-      o.max_iterations = options_.max_iterations;
-      o.first_iteration = first;
-      frictional->solve(o, s);
-      outcome.status = s.status;
-      outcome.message = s.message;
-    } else {
-      outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations, active,
-                             s.u, s.history, first);
+    FrictionalOptions o = penalised_friction(set_rule(), p, memory, k_gap, zero_gap, k_eq, zero_eq);
+    o.max_iterations = options_.max_iterations;
+    o.first_iteration = first;
+    if (round > 0) {
+      previous = s;
+      o.start = &previous;
     }
+    solver.solve(o, s);
     s.penalty_history.push_back(std::max(k_gap.size() ? k_gap.maxCoeff() : 0.0,
                                          k_eq.size() ? k_eq.maxCoeff() : 0.0));
-    if (outcome.status != SolveStatus::kConverged) {
-      s.status = outcome.status;
-      s.message = outcome.message;
-      break;
-    }
+    if (s.status != SolveStatus::kConverged) break;
     const VecX g = p.gap0 + p.gap_jacobian * s.u;
     const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
     bool raised = false, capped = false;
@@ -74,11 +63,7 @@ ConstraintSolution AdaptivePenaltyStrategy::solve_problem(const ConstrainedProbl
       break;
     }
   }
-  if (!p.has_friction()) solver.report_counts(s);  // the frictional solve reports its own
-  if (p.has_friction())
-    s.eq_penalty = k_eq;
-  else if (s.status == SolveStatus::kConverged || s.status == SolveStatus::kMaxIterations)
-    solver.forces(k_gap, zero_gap, k_eq, zero_eq, s);
+  s.eq_penalty = k_eq;
   s.penalty = k_gap;
   return s;
 }

@@ -6,7 +6,7 @@
 
 #include "constraints/friction_solver.hpp"
 #include "constraints/methods/penalty_strategy.hpp"
-#include "constraints/penalized_solver.hpp"
+#include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
 
@@ -23,12 +23,12 @@ double update_round_off(const ConstrainedProblem& p, const VecX& k_gap, const Ve
   return k_max * std::numeric_limits<double>::epsilon() * p.model_size;
 }
 
-/// Alart and Curnier's augmented Lagrangian with friction: each round solves the penalised
-/// frictional problem for the multiplier estimates (the return map of both rows, Coulomb's
-/// bound from the trial normal force), then sets them to the forces found (Uzawa).
-ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedProblem& p,
-                                       const RowMemory& memory, const StrategyOptions& opt,
-                                       const VecX& k_gap, const VecX& k_eq) {
+/// Alart and Curnier's augmented Lagrangian, with friction where the problem has it: each round
+/// solves the penalised problem for the multiplier estimates (the return map of both rows,
+/// Coulomb's bound from the trial normal force), then sets them to the forces found (Uzawa).
+ConstraintSolution solve_rounds(const SetRule& rule, const ConstrainedProblem& p,
+                                const RowMemory& memory, const StrategyOptions& opt,
+                                const VecX& k_gap, const VecX& k_eq) {
   ConstraintSolution s;
   const double tol = penetration_tolerance(opt, p);
   VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
@@ -96,64 +96,9 @@ ConstraintSolution solve_with_friction(const SetRule& rule, const ConstrainedPro
 
 ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p,
                                                  const RowMemory& memory) {
-  ConstraintSolution s;
   VecX k_gap, k_eq;
   default_penalties(p, memory, 0.0, options_.augmentation_factor, k_gap, k_eq);
-  if (p.has_friction()) return solve_with_friction(set_rule(), p, memory, options_, k_gap, k_eq);
-  const double tol = penetration_tolerance(options_, p);
-  VecX lambda = VecX::Zero(p.num_gaps()), mu = VecX::Zero(p.num_equalities());
-  if (memory.initial_force.size() == p.num_gaps()) lambda = memory.initial_force.cwiseMax(0.0);
-  std::vector<char> active = initially_closed(p, memory);
-  PenalizedSolver solver(p, set_rule());
-  s.status = SolveStatus::kMaxIterations;
-  s.message = "penetration above tolerance or multipliers still changing after " +
-              std::to_string(options_.max_iterations) + " multiplier updates";
-  const double floor = update_round_off(p, k_gap, k_eq);
-  for (int round = 0; round < options_.max_iterations; ++round) {
-    const int first = s.history.empty() ? 1 : s.history.back().iteration + 1;
-    const auto outcome =
-        solver.solve(k_gap, lambda, k_eq, mu, options_.max_iterations, active, s.u, s.history, first);
-    if (outcome.status != SolveStatus::kConverged) {
-      s.status = outcome.status;
-      s.message = outcome.message;
-      break;
-    }
-    const VecX g = p.gap0 + p.gap_jacobian * s.u;
-    const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
-    const double penetration = max_penetration(g);
-    const double violation = h.size() ? h.cwiseAbs().maxCoeff() : 0.0;
-    // Uzawa update; the history's residual is the largest multiplier change.
-    double change = 0.0;
-    for (int i = 0; i < g.size(); ++i) {
-      const double next = std::max(0.0, lambda[i] - k_gap[i] * g[i]);
-      change = std::max(change, std::abs(next - lambda[i]));
-      lambda[i] = next;
-    }
-    for (int j = 0; j < h.size(); ++j) {
-      change = std::max(change, std::abs(k_eq[j] * h[j]));
-      mu[j] -= k_eq[j] * h[j];
-    }
-    s.history.back().residual = change;
-    // Converged when the penetration is within tolerance and the multipliers have settled: a
-    // small penetration alone stops the Uzawa iteration while the forces still move (a matching
-    // patch test then showed 1e-4 non-uniformity), so the update must also be below 1e-9 of the
-    // largest force.
-    const double scale = std::max(lambda.size() ? lambda.cwiseAbs().maxCoeff() : 0.0,
-                                  mu.size() ? mu.cwiseAbs().maxCoeff() : 0.0);
-    if (penetration <= tol && violation <= tol && change <= std::max(1e-9 * scale, floor)) {
-      s.status = SolveStatus::kConverged;
-      s.message.clear();
-      break;
-    }
-  }
-  solver.report_counts(s);
-  s.contact_force = lambda;
-  s.eq_multiplier = mu;
-  s.active.assign(p.num_gaps(), 0);
-  for (int i = 0; i < p.num_gaps(); ++i) s.active[i] = lambda[i] > 0;
-  s.penalty = k_gap;
-  s.eq_penalty = k_eq;
-  return s;
+  return solve_rounds(set_rule(), p, memory, options_, k_gap, k_eq);
 }
 
 }  // namespace c2d::constraints

@@ -1,11 +1,12 @@
 #include "constraints/methods/penalty_strategy.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 #include "constraints/friction_solver.hpp"
-#include "constraints/penalized_solver.hpp"
+#include "constraints/strategy_common.hpp"
 
 namespace c2d::constraints {
 
@@ -58,6 +59,45 @@ double penalty_ratio(const ConstrainedProblem& p, const RowMemory& memory, const
     if (le[j] > 0) r = std::max(r, k_eq[j] / le[j]);
   return r;
 }
+
+/// How far the forces that the penalty's equations give from u, −k g(u) on the rows carrying
+/// force and −k h(u) on the equality rows, stand from the solve's own forces (exact to the
+/// dense block's precision): the round-off that k lends them.
+double force_round_off(const ConstrainedProblem& p, const ConstraintSolution& s,
+                       const VecX& k_gap, const VecX& k_eq) {
+  double largest = 0.0;
+  if (s.contact_force.size() == p.num_gaps()) {
+    const VecX g = p.gap0 + p.gap_jacobian * s.u;
+    for (int i = 0; i < p.num_gaps(); ++i)
+      if (s.contact_force[i] > 0)
+        largest = std::max(largest, std::abs(-k_gap[i] * g[i] - s.contact_force[i]));
+  }
+  if (s.eq_multiplier.size() == p.num_equalities() && p.num_equalities() > 0) {
+    const VecX h = p.eq_jacobian * s.u - p.eq_rhs;
+    for (int j = 0; j < p.num_equalities(); ++j)
+      largest = std::max(largest, std::abs(-k_eq[j] * h[j] - s.eq_multiplier[j]));
+  }
+  return largest;
+}
+
+/// The largest ratio, over the rows carrying force w (above 1e-6 of the largest), of a gap's
+/// round-off, 16 ε (|g0| + Σ|G_ij u_j|), to the penetration w/k that the penalty leaves it:
+/// above 1 the penetration is below what the gaps resolve, so the set decisions read noise.
+double unresolved_penetration(const ConstrainedProblem& p, const VecX& w, const VecX& k_gap,
+                              const VecX& u) {
+  const int m = p.num_gaps();
+  if (m == 0 || w.size() != m || u.size() != p.num_unknowns()) return 0.0;
+  const double significant = 1e-6 * w.cwiseAbs().maxCoeff();
+  const VecX spread = p.gap_jacobian.cwiseAbs() * u.cwiseAbs();
+  double worst = 0.0;
+  for (int i = 0; i < m; ++i) {
+    if (!(w[i] > significant)) continue;
+    const double round_off =
+        16 * std::numeric_limits<double>::epsilon() * (std::abs(p.gap0[i]) + spread[i]);
+    worst = std::max(worst, round_off / (w[i] / k_gap[i]));
+  }
+  return worst;
+}
 }  // namespace
 
 ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p,
@@ -66,57 +106,25 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p,
   VecX k_gap, k_eq;
   default_penalties(p, memory, options_.penalty_k, options_.penalty_factor, k_gap, k_eq);
   const VecX zero_gap = VecX::Zero(p.num_gaps()), zero_eq = VecX::Zero(p.num_equalities());
-  bool assembled = true;  // whether the solve factorised K + Gᵀ k G itself
-  PenalizedSolver solver(p, set_rule());
-  if (p.has_friction()) {
-    FrictionalOptions o = penalised_friction(set_rule(), p, memory, k_gap, zero_gap, k_eq, zero_eq);
-    o.max_iterations = options_.max_iterations;
-    solve_frictional(p, memory, o, s);
-  } else {
-    std::vector<char> active = initially_closed(p, memory);
-    const auto outcome = solver.solve(k_gap, zero_gap, k_eq, zero_eq, options_.max_iterations,
-                                      active, s.u, s.history, 1);
-    s.status = outcome.status;
-    s.message = outcome.message;
-    solver.report_counts(s);
-    assembled = !solver.condensed();
-  }
+  FrictionalOptions o = penalised_friction(set_rule(), p, memory, k_gap, zero_gap, k_eq, zero_eq);
+  o.max_iterations = options_.max_iterations;
+  solve_frictional(p, memory, o, s);
   const bool solved = s.status == SolveStatus::kConverged ||
                       s.status == SolveStatus::kCycling || s.status == SolveStatus::kMaxIterations;
-  if (p.has_friction())
-    s.eq_penalty = k_eq;  // the frictional solve reports the forces of its sets
-  else if (solved)
-    solver.forces(k_gap, zero_gap, k_eq, zero_eq, s);
   // A penalty many orders above the element stiffness: say so instead of returning what it
-  // produced when its digits are gone. Assembled, K + Gᵀ k G's factor keeps none (its pivot
-  // ratio). Condensed, the factor keeps its digits, but the forces k·g that the run's Newton
-  // and report take from the gaps carry the gaps' round-off times k: measured as their
-  // distance from the condensed solve's own forces.
+  // produced when its digits are gone. The condensed solve keeps its forces' digits, but the
+  // forces k·g that the run's Newton and report take from the gaps carry the gaps' round-off
+  // times k: measured as their distance from the solve's own forces.
   const double ratio = penalty_ratio(p, memory, k_gap, k_eq);
-  if (ratio > 1e6) {
+  if (ratio > 1e6 && solved) {
     double force = 0.0;
-    if (solved) {
-      if (s.contact_force.size()) force = s.contact_force.cwiseAbs().maxCoeff();
-      if (s.eq_multiplier.size()) force = std::max(force, s.eq_multiplier.cwiseAbs().maxCoeff());
-    }
-    const double round_off =
-        solved && !p.has_friction() ? solver.force_round_off(k_gap, zero_gap, k_eq, zero_eq, s.u)
-                                    : 0.0;
-    const bool factor_lost =
-        assembled && (s.status == SolveStatus::kSingular || s.pivot_ratio < 1e-12);
-    const double unresolved =
-        solved && !p.has_friction() ? solver.unresolved_penetration(s.contact_force, k_gap, s.u)
-                                    : 0.0;
-    const bool forces_lost =
-        force > 0 && (round_off > kForceDigits * force || unresolved > 1.0);
-    if (factor_lost || forces_lost) {
+    if (s.contact_force.size()) force = s.contact_force.cwiseAbs().maxCoeff();
+    if (s.eq_multiplier.size()) force = std::max(force, s.eq_multiplier.cwiseAbs().maxCoeff());
+    const double round_off = force_round_off(p, s, k_gap, k_eq);
+    const double unresolved = unresolved_penetration(p, s.contact_force, k_gap, s.u);
+    if (force > 0 && (round_off > kForceDigits * force || unresolved > 1.0)) {
       char buf[320];
-      if (factor_lost)
-        std::snprintf(buf, sizeof buf,
-                      "penalty k is %.3g x the local element stiffness; the factor's pivot ratio "
-                      "%.3g leaves no significant digits (lower k or use an exact method)",
-                      ratio, s.pivot_ratio);
-      else if (unresolved > 1.0)
+      if (unresolved > 1.0)
         std::snprintf(buf, sizeof buf,
                       "penalty k is %.3g x the local element stiffness; the penetration it leaves "
                       "is %.3g times below the gaps' round-off, so its contact set reads noise "
@@ -132,14 +140,8 @@ ConstraintSolution PenaltyStrategy::solve_problem(const ConstrainedProblem& p,
       s.message = buf;
     }
   }
-  if (!p.has_friction() && s.status != SolveStatus::kConverged &&
-      s.status != SolveStatus::kCycling && s.status != SolveStatus::kMaxIterations) {
-    s.u = VecX::Zero(p.num_unknowns());  // nothing of a failed solve is returned as a state
-    s.contact_force = VecX();
-    s.eq_multiplier = VecX();
-    s.active.clear();
-  }
   s.penalty = k_gap;
+  s.eq_penalty = k_eq;
   return s;
 }
 
