@@ -39,6 +39,17 @@ namespace {
 using Ipopt::Index;
 using Ipopt::Number;
 
+/// A x and Aᵀ x that are zero, not a BLAS call, when A has no rows or no columns: with
+/// EIGEN_USE_BLAS, Eigen hands dgemv a leading dimension of 0 for an empty A, and BLAS prints
+/// "On entry to DGEMV parameter number 6 had an illegal value" on the user's stderr (a body
+/// without rigid motions, or a dual without equations, has such blocks).
+VecX times(const Eigen::MatrixXd& a, const VecX& x) {
+  return a.size() == 0 ? VecX(VecX::Zero(a.rows())) : VecX(a * x);
+}
+VecX transpose_times(const Eigen::MatrixXd& a, const VecX& x) {
+  return a.size() == 0 ? VecX(VecX::Zero(a.cols())) : VecX(a.transpose() * x);
+}
+
 /// 1 − (eigenvalue of D S_RR D) below this: a rigid motion of the rows R (the eigenvalue is 1
 /// there to round-off of K_ρ's solves, whose pivot ratio the condensation keeps above 1e-11).
 constexpr double kRigidGap = 1e-9;
@@ -243,9 +254,9 @@ bool SurfaceDual::condense() {
   const Eigen::MatrixXd sm = s_jr_ * m_plus_;
   Eigen::MatrixXd h = s + sm * s_jr_.transpose();
   h = 0.5 * (h + h.transpose()).eval();
-  const VecX q = y0 + sm * y0_r_ - b_;
+  const VecX q = y0 + times(sm, y0_r_) - b_;
   const Eigen::MatrixXd e = s_jr_ * null_;          // nj × nz
-  const VecX e_rhs = -(null_.transpose() * y0_r_);  // Eᵀ w = e_rhs
+  const VecX e_rhs = -transpose_times(null_, y0_r_);  // Eᵀ w = e_rhs
   // Scaled: w = σ T x, T = diag(1/√H_rr), σ the largest |q_r| T_r; the objective over σ², each
   // rigid motion's equation over its row norm.
   VecX t(nj);
@@ -290,11 +301,11 @@ QpOutcome SurfaceDual::solve(const VecX& bound, const std::vector<char>& stick,
   last_x_ = VecX::Zero(nj), last_grad_ = VecX::Zero(nj);
   if (have) {
     last_x_ = out.x;
-    last_grad_ = qp_.h * out.x + qp_.q + qp_.a.transpose() * out.lambda;
+    last_grad_ = times(qp_.h, out.x) + qp_.q + transpose_times(qp_.a, out.lambda);
     for (int r = 0; r < nj; ++r) held_[r] = !equality_[r] && last_x_[r] > last_grad_[r];
   }
   // u of the interior point: ζ = M⁺ (y0_R + S_RJ w) + N α.
-  const VecX zeta = m_plus_ * (y0_r_ + s_jr_.transpose() * w) + null_ * alpha;
+  const VecX zeta = times(m_plus_, y0_r_ + transpose_times(s_jr_, w)) + times(null_, alpha);
   std::vector<int> cols = all_;
   cols.insert(cols.end(), reg_.begin(), reg_.end());
   VecX weights(w.size() + zeta.size());
