@@ -20,6 +20,13 @@ SolveStatus FrictionalSolve::solve(const std::vector<char>& code, ConstraintSolu
       return SolveStatus::kConverged;
     }
     surface_message_ = surface_->message();
+    // A block singular with every row in play is the set's own singularity (a body its held
+    // rows leave free, dependent rows): the whole saddle point of the same set is singular
+    // too, and its LU would only cost a factorisation to say so.
+    if (condensed == SolveStatus::kSingular && all_in_play()) {
+      message_ = surface_message_;
+      return SolveStatus::kSingular;
+    }
     // The whole saddle point has every row in play, and so has a condensation made again.
     if (!all_in_play()) drop_surface(out);
   }
