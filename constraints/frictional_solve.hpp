@@ -111,7 +111,9 @@ class FrictionalSolve {
   SolveStatus solve_condensed(const std::vector<char>& code, ConstraintSolution& out);
 
   /// The whole u of the last condensed solve (the rules needed its tail only); a penalised
-  /// solve's refined (refine()).
+  /// solve's refined (refine()). Once per solve: refine's corrections are the condensation's
+  /// last solves, so completing again would return a correction, not u (bring_into_play()
+  /// completes a settled solve before run() does).
   void complete_displacement(ConstraintSolution& s);
 
   /// Row forces w (the condensation's row order) into out's multipliers and forces.
@@ -191,14 +193,14 @@ class FrictionalSolve {
   /// Per gap row: in the condensation (empty: every row; see surface_ready()).
   std::vector<char> play_;
   int broadened_ = 0;                     ///< times bring_into_play() added rows
-  /// Why the last solve failed where the LU's report does not say it (else empty), and the
-  /// condensed block's message of the last failed condensed solve.
-  std::string message_, surface_message_;
+  /// Why the last solve failed where the LU's report does not say it (else empty).
+  std::string message_;
   core::SpdSolveReport counted_;          ///< the condensation's work counted so far
   double dense_counted_ = 0.0;
   /// The last condensed solve's row states and row forces (refine() corrects them).
   SurfaceCondensation::RowStates last_states_;
   VecX last_w_;
+  bool completed_ = false;                ///< s.u is the whole u of the last condensed solve
   bool surface_last_ = false;             ///< the last solve took the condensed path
   double surface_rcond_ = 1.0;            ///< its dense block's condition estimate
 };

@@ -13,18 +13,19 @@ namespace c2d::constraints {
 
 SolveStatus FrictionalSolve::solve(const std::vector<char>& code, ConstraintSolution& out) {
   SolveStatus condensed = SolveStatus::kFailed;
+  std::string why;  // the condensed block's, when it failed
   if (surface_ready(code)) {
     condensed = solve_condensed(code, out);
     if (condensed == SolveStatus::kConverged) {
       surface_last_ = true;
       return SolveStatus::kConverged;
     }
-    surface_message_ = surface_->message();
+    why = surface_->message();
     // A block singular with every row in play is the set's own singularity (a body its held
     // rows leave free, dependent rows): the whole saddle point of the same set is singular
     // too, and its LU would only cost a factorisation to say so.
     if (condensed == SolveStatus::kSingular && all_in_play()) {
-      message_ = surface_message_;
+      message_ = why;
       return SolveStatus::kSingular;
     }
     // The whole saddle point has every row in play, and so has a condensation made again.
@@ -36,7 +37,7 @@ SolveStatus FrictionalSolve::solve(const std::vector<char>& code, ConstraintSolu
   // A set whose condensed block is singular and whose LU solve keeps no precision is
   // singular: the block says why (a free body, dependent rows).
   if (st == SolveStatus::kIllConditioned && condensed == SolveStatus::kSingular) {
-    message_ = surface_message_;
+    message_ = why;
     return SolveStatus::kSingular;
   }
   message_.clear();
@@ -185,6 +186,7 @@ SolveStatus FrictionalSolve::solve_condensed(const std::vector<char>& code, Cons
   }
   const SolveStatus status = surface_->solve(p_.load, st, last_w_, out.u, surface_rcond_);
   if (status != SolveStatus::kConverged) return status;
+  completed_ = false;
   last_states_ = std::move(st);
   take_forces(last_w_, out);
   return status;
@@ -197,10 +199,12 @@ void FrictionalSolve::take_forces(const VecX& w, ConstraintSolution& out) const 
 }
 
 void FrictionalSolve::complete_displacement(ConstraintSolution& s) {
+  if (completed_) return;
   VecX u;
   if (surface_->complete(u) != SolveStatus::kConverged) return;
   s.u = u;
   if (penalised_) refine(s);
+  completed_ = true;
 }
 
 double FrictionalSolve::penalised_residual(const SpMat& ct, const VecX& u, const VecX& w,
