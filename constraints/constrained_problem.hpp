@@ -25,6 +25,10 @@
 #include "core/spd_solver.hpp"
 #include "core/types.hpp"
 
+namespace c2d::core {
+class TailAnalyses;  // core/tail_cholesky.hpp
+}
+
 namespace c2d::constraints {
 
 struct ConstrainedProblem {
@@ -60,6 +64,9 @@ struct ConstrainedProblem {
   /// Optional fill-reducing elimination order of the n unknowns (core/fill_ordering.hpp, from
   /// the mesh); null or another size: CHOLMOD orders the matrices itself.
   std::shared_ptr<const core::FillOrder> ordering;
+  /// Symbolic analyses of the surface-last factor kept between this problem's solves and the
+  /// next iterate's (null: each factor analyses its own).
+  std::shared_ptr<core::TailAnalyses> analyses;
   /// Length against which relative penetration tolerances are measured (smallest contact edge).
   double length_scale = 1.0;
   /// Size of the model (bounding-box diagonal), for absolute tolerances.

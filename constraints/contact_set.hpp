@@ -14,6 +14,7 @@
 #include "constraints/contact_scene.hpp"
 #include "constraints/equality_constraints.hpp"
 #include "core/model.hpp"
+#include "core/tail_cholesky.hpp"
 
 namespace c2d::constraints {
 
@@ -89,6 +90,8 @@ class ContactSet {
   ContactPairs pairs_;
   EqualityConstraints equalities_;
   ContactReporter reporter_;
+  /// The surface-last factor's symbolic analyses, shared by the run's solves (problem()).
+  std::shared_ptr<core::TailAnalyses> analyses_ = std::make_shared<core::TailAnalyses>();
 };
 
 }  // namespace c2d::constraints

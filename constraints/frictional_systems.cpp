@@ -131,7 +131,7 @@ bool FrictionalSolve::surface_ready(const std::vector<char>& code) {
   for (int j = 0; j < me_; ++j) eq[j] = j;
   std::vector<std::vector<int>> groups(m_);
   for (int i = 0; i < m_; ++i) groups[i] = {me_ + i, me_ + m_ + i};
-  surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, eq,
+  surface_ = condense_onto_rows(std::move(ct), p_.stiffness, p_.ordering, p_.analyses, eq,
                                 std::move(groups),
                                 std::vector<double>(p_.gap0.begin(), p_.gap0.end()));
   first_row_ = 0;

@@ -42,9 +42,10 @@ SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<i
 
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
-    const std::vector<int>& always, std::vector<std::vector<int>> groups,
-    const std::vector<double>& gap, bool anchor) {
-  auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), std::move(ordering));
+    std::shared_ptr<core::TailAnalyses> analyses, const std::vector<int>& always,
+    std::vector<std::vector<int>> groups, const std::vector<double>& gap, bool anchor) {
+  auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), std::move(ordering),
+                                                       std::move(analyses));
   if (!surface->fits()) return nullptr;
   if (anchor && surface->factorize(k, always, true)) return surface;
   const int count = static_cast<int>(groups.size());
@@ -91,7 +92,8 @@ class Parts {
 
 }  // namespace
 
-SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering)
+SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering,
+                                         std::shared_ptr<core::TailAnalyses> analyses)
     : user_ct_(std::move(ct)), rows_(static_cast<int>(user_ct_.cols())), ct_(user_ct_) {
   user_ct_.makeCompressed();
   ct_.makeCompressed();
@@ -103,6 +105,7 @@ SurfaceCondensation::SurfaceCondensation(SpMat ct, std::shared_ptr<const core::F
     if (touched[d]) tail_dofs_.push_back(d);
   block_start_ = {0, static_cast<int>(tail_dofs_.size())};
   if (ordering) tail_.set_ordering(std::move(ordering));
+  tail_.set_analyses(std::move(analyses));
 }
 
 std::vector<int> SurfaceCondensation::set_anchors(const std::vector<int>& regularise, bool anchor) {

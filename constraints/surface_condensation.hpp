@@ -55,7 +55,7 @@ class SurfaceCondensation;
 /// ρ and R itself: ipopt's dual), R never holds rows of the condensation's own.
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
-    const std::vector<int>& always, std::vector<std::vector<int>> groups,
+    std::shared_ptr<core::TailAnalyses> analyses, const std::vector<int>& always, std::vector<std::vector<int>> groups,
     const std::vector<double>& gap, bool anchor = true);
 
 class SurfaceCondensation {
@@ -66,7 +66,9 @@ class SurfaceCondensation {
   static constexpr int kMaxRows = 2000;
 
   /// `ct`: Cᵀ, n × rows (each column one row's coefficients). The rows' pattern is kept.
-  SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering);
+  /// `analyses` (may be null): symbolic analyses shared with the other condensations of the run.
+  SurfaceCondensation(SpMat ct, std::shared_ptr<const core::FillOrder> ordering,
+                      std::shared_ptr<core::TailAnalyses> analyses = nullptr);
   ~SurfaceCondensation();
   SurfaceCondensation(const SurfaceCondensation&) = delete;
   SurfaceCondensation& operator=(const SurfaceCondensation&) = delete;

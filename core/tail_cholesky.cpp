@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
+#include <mutex>
 
 #include "core/factor_blocks.hpp"
 #include "core/sparse_pattern.hpp"
@@ -35,6 +37,57 @@ cholmod_dense view(const VecX& v) {
 
 }  // namespace
 
+struct TailAnalyses::Impl {
+  /// How many analyses are kept: a load step's first iterate may condense every row and the
+  /// next ones the rows in play, so two tails alternate.
+  static constexpr size_t kKept = 3;
+  struct Entry {
+    std::shared_ptr<const FillOrder> fill;  ///< held, so that its address names it
+    AnalysedPattern pattern;
+    std::vector<int> tail, tail_part;
+    cholmod_factor* symbolic = nullptr;
+    double lnz = 0;  ///< the factor's nonzeros, as the analysis counted them
+  };
+  std::mutex mutex;
+  cholmod_common c{};
+  std::deque<Entry> entries;  ///< the latest first
+
+  Impl() { cholmod_start(&c); c.print = 0; }
+  ~Impl() {
+    for (Entry& e : entries) cholmod_free_factor(&e.symbolic, &c);
+    cholmod_finish(&c);
+  }
+  /// A copy (allocated through `into`) of the analysis kept for these, or null.
+  cholmod_factor* copy(const SpMat& k, const std::vector<int>& tail,
+                       const std::vector<int>& tail_part, const FillOrder* fill,
+                       cholmod_common* into) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    for (const Entry& e : entries)
+      if (e.fill.get() == fill && e.tail == tail && e.tail_part == tail_part &&
+          e.pattern.matches(k)) {
+        into->lnz = e.lnz;
+        return cholmod_copy_factor(e.symbolic, into);
+      }
+    return nullptr;
+  }
+  /// Keeps a copy of `symbolic` (not yet factorised), the oldest kept analysis making room.
+  void keep(const SpMat& k, const std::vector<int>& tail, const std::vector<int>& tail_part,
+            const std::shared_ptr<const FillOrder>& fill, cholmod_factor* symbolic, double lnz) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    Entry e{fill, {}, tail, tail_part, cholmod_copy_factor(symbolic, &c), lnz};
+    if (!e.symbolic) return;
+    e.pattern.keep(k);
+    if (entries.size() == kKept) {
+      cholmod_free_factor(&entries.back().symbolic, &c);
+      entries.pop_back();
+    }
+    entries.push_front(std::move(e));
+  }
+};
+
+TailAnalyses::TailAnalyses() : impl_(std::make_unique<Impl>()) {}
+TailAnalyses::~TailAnalyses() = default;
+
 struct TailCholesky::Impl {
   cholmod_common c{};
   cholmod_factor* factor = nullptr;
@@ -43,6 +96,7 @@ struct TailCholesky::Impl {
   std::vector<int> tail_part;        ///< and its parts (empty: one)
   SpMat compressed;                  ///< K's copy when K is not compressed
   std::shared_ptr<const FillOrder> fill;  ///< the caller's order, null for CAMD
+  std::shared_ptr<TailAnalyses> analyses;  ///< shared analyses, null: none
 
   bool given(int n) const { return fill && static_cast<int>(fill->order.size()) == n; }
   bool analysed_for(const SpMat& k) const { return factor && pattern.matches(k); }
@@ -75,6 +129,10 @@ TailCholesky::~TailCholesky() = default;
 void TailCholesky::set_ordering(std::shared_ptr<const FillOrder> fill) {
   impl_->fill = std::move(fill);
   impl_->pattern.clear();  // analyse again
+}
+
+void TailCholesky::set_analyses(std::shared_ptr<TailAnalyses> analyses) {
+  impl_->analyses = std::move(analyses);
 }
 
 SolveStatus TailCholesky::fail(SolveStatus status, const std::string& message) {
@@ -110,8 +168,28 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   if (!m.factor) return false;
   m.pattern.keep(k);
   m.tail = tail;
+  if (!place_tail(tail)) return false;
+  const std::shared_ptr<const FillOrder> fill = m.given(n_) ? m.fill : nullptr;
+  if (m.analyses) m.analyses->impl_->keep(k, tail, m.tail_part, fill, m.factor, m.c.lnz);
+  return true;
+}
+
+bool TailCholesky::adopt(const SpMat& k, const std::vector<int>& tail) {
+  Impl& m = *impl_;
+  if (!m.analyses) return false;
+  cholmod_factor* copy =
+      m.analyses->impl_->copy(k, tail, m.tail_part, m.given(n_) ? m.fill.get() : nullptr, &m.c);
+  if (!copy) return false;
+  if (m.factor) cholmod_free_factor(&m.factor, &m.c);
+  m.factor = copy;
+  m.pattern.keep(k);
+  m.tail = tail;
+  return place_tail(tail);
+}
+
+bool TailCholesky::place_tail(const std::vector<int>& tail) {
   // The tail must be the factor's last k columns (no postorder moved it).
-  const int* p = static_cast<const int*>(m.factor->Perm);
+  const int* p = static_cast<const int*>(impl_->factor->Perm);
   const int k0 = n_ - static_cast<int>(tail.size());
   tail_position_.assign(n_, -1);
   for (int i = k0; i < n_; ++i) tail_position_[p[i]] = i - k0;
@@ -138,8 +216,9 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
   }
   Stopwatch clock;
   if (!m.analysed_for(*kk) || m.tail != tail) {
-    const bool ok = analyse(*kk, tail);
-    report_.symbolic_analyses++;
+    const bool adopted = adopt(*kk, tail);
+    const bool ok = adopted || analyse(*kk, tail);
+    if (!adopted) report_.symbolic_analyses++;
     report_.symbolic_seconds += clock.lap();
     if (!ok) {
       m.pattern.clear();

@@ -26,6 +26,26 @@
 
 namespace c2d::core {
 
+/// Symbolic analyses that outlive one TailCholesky. Every Newton iteration of a load step
+/// condenses K_T anew, with K_T's pattern and, once the contact has settled, the tail
+/// unchanged: the analysis (the order with the tail last, the elimination tree, the supernodes)
+/// is then the same one, and on Cattaneo–Mindlin it cost a fifth of each factorisation. A
+/// TailCholesky given these (set_analyses) takes a copy of a matching analysis instead of
+/// analysing again (K's pattern compared in full, the tail, its parts and the fill order), and
+/// offers each analysis it makes. Keeps the last few; safe to share between threads.
+class TailAnalyses {
+ public:
+  TailAnalyses();
+  ~TailAnalyses();
+  TailAnalyses(const TailAnalyses&) = delete;
+  TailAnalyses& operator=(const TailAnalyses&) = delete;
+
+ private:
+  friend class TailCholesky;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 class TailCholesky {
  public:
   TailCholesky();
@@ -35,7 +55,8 @@ class TailCholesky {
 
   /// Factorises K (symmetric; the lower triangle is used) with the unknowns `tail` ordered
   /// last. The ordering and symbolic analysis are kept while K's pattern (compared in full),
-  /// the tail and its parts are unchanged. Reports kSingular when K is not positive definite.
+  /// the tail and its parts are unchanged, or taken from the shared analyses (set_analyses).
+  /// Reports kSingular when K is not positive definite.
   /// `tail_part` (empty, or a part number per entry of `tail`) groups the tail by part, lowest
   /// first, each part in the order the ordering gives it: L₂₂ is then block diagonal when no
   /// entry of K joins two parts.
@@ -44,6 +65,8 @@ class TailCholesky {
   /// Orders matrices of its size by `fill`'s order (e.g. mesh_fill_order) with the tail
   /// moved last, both parts keeping their relative order, instead of CAMD on the matrix.
   void set_ordering(std::shared_ptr<const FillOrder> fill);
+  /// Takes matching symbolic analyses from `analyses` and offers it its own (null: none).
+  void set_analyses(std::shared_ptr<TailAnalyses> analyses);
 
   int size() const { return n_; }
   /// k, the tail's size.
@@ -66,6 +89,10 @@ class TailCholesky {
  private:
   struct Impl;
   bool analyse(const SpMat& k, const std::vector<int>& tail);
+  /// A copy of a matching analysis from the shared analyses, if one is kept.
+  bool adopt(const SpMat& k, const std::vector<int>& tail);
+  /// Each tail unknown's row in L₂₂, from the analysed order; false if the tail is not last.
+  bool place_tail(const std::vector<int>& tail);
   bool extract_tail_factor();
   SolveStatus fail(SolveStatus status, const std::string& message);
   /// out = second(first(in)) for two CHOLMOD solve systems (CHOLMOD_P, _LD, _Lt, _Pt).

@@ -184,7 +184,7 @@ std::unique_ptr<SurfaceDual> SurfaceDual::build(const ConstrainedProblem& p, con
     gap.push_back(-d->b_[r]);
   }
   // (no anchor rows: the dual reads R from ρ and treats its rows as the caller's)
-  d->surface_ = condense_onto_rows(std::move(ct), p.stiffness, p.ordering, always,
+  d->surface_ = condense_onto_rows(std::move(ct), p.stiffness, p.ordering, p.analyses, always,
                                    std::move(groups), gap, false);
   if (!d->surface_) return nullptr;
   if (!d->condense()) {

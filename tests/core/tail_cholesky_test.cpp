@@ -6,7 +6,8 @@
 //    indefinite K (the simplicial L D Lᵀ factor);
 //  - a right-hand side on the tail stays on the tail through the forward substitution (the
 //    other entries exactly zero) and equals D₂⁻¹ L₂₂⁻¹ b_T there;
-//  - a matrix with a zero pivot is reported singular.
+//  - a matrix with a zero pivot is reported singular;
+//  - factors sharing TailAnalyses analyse once per pattern and tail, and solve as precisely.
 // The first two hold for CHOLMOD's CAMD order and for a given order with the tail moved last
 // (set_ordering; here the unknowns in reverse, which no fill-reducing method would choose).
 #include <gtest/gtest.h>
@@ -48,12 +49,16 @@ std::vector<int> edge() {
 /// Parameter: whether the factor takes a given order (the unknowns reversed) instead of CAMD.
 class TailOrder : public ::testing::TestWithParam<bool> {
  protected:
-  void order(core::TailCholesky& f) const {
+  void order(core::TailCholesky& f) {
     if (!GetParam()) return;
-    std::vector<int> reversed(kSide * kSide);
-    for (int k = 0; k < kSide * kSide; ++k) reversed[k] = kSide * kSide - 1 - k;
-    f.set_ordering(std::make_shared<const core::FillOrder>(core::FillOrder{reversed, {}}));
+    if (!reversed_) {  // one order for every factor of the test, as a model has one
+      std::vector<int> reversed(kSide * kSide);
+      for (int k = 0; k < kSide * kSide; ++k) reversed[k] = kSide * kSide - 1 - k;
+      reversed_ = std::make_shared<const core::FillOrder>(core::FillOrder{reversed, {}});
+    }
+    f.set_ordering(reversed_);
   }
+  std::shared_ptr<const core::FillOrder> reversed_;
 };
 
 }  // namespace
@@ -164,4 +169,46 @@ TEST(TailCholesky, KeepsTheAnalysisOnlyForTheSamePattern) {
   ASSERT_EQ(f.factorize(k3, edge()), SolveStatus::kConverged);
   EXPECT_EQ(f.report().symbolic_analyses, 2);
   EXPECT_TRUE(solves(k3));
+}
+
+// TailAnalyses: a second factor of the same pattern and tail takes the first one's analysis
+// (no analysis of its own) and solves to the same precision; one with another tail, or another
+// pattern, analyses anew; the oldest of more analyses than it keeps is dropped.
+TEST_P(TailOrder, SharedAnalysesServeOnlyTheSamePatternAndTail) {
+  const int n = kSide * kSide;
+  VecX b(n);
+  for (int i = 0; i < n; ++i) b[i] = std::cos(0.05 * i) - 0.2;
+  auto analyses = std::make_shared<core::TailAnalyses>();
+  // A new factor per call, as a Newton iteration makes a new condensation; its analyses.
+  auto analyses_of = [&](const SpMat& k, const std::vector<int>& tail, double& residual) {
+    core::TailCholesky f;
+    order(f);
+    f.set_analyses(analyses);
+    VecX w, x;
+    if (f.factorize(k, tail) != SolveStatus::kConverged || f.forward(b, w) != SolveStatus::kConverged ||
+        f.backward(w, x) != SolveStatus::kConverged)
+      return -1;
+    residual = (k * x - b).norm() / b.norm();
+    return f.report().symbolic_analyses;
+  };
+  std::vector<int> left;
+  for (int i = 0; i < kSide; ++i) left.push_back(i * kSide);  // the left column
+  const SpMat k1 = laplacian(0.1), k2 = laplacian(0.9);
+  SpMat k3 = laplacian(0.9);
+  k3.coeffRef(0, 2) = k3.coeffRef(2, 0) = -0.5;  // one entry more
+  k3.makeCompressed();
+  double r = 1.0;
+  EXPECT_EQ(analyses_of(k1, edge(), r), 1);
+  EXPECT_EQ(analyses_of(k2, edge(), r), 0);  // same pattern, new values
+  EXPECT_LT(r, 1e-12);
+  EXPECT_EQ(analyses_of(k2, left, r), 1);    // another tail
+  EXPECT_LT(r, 1e-12);
+  EXPECT_EQ(analyses_of(k1, edge(), r), 0);  // the first still kept
+  EXPECT_EQ(analyses_of(k3, edge(), r), 1);  // another pattern
+  EXPECT_LT(r, 1e-12);
+  std::vector<int> corner = {0, 1, kSide, kSide + 1};
+  EXPECT_EQ(analyses_of(k1, corner, r), 1);  // a fourth: the oldest kept (edge, k1) goes
+  EXPECT_EQ(analyses_of(k1, left, r), 0);
+  EXPECT_EQ(analyses_of(k1, edge(), r), 1);
+  EXPECT_LT(r, 1e-12);
 }
