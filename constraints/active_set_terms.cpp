@@ -19,6 +19,9 @@ bool same_pattern(const SpMat& a, const SpMat& b) {
          std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
 }
 
+/// The penalty law of the active rows in primal form: their forces λ̂ − k g_A(u) follow from
+/// u, G_Aᵀ diag(k) G_A joins K_T (the augmented Lagrangian's, whose λ̂ each outer iteration's
+/// method solve fixes anew at its exact crossover: the state's forces are the law's at u).
 class PenaltyTerms final : public ActiveSetTerms {
  public:
   PenaltyTerms(const SpMat& g, const std::vector<char>& active, const VecX& k,
@@ -55,6 +58,79 @@ class PenaltyTerms final : public ActiveSetTerms {
   VecX k_, lambda_hat_, ka_;
   double k_max_ = 0.0;
   SpMat penalty_, jacobian_, pattern_;
+  core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
+};
+
+/// The penalty law of the active rows, λ_i = λ̂_i − k_i g_i(u), in mixed form: the forces are
+/// unknowns z = λ/s beside u, as the multiplier methods' are, and the law is their equation,
+/// weighed by s as the multiplier rows' g = 0 is:
+///   r_u = R_s(u) − G_Aᵀ s z_A,   r_A = −s (g_A(u) + (s z_A − λ̂_A)/k_A),   r_I = s z_I.
+/// At a solution it is the penalised equations R_s(u) − G_Aᵀ (λ̂ − k g_A) = 0. Measured so, a
+/// row's gap error counts s·δg as an exact method's does, not k·δg: the penalty's force of a
+/// gap missed by δg is off by k·δg, and the stop test in force units asked a penalised row's gap
+/// to k/s times the precision of an exact method's (the frictional drag with the default
+/// k ≈ 1000 s: a fourth Newton iterate a step to bring δg from 1e-11 to 1e-17 of the model).
+/// The Newton matrix is solved by eliminating z: (K_T + G_Aᵀ diag(k) G_A) du = b_u −
+/// G_Aᵀ (k/s ∘ b_A), z_A = −(k/s²)(b_A + s G_A du), z_I = b_I / s, through one CHOLMOD factor.
+class PenaltyLawTerms final : public ActiveSetTerms {
+ public:
+  PenaltyLawTerms(const SpMat& g, const std::vector<char>& active, const VecX& k,
+               const VecX& lambda_hat, double s)
+      : active_(active), k_(k), lambda_hat_(lambda_hat), ka_(VecX::Zero(k.size())), s_(s),
+        m_(static_cast<int>(g.rows())) {
+    for (int i = 0; i < ka_.size(); ++i)
+      if (active_[i]) ka_[i] = k_[i];
+    update_rows(g);
+  }
+  void update_rows(const SpMat& g) override {
+    g_ = g;
+    penalty_ = SpMat(SpMat(g.transpose()) * ka_.asDiagonal() * g);
+  }
+  int extra_unknowns() const override { return m_; }
+  void pack_forces(const VecX& force, Eigen::Ref<VecX> extra) const override {
+    for (int i = 0; i < m_; ++i) extra[i] = active_[i] ? force[i] / s_ : 0.0;
+  }
+  VecX forces(const VecX& gap, const Eigen::Ref<const VecX>& extra) const override {
+    VecX f = VecX::Zero(gap.size());
+    for (int i = 0; i < m_; ++i)
+      if (active_[i]) f[i] = s_ * extra[i];
+    return f;
+  }
+  void extra_residual(const VecX& gap, const Eigen::Ref<const VecX>& extra,
+                      Eigen::Ref<VecX> r) const override {
+    for (int i = 0; i < m_; ++i)
+      r[i] = active_[i] ? -s_ * (gap[i] + (s_ * extra[i] - lambda_hat_[i]) / k_[i])
+                        : s_ * extra[i];
+  }
+  bool factorize(const SpMat& k_t) override {
+    jacobian_ = k_t + penalty_;  // the solver keeps a reference for its residual check
+    if (!same_pattern(jacobian_, pattern_)) spd_.reset_pattern(), pattern_ = jacobian_;
+    return spd_.factorize(jacobian_) == SolveStatus::kConverged;
+  }
+  bool solve(const VecX& b, VecX& x) override {
+    const int n = static_cast<int>(g_.cols());
+    const VecX bz = b.tail(m_);
+    VecX scaled = VecX::Zero(m_);  // k/s ∘ b_A
+    for (int i = 0; i < m_; ++i)
+      if (active_[i]) scaled[i] = ka_[i] / s_ * bz[i];
+    VecX du;
+    if (spd_.solve(VecX(b.head(n) - g_.transpose() * scaled), du) != SolveStatus::kConverged)
+      return false;
+    const VecX gdu = g_ * du;
+    x.resize(n + m_);
+    x.head(n) = du;
+    for (int i = 0; i < m_; ++i)
+      x[n + i] = active_[i] ? -ka_[i] / (s_ * s_) * (bz[i] + s_ * gdu[i]) : bz[i] / s_;
+    return true;
+  }
+  double row_stiffness() const override { return s_; }
+
+ private:
+  std::vector<char> active_;
+  VecX k_, lambda_hat_, ka_;
+  double s_;
+  int m_;
+  SpMat g_, penalty_, jacobian_, pattern_;
   core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
 };
 
@@ -124,8 +200,10 @@ class MultiplierTerms final : public ActiveSetTerms {
 }  // namespace
 
 std::unique_ptr<ActiveSetTerms> make_penalty_terms(const SpMat& g, const std::vector<char>& active,
-                                                   const VecX& k, const VecX& lambda_hat) {
-  return std::make_unique<PenaltyTerms>(g, active, k, lambda_hat);
+                                                   const VecX& k, const VecX& lambda_hat,
+                                                   double s, bool forces_unknown) {
+  if (!forces_unknown) return std::make_unique<PenaltyTerms>(g, active, k, lambda_hat);
+  return std::make_unique<PenaltyLawTerms>(g, active, k, lambda_hat, s);
 }
 
 std::unique_ptr<ActiveSetTerms> make_multiplier_terms(const SpMat& g,

@@ -64,7 +64,7 @@ std::unique_ptr<ActiveSetTerms> RegularisedStrategy::active_set_terms(
     lambda_hat.tail(me) = s.eq_multiplier + s.eq_penalty.cwiseProduct(h);
   }
   return make_penalty_terms(stack_rows(p.gap_jacobian, p.eq_jacobian), held_active(p, s), k,
-                            lambda_hat);
+                            lambda_hat, saddle_point_scale(p), !augmented());
 }
 
 std::unique_ptr<ActiveSetTerms> ExactStrategy::active_set_terms(

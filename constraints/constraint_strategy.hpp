@@ -127,6 +127,12 @@ class RegularisedStrategy : public ConstraintStrategy {
   /// The return map of the regularised rows.
   const SetRule& set_rule() const final { return rule_; }
 
+ protected:
+  /// Whether λ̂ is the method's multiplier estimate, which each of its solves fixes anew (the
+  /// augmented Lagrangian): Newton with its set held then takes the law's forces at u, not
+  /// forces of its own (make_penalty_terms).
+  virtual bool augmented() const { return false; }
+
  private:
   ReturnMapRule rule_;
 };

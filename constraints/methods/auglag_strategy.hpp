@@ -14,6 +14,7 @@ class AugLagStrategy final : public RegularisedStrategy {
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem,
                                    const RowMemory& memory) override;
+  bool augmented() const override { return true; }
 };
 
 }  // namespace c2d::constraints
