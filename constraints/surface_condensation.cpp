@@ -236,6 +236,7 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
   struct Chunk {
     int p, end;  ///< its rows p..end of its block
     std::vector<int> cols;
+    std::vector<int> earlier;  ///< the new columns of its block's earlier chunks
   };
   std::vector<Chunk> chunks;
   for (size_t b = 0; b + 1 < block_start_.size(); ++b) {
@@ -251,8 +252,9 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
     }
     std::sort(reach.begin(), reach.end());
     const int count = static_cast<int>(reach.size()), pieces = std::min(count, 8);
+    std::vector<int> so_far;
     for (int q = 0; q < pieces; ++q) {
-      Chunk chunk{reach[q * count / pieces].first, b1, {}};
+      Chunk chunk{reach[q * count / pieces].first, b1, {}, so_far};
       for (int i = q * count / pieces; i < (q + 1) * count / pieces; ++i)
         chunk.cols.push_back(reach[i].second);
       const int h = b1 - chunk.p, w = static_cast<int>(chunk.cols.size());
@@ -260,6 +262,7 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
       for (int j = 0; j < w; ++j) part.col(j) = block.col(chunk.cols[j]).segment(chunk.p, h);
       tail_.tail_factor().block(chunk.p, chunk.p, h, h).triangularView<Eigen::Lower>().solveInPlace(part);
       for (int j = 0; j < w; ++j) block.col(chunk.cols[j]).segment(chunk.p, h) = part.col(j);
+      so_far.insert(so_far.end(), chunk.cols.begin(), chunk.cols.end());
       chunks.push_back(std::move(chunk));
     }
   }
@@ -267,15 +270,32 @@ void SurfaceCondensation::prepare(const std::vector<int>& rows) {
   v_.rightCols(nf) = block;
   s_.conservativeResize(all, all);
   s_.rightCols(nf).setZero();
+  // S's new columns: against the known columns in full; among the new ones each pair once per
+  // block, in the later chunk's product (the earlier chunk's column is dense over its rows),
+  // a chunk's own square halved, so that S_new = A + Aᵀ: half the products of Vᵀ D₂⁻¹ V.
   const VecX inverse_pivots = tail_.tail_pivots().cwiseInverse();
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(nf, nf);
   for (const Chunk& chunk : chunks) {
     const int p = chunk.p, h = chunk.end - p, w = static_cast<int>(chunk.cols.size());
-    Eigen::MatrixXd scaled(h, w);
-    for (int j = 0; j < w; ++j)
-      scaled.col(j) = inverse_pivots.segment(p, h).cwiseProduct(block.col(chunk.cols[j]).segment(p, h));
-    const Eigen::MatrixXd add = v_.middleRows(p, h).transpose() * scaled;  // all × w
-    for (int j = 0; j < w; ++j) s_.col(old + chunk.cols[j]) += add.col(j);
+    const int ne = static_cast<int>(chunk.earlier.size());
+    Eigen::MatrixXd scaled(h, w), rows(h, ne + w);
+    for (int j = 0; j < w; ++j) {
+      rows.col(ne + j) = block.col(chunk.cols[j]).segment(p, h);
+      scaled.col(j) = inverse_pivots.segment(p, h).cwiseProduct(rows.col(ne + j));
+    }
+    for (int e = 0; e < ne; ++e) rows.col(e) = block.col(chunk.earlier[e]).segment(p, h);
+    if (old > 0) {
+      const Eigen::MatrixXd add = v_.block(p, 0, h, old).transpose() * scaled;  // old × w
+      for (int j = 0; j < w; ++j) s_.col(old + chunk.cols[j]).head(old) += add.col(j);
+    }
+    const Eigen::MatrixXd add = rows.transpose() * scaled;  // (ne + w) × w
+    for (int j = 0; j < w; ++j) {
+      const int cj = chunk.cols[j];
+      for (int e = 0; e < ne; ++e) a(chunk.earlier[e], cj) += add(e, j);
+      for (int i = 0; i < w; ++i) a(chunk.cols[i], cj) += 0.5 * add(ne + i, j);
+    }
   }
+  s_.bottomRightCorner(nf, nf) = a + a.transpose();
   s_.bottomLeftCorner(nf, old) = s_.topRightCorner(old, nf).transpose();
   dense_seconds_ += clock.elapsed();
 }
