@@ -17,7 +17,10 @@ ConstrainedProblem ContactSet::problem(const SpMat& k_ff, const VecX& f_ff,
   p.stiffness = k_ff;
   p.load = f_ff;
   p.ordering = model_.fill_order;
-  p.analyses = analyses_;
+  // Finite strain factorises K_T at every iterate, a new condensation each time; a small-strain
+  // K is factorised once or twice a run, and a kept analysis would only cost its memory (a
+  // 1.2M-DOF Hertz run: 120 MB).
+  if (!small_strain) p.analyses = analyses_;
   pairs_.add_gap_rows(rows, u_full, p);
   if (pairs_.has_friction()) pairs_.add_friction_rows(rows, u_full, u_reference, p);
   equalities_.add_rows(u_full, small_strain, p);

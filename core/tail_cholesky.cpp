@@ -43,7 +43,7 @@ struct TailAnalyses::Impl {
   static constexpr size_t kKept = 3;
   struct Entry {
     std::shared_ptr<const FillOrder> fill;  ///< held, so that its address names it
-    AnalysedPattern pattern;
+    std::shared_ptr<const AnalysedPattern> pattern;  ///< shared with the factors that use it
     std::vector<int> tail, tail_part;
     cholmod_factor* symbolic = nullptr;
     double lnz = 0;  ///< the factor's nonzeros, as the analysis counted them
@@ -57,26 +57,28 @@ struct TailAnalyses::Impl {
     for (Entry& e : entries) cholmod_free_factor(&e.symbolic, &c);
     cholmod_finish(&c);
   }
-  /// A copy (allocated through `into`) of the analysis kept for these, or null.
+  /// A copy (allocated through `into`) of the analysis kept for these, or null; `pattern` the
+  /// kept pattern.
   cholmod_factor* copy(const SpMat& k, const std::vector<int>& tail,
                        const std::vector<int>& tail_part, const FillOrder* fill,
-                       cholmod_common* into) {
+                       cholmod_common* into, std::shared_ptr<const AnalysedPattern>& pattern) {
     const std::lock_guard<std::mutex> lock(mutex);
     for (const Entry& e : entries)
       if (e.fill.get() == fill && e.tail == tail && e.tail_part == tail_part &&
-          e.pattern.matches(k)) {
+          e.pattern->matches(k)) {
         into->lnz = e.lnz;
+        pattern = e.pattern;
         return cholmod_copy_factor(e.symbolic, into);
       }
     return nullptr;
   }
   /// Keeps a copy of `symbolic` (not yet factorised), the oldest kept analysis making room.
-  void keep(const SpMat& k, const std::vector<int>& tail, const std::vector<int>& tail_part,
-            const std::shared_ptr<const FillOrder>& fill, cholmod_factor* symbolic, double lnz) {
+  void keep(std::shared_ptr<const AnalysedPattern> pattern, const std::vector<int>& tail,
+            const std::vector<int>& tail_part, const std::shared_ptr<const FillOrder>& fill,
+            cholmod_factor* symbolic, double lnz) {
     const std::lock_guard<std::mutex> lock(mutex);
-    Entry e{fill, {}, tail, tail_part, cholmod_copy_factor(symbolic, &c), lnz};
+    Entry e{fill, std::move(pattern), tail, tail_part, cholmod_copy_factor(symbolic, &c), lnz};
     if (!e.symbolic) return;
-    e.pattern.keep(k);
     if (entries.size() == kKept) {
       cholmod_free_factor(&entries.back().symbolic, &c);
       entries.pop_back();
@@ -91,7 +93,7 @@ TailAnalyses::~TailAnalyses() = default;
 struct TailCholesky::Impl {
   cholmod_common c{};
   cholmod_factor* factor = nullptr;
-  AnalysedPattern pattern;           ///< the analysed pattern
+  std::shared_ptr<const AnalysedPattern> pattern;  ///< the analysed pattern
   std::vector<int> tail;             ///< the analysed tail
   std::vector<int> tail_part;        ///< and its parts (empty: one)
   SpMat compressed;                  ///< K's copy when K is not compressed
@@ -99,7 +101,12 @@ struct TailCholesky::Impl {
   std::shared_ptr<TailAnalyses> analyses;  ///< shared analyses, null: none
 
   bool given(int n) const { return fill && static_cast<int>(fill->order.size()) == n; }
-  bool analysed_for(const SpMat& k) const { return factor && pattern.matches(k); }
+  bool analysed_for(const SpMat& k) const { return factor && pattern && pattern->matches(k); }
+  void keep_pattern(const SpMat& k) {
+    auto kept = std::make_shared<AnalysedPattern>();
+    kept->keep(k);
+    pattern = std::move(kept);
+  }
 
   Impl() {
     cholmod_start(&c);
@@ -128,7 +135,7 @@ TailCholesky::~TailCholesky() = default;
 
 void TailCholesky::set_ordering(std::shared_ptr<const FillOrder> fill) {
   impl_->fill = std::move(fill);
-  impl_->pattern.clear();  // analyse again
+  impl_->pattern.reset();  // analyse again
 }
 
 void TailCholesky::set_analyses(std::shared_ptr<TailAnalyses> analyses) {
@@ -166,23 +173,25 @@ bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   }
   m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
   if (!m.factor) return false;
-  m.pattern.keep(k);
+  m.keep_pattern(k);
   m.tail = tail;
   if (!place_tail(tail)) return false;
   const std::shared_ptr<const FillOrder> fill = m.given(n_) ? m.fill : nullptr;
-  if (m.analyses) m.analyses->impl_->keep(k, tail, m.tail_part, fill, m.factor, m.c.lnz);
+  if (m.analyses)
+    m.analyses->impl_->keep(m.pattern, tail, m.tail_part, fill, m.factor, m.c.lnz);
   return true;
 }
 
 bool TailCholesky::adopt(const SpMat& k, const std::vector<int>& tail) {
   Impl& m = *impl_;
   if (!m.analyses) return false;
-  cholmod_factor* copy =
-      m.analyses->impl_->copy(k, tail, m.tail_part, m.given(n_) ? m.fill.get() : nullptr, &m.c);
+  std::shared_ptr<const AnalysedPattern> pattern;
+  cholmod_factor* copy = m.analyses->impl_->copy(
+      k, tail, m.tail_part, m.given(n_) ? m.fill.get() : nullptr, &m.c, pattern);
   if (!copy) return false;
   if (m.factor) cholmod_free_factor(&m.factor, &m.c);
   m.factor = copy;
-  m.pattern.keep(k);
+  m.pattern = std::move(pattern);
   m.tail = tail;
   return place_tail(tail);
 }
@@ -201,7 +210,7 @@ bool TailCholesky::place_tail(const std::vector<int>& tail) {
 SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail,
                                     const std::vector<int>& tail_part) {
   Impl& m = *impl_;
-  if (tail_part != m.tail_part) m.tail_part = tail_part, m.pattern.clear();  // analyse again
+  if (tail_part != m.tail_part) m.tail_part = tail_part, m.pattern.reset();  // analyse again
   report_.message.clear();
   report_.backend = "cholmod";
   n_ = static_cast<int>(k.rows());
@@ -221,7 +230,7 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
     if (!adopted) report_.symbolic_analyses++;
     report_.symbolic_seconds += clock.lap();
     if (!ok) {
-      m.pattern.clear();
+      m.pattern.reset();
       return fail(SolveStatus::kFailed, "constrained ordering failed (CHOLMOD status " +
                                             std::to_string(m.c.status) + ")");
     }
