@@ -69,13 +69,13 @@ class PenaltyTerms final : public ActiveSetTerms {
 /// row's gap error counts s·δg as an exact method's does, not k·δg: the penalty's force of a
 /// gap missed by δg is off by k·δg, and the stop test in force units asked a penalised row's gap
 /// to k/s times the precision of an exact method's (the frictional drag with the default
-/// k ≈ 1000 s: a fourth Newton iterate a step to bring δg from 1e-11 to 1e-17 of the model).
+/// k ≈ 1000 s: a fourth Newton iterate a step, where lagrange needs three).
 /// The Newton matrix is solved by eliminating z: (K_T + G_Aᵀ diag(k) G_A) du = b_u −
 /// G_Aᵀ (k/s ∘ b_A), z_A = −(k/s²)(b_A + s G_A du), z_I = b_I / s, through one CHOLMOD factor.
 class PenaltyLawTerms final : public ActiveSetTerms {
  public:
   PenaltyLawTerms(const SpMat& g, const std::vector<char>& active, const VecX& k,
-               const VecX& lambda_hat, double s)
+                  const VecX& lambda_hat, double s)
       : active_(active), k_(k), lambda_hat_(lambda_hat), ka_(VecX::Zero(k.size())), s_(s),
         m_(static_cast<int>(g.rows())) {
     for (int i = 0; i < ka_.size(); ++i)
