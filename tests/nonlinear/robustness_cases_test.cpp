@@ -12,7 +12,9 @@
 //  6. a force-loaded shallow arch: its first steps converge, and each state balances its load;
 //  7. a disk under a distributed load, held only by the floor below it: caught at first touch;
 //  8. the Newton Jacobian with the sets held against central differences of the residual,
-//     with sticking and slipping friction rows.
+//     with sticking and slipping friction rows;
+//  9. a contact zone travelling across the slave surface (a half disk dragged along a block);
+// 10. frictional contact lost entirely and found again: the second press retraces the first.
 // Every run prints one line (status, steps, attempts, Newton iterations and factorisations per
 // converged step, time). The scenes are those of hard_cases/NAME.toml: C2D_HARD_CASES_DIR=DIR
 // writes them there, to be run as `contact2d run DIR/NAME.toml --method M`.
@@ -452,6 +454,49 @@ master = { body = "base", edge = "top" }
 detection = "node_to_segment"
 friction = { coefficient = 0.3 }
 )toml"},
+      {"lift_retouch",
+       R"toml(# Robustness: frictional contact lost entirely and found again, load-stepped.
+# A cantilever (10 x 0.5, E 1000, clamped at x = 0) 0.05 above an elastic floor. A tip force
+# presses its end onto the floor, releases it until no node touches, and presses it again:
+# F(lambda) = 0 -> 0.01 (0.25) -> 0 (0.5) -> 0.01 (0.75), held to 1. Coulomb mu 0.3.
+# Reference: no contact at F = 0; the second press retraces the first (the same increments
+# from the same state: nothing of the first contact's friction survives the separation).
+[analysis]
+kind = "plane_strain"
+element = "T6"
+geometric_nonlinearity = true
+steps = 16
+[[material]]
+name = "m"
+E = 1000.0
+nu = 0.3
+[[body]]
+name = "beam"
+material = "m"
+shape = { type = "rectangle", min = [0.0, 0.05], max = [10.0, 0.55] }
+mesh = { size = 0.125 }
+[[body]]
+name = "floor"
+material = "m"
+shape = { type = "rectangle", min = [4.0, -1.0], max = [12.0, 0.0] }
+mesh = { size = 0.25 }
+[[support]]
+on = { body = "beam", edge = "left" }
+fix = ["ux", "uy"]
+[[support]]
+on = { body = "floor", edge = "bottom" }
+fix = ["ux", "uy"]
+[[load]]
+on = { body = "beam", edge = "right" }
+total_force = [0.0, -0.01]
+amplitude = [[0.0, 0.0], [0.25, 1.0], [0.5, 0.0], [0.75, 1.0], [1.0, 1.0]]
+[[contact]]
+name = "tip_on_floor"
+slave = { body = "beam", edge = "bottom" }
+master = { body = "floor", edge = "top" }
+detection = "node_to_segment"
+friction = { coefficient = 0.3 }
+)toml"},
   };
   return kScenes;
 }
@@ -557,6 +602,7 @@ class DiskTouching : public RobustnessCases {};
 class DiskJustAbove : public RobustnessCases {};
 class HeldJacobian : public RobustnessCases {};
 class MovingZone : public RobustnessCases {};
+class LiftOff : public RobustnessCases {};
 
 }  // namespace
 
@@ -861,6 +907,43 @@ TEST_P(MovingZone, FollowsTheDiskAndSlipsAtTheCoulombBound) {
   EXPECT_NEAR(moment / normal, 6.0, 0.25);
 }
 
+// 10. Contact lost entirely and found again: a cantilever's tip pressed onto an elastic floor,
+// released until no node touches (F back to 0), pressed again, Coulomb 0.3. Every converged
+// step near the release's end (λ in (0.45, 0.5]) has no node in contact and no force; and the
+// second press retraces the first: at every λ ≤ 0.25 whose twin λ + 0.5 was also a converged
+// step (the same tip force, reached by the same increments from the same state), the normal and
+// tangential resultants agree to 1e-7 of the first press's normal force (measured 1e-10 to
+// 5e-9), at three such pairs at least. A friction state kept past the separation would move the
+// second press's tangential force.
+TEST_P(LiftOff, SecondPressRetracesTheFirst) {
+  const Solved s = solve("lift_retouch", GetParam());
+  ASSERT_TRUE(s.converged()) << s.results.message;
+  std::map<long, const nonlinear::StepRecord*> by_lambda;  // converged steps by λ (in 1e-9)
+  for (const nonlinear::StepRecord& r : s.trace)
+    if (r.newton.status == SolveStatus::kConverged)
+      by_lambda[std::lround(r.load_factor * 1e9)] = &r;
+  int pairs = 0, released = 0;
+  for (const auto& [key, rec] : by_lambda) {
+    const double lambda = rec->load_factor;
+    if (lambda > 0.45 && lambda <= 0.5 + 1e-12) {
+      ++released;
+      EXPECT_EQ(rec->contact_state.active_nodes, 0) << "lambda " << lambda;
+      EXPECT_EQ(rec->contact_state.total_force, 0.0) << "lambda " << lambda;
+    }
+    if (lambda > 0.25 + 1e-12) continue;
+    const auto twin = by_lambda.find(key + 500000000);
+    if (twin == by_lambda.end() || rec->contact_state.active_nodes == 0) continue;
+    ++pairs;
+    const constraints::ContactReport& a = rec->contact_state;
+    const constraints::ContactReport& b = twin->second->contact_state;
+    EXPECT_EQ(a.active_nodes, b.active_nodes) << "lambda " << lambda;
+    EXPECT_NEAR(b.total_force, a.total_force, 1e-7 * a.total_force) << "lambda " << lambda;
+    EXPECT_NEAR(b.tangent_force, a.tangent_force, 1e-7 * a.total_force) << "lambda " << lambda;
+  }
+  EXPECT_GE(pairs, 3);
+  EXPECT_GE(released, 1);
+}
+
 // Every method of the registry on every case, but where a method fails the case's reference;
 // those runs are kept as hard_cases/NAME.toml, and each list below names what they end with.
 INSTANTIATE_TEST_SUITE_P(Methods, LoadUnload, ::testing::ValuesIn(constraints::method_names()));
@@ -888,3 +971,4 @@ INSTANTIATE_TEST_SUITE_P(Methods, DiskTouching, ::testing::ValuesIn(constraints:
 INSTANTIATE_TEST_SUITE_P(Methods, DiskJustAbove, ::testing::ValuesIn(constraints::method_names()));
 INSTANTIATE_TEST_SUITE_P(Methods, HeldJacobian, ::testing::ValuesIn(constraints::method_names()));
 INSTANTIATE_TEST_SUITE_P(Methods, MovingZone, ::testing::ValuesIn(constraints::method_names()));
+INSTANTIATE_TEST_SUITE_P(Methods, LiftOff, ::testing::ValuesIn(constraints::method_names()));
