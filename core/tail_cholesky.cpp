@@ -52,7 +52,10 @@ struct TailAnalyses::Impl {
   cholmod_common c{};
   std::deque<Entry> entries;  ///< the latest first
 
-  Impl() { cholmod_start(&c); c.print = 0; }
+  Impl() {
+    cholmod_start(&c);
+    c.print = 0;
+  }
   ~Impl() {
     for (Entry& e : entries) cholmod_free_factor(&e.symbolic, &c);
     cholmod_finish(&c);
