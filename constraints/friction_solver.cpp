@@ -146,7 +146,7 @@ void FrictionalSolve::run(const FrictionalOptions& options, ConstraintSolution& 
 void FrictionalSolve::solve_failed(SolveStatus st, const std::vector<char>& code,
                                    ConstraintSolution& s) const {
   s.status = st;
-  s.message = message_.empty() ? kkt_.report().message : message_;
+  s.message = failure_message();
   bool sticks = false, slips = false;
   for (int i = 0; i < m_; ++i)
     if (code[i] && frictional(i))
@@ -166,7 +166,7 @@ void FrictionalSolve::safeguard(int it, std::vector<char>& code, ConstraintSolut
   const SetSolve solve_set = [&](const std::vector<char>& set, ConstraintSolution& out,
                                  std::string& why) {
     const SolveStatus st = solve(normal_code(set), out);
-    if (st != SolveStatus::kConverged) why = message_.empty() ? kkt_.report().message : message_;
+    if (st != SolveStatus::kConverged) why = failure_message();
     return st;
   };
   const std::string before = s.message;

@@ -75,6 +75,21 @@ class FrictionalSolve {
   bool tresca(int i) const { return binds_open_[i] != 0; }
   double compliance(const VecX& k, int i) const { return penalised_ ? 1.0 / k[i] : 0.0; }
 
+  /// What row i's tangential row holds under the sets `code`, as both solves pose it: sticking
+  /// (where it has a tangential row to hold, or a penalty), slipping along σ with
+  /// λ_t = σ (offset + slope λ) on its law's piece, or nothing (λ_t = 0).
+  struct Tangential {
+    bool stick = false, slip = false;
+    double sigma = 1.0;
+    FrictionBound bound;
+  };
+  Tangential tangential(const std::vector<char>& code, int i) const;
+
+  /// Why the last solve failed: its own message, else the LU's report.
+  const std::string& failure_message() const {
+    return message_.empty() ? kkt_.report().message : message_;
+  }
+
   /// Solves the system of the sets `code` into s.u, λ, λ_t, μ: condensed onto the rows when
   /// K (regularised) factorises, else (or when the rows' dense block is singular) by LU of the
   /// whole saddle point. On the condensed path s.u holds the tail's values only (all the rules

@@ -76,22 +76,17 @@ SolveStatus FrictionalSolve::solve_lu(const std::vector<char>& code, ConstraintS
     const double cn = compliance(o_->k_gap, i);
     t.emplace_back(rn, rn, on ? -s * s * cn : s);
     rhs[rn] = on ? s * p_.gap0[i] - (penalised_ ? s * cn * o_->lambda_hat[i] : 0.0) : 0.0;
-    // The tangential row: held when sticking (with a tangential row to hold), a slip
-    // condition when slipping, λ_t = 0 otherwise.
-    const char ts = code[m_ + i];
-    const bool stick = ts == kStick && (penalised_ || !slip_rows_[i].empty());
-    const bool slip = ts == kSlipPlus || ts == kSlipMinus;
-    const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
-    add_row(rt, slip_rows_[i], stick);
+    // The tangential row: held when sticking, a slip condition when slipping, λ_t = 0
+    // otherwise.
+    const Tangential tr = tangential(code, i);
+    add_row(rt, slip_rows_[i], tr.stick);
     const double ct = compliance(o_->k_tangent, i);
-    t.emplace_back(rt, rt, stick ? -s * s * ct : s);
-    // slipping: λ_t = σ (offset + slope λ) on the row's piece of its law
-    const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
-    t.emplace_back(rt, rn, slip ? -s * b.slope * sigma : 0.0);
-    if (stick)
+    t.emplace_back(rt, rt, tr.stick ? -s * s * ct : s);
+    t.emplace_back(rt, rn, tr.slip ? -s * tr.bound.slope * tr.sigma : 0.0);
+    if (tr.stick)
       rhs[rt] = -s * slip0_[i] - (penalised_ ? s * ct * o_->tangent_hat[i] : 0.0);
-    else if (slip)
-      rhs[rt] = sigma * b.offset;
+    else if (tr.slip)
+      rhs[rt] = tr.sigma * tr.bound.offset;
   }
   // The matrix depends on the sets and the stiffnesses only: an augmented Lagrangian's next
   // multiplier update with the same sets needs a new right-hand side, not a new factor.
@@ -116,6 +111,17 @@ SolveStatus FrictionalSolve::solve_lu(const std::vector<char>& code, ConstraintS
   out.contact_force = s * x.segment(n_ + me_, m_);
   out.tangent_force = s * x.segment(n_ + me_ + m_, m_);
   return st;
+}
+
+FrictionalSolve::Tangential FrictionalSolve::tangential(const std::vector<char>& code,
+                                                        int i) const {
+  const char ts = code[m_ + i];
+  Tangential t;
+  t.stick = ts == kStick && (penalised_ || !slip_rows_[i].empty());
+  t.slip = ts == kSlipPlus || ts == kSlipMinus;
+  t.sigma = ts == kSlipMinus ? -1.0 : 1.0;
+  if (t.slip && frictional(i)) t.bound = piece_of(i, code[2 * m_ + i]);
+  return t;
 }
 
 core::SpdSolveReport FrictionalSolve::surface_report() const {
@@ -164,7 +170,7 @@ SpMat FrictionalSolve::surface_rows() const {
 
 SolveStatus FrictionalSolve::solve_condensed(const std::vector<char>& code, ConstraintSolution& out) {
   SurfaceCondensation::RowStates st;
-  const int eq = first_row_, normal = first_row_ + me_, tangential = normal + m_;
+  const int eq = first_row_, normal = first_row_ + me_, tangent = normal + m_;
   for (int j = 0; j < me_; ++j) {
     const double c = compliance(o_->k_eq, j);
     st.hold(eq + j, c, p_.eq_rhs[j] + (penalised_ ? c * o_->mu_hat[j] : 0.0));
@@ -174,14 +180,13 @@ SolveStatus FrictionalSolve::solve_condensed(const std::vector<char>& code, Cons
       const double c = compliance(o_->k_gap, i);
       st.hold(normal + i, c, -p_.gap0[i] + (penalised_ ? c * o_->lambda_hat[i] : 0.0));
     }
-    const char ts = code[m_ + i];
-    if (ts == kStick && (penalised_ || !slip_rows_[i].empty())) {
+    const Tangential tr = tangential(code, i);
+    if (tr.stick) {
       const double c = compliance(o_->k_tangent, i);
-      st.hold(tangential + i, c, slip0_[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
-    } else if (ts == kSlipPlus || ts == kSlipMinus) {
-      const double sigma = ts == kSlipMinus ? -1.0 : 1.0;
-      const FrictionBound b = frictional(i) ? piece_of(i, code[2 * m_ + i]) : FrictionBound{};
-      st.follow(tangential + i, code[i] ? normal + i : -1, sigma * b.offset, sigma * b.slope);
+      st.hold(tangent + i, c, slip0_[i] + (penalised_ ? c * o_->tangent_hat[i] : 0.0));
+    } else if (tr.slip) {
+      st.follow(tangent + i, code[i] ? normal + i : -1, tr.sigma * tr.bound.offset,
+                tr.sigma * tr.bound.slope);
     }
   }
   const SolveStatus status = surface_->solve(p_.load, st, last_w_, out.u, surface_rcond_);

@@ -65,18 +65,6 @@ class StallMonitor {
 /// a failed status with zeroed fields, so no NaN leaves a backend.
 void finish_solution(const ConstrainedProblem& p, ConstraintSolution& s);
 
-/// The linear solver's counts and times in a solution: factorisations, symbolic analyses, and
-/// the seconds of each phase. `Report` is core::SpdSolveReport or KktSolveReport.
-template <class Report>
-void copy_solver_figures(const Report& r, ConstraintSolution& s) {
-  s.factorizations = r.numeric_factorizations;
-  s.symbolic_analyses = r.symbolic_analyses;
-  s.symbolic_seconds = r.symbolic_seconds;
-  s.numeric_seconds = r.numeric_seconds;
-  s.solve_seconds = r.solve_seconds;
-  s.factor = r;
-}
-
 /// Adds the linear-solver work one solution recorded (factorisations, symbolic analyses and
 /// the seconds of each phase) to another's: a first attempt's or a crossover's, kept with the
 /// solution that is returned.
