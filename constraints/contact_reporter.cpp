@@ -175,11 +175,13 @@ void ContactReporter::report(const std::vector<GapRow>& rows, const ConstraintSo
     cn.gap = std::min(cn.gap, s.gap.size() > k ? s.gap[k] : rows[i].gap);
     cn.force += s.contact_force.size() > k ? s.contact_force[k] : 0.0;
     cn.penalty = std::max(cn.penalty, s.penalty.size() > k ? s.penalty[k] : 0.0);
-    if (static_cast<int>(s.active.size()) > k && s.active[k]) contact_normal[at] = rows[i].normal;
-    cn.active = cn.active || (static_cast<int>(s.active.size()) > k && s.active[k]);
+    const bool closed = static_cast<int>(s.active.size()) > k && s.active[k];
+    if (closed) contact_normal[at] = rows[i].normal;
+    cn.active = cn.active || closed;
     mortar_weight[at] += rows[i].weight;
     if (s.tangent_force.size() > k) cn.tangent_force -= s.tangent_force[k];
-    if (s.slip.size() > k) cn.slip = s.slip[k], cn.accumulated_slip = std::abs(cn.slip);
+    // An open row's tangential motion is approach, not slip.
+    if (s.slip.size() > k && closed) cn.slip = s.slip[k], cn.accumulated_slip = std::abs(cn.slip);
     if (static_cast<int>(s.friction_state.size()) > k)
       cn.state = std::max(cn.state, s.friction_state[k]);
   }

@@ -914,7 +914,8 @@ TEST_P(MovingZone, FollowsTheDiskAndSlipsAtTheCoulombBound) {
 // step (the same tip force, reached by the same increments from the same state), the normal and
 // tangential resultants agree to 1e-7 of the first press's normal force (measured 1e-10 to
 // 5e-9), at three such pairs at least. A friction state kept past the separation would move the
-// second press's tangential force.
+// second press's tangential force. An open node reports no slip (exactly 0): its tangential
+// motion is approach (the tip reported 1.8e-3 of accumulated slip before it ever touched).
 TEST_P(LiftOff, SecondPressRetracesTheFirst) {
   const Solved s = solve("lift_retouch", GetParam());
   ASSERT_TRUE(s.converged()) << s.results.message;
@@ -925,6 +926,11 @@ TEST_P(LiftOff, SecondPressRetracesTheFirst) {
   int pairs = 0, released = 0;
   for (const auto& [key, rec] : by_lambda) {
     const double lambda = rec->load_factor;
+    for (const ContactNodeResult& n : rec->contact_state.nodes) {  // approach is not slip
+      if (!n.active) {
+        EXPECT_EQ(n.slip, 0.0) << "open node " << n.node + 1 << ", lambda " << lambda;
+      }
+    }
     if (lambda > 0.45 && lambda <= 0.5 + 1e-12) {
       ++released;
       EXPECT_EQ(rec->contact_state.active_nodes, 0) << "lambda " << lambda;
