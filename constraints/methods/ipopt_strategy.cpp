@@ -269,7 +269,10 @@ QpOutcome optimise(Ipopt::SmartPtr<QpTnlp> qp, const StrategyOptions& o, double 
   opt->SetStringValue("mu_strategy", "adaptive");
   // Exact enforcement: no relaxation of the bounds.
   opt->SetNumericValue("bound_relax_factor", 0.0);
-  Ipopt::ApplicationReturnStatus st = app->Initialize();
+  // From an empty options stream: Initialize() would read ./ipopt.opt, so a file of that name
+  // in the caller's working folder would change the method's settings behind its back.
+  std::istringstream no_options;
+  Ipopt::ApplicationReturnStatus st = app->Initialize(no_options);
   if (st != Ipopt::Solve_Succeeded) {
     out.message = "Ipopt initialisation failed";
     return out;

@@ -3,8 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <string>
 
 #include "constraints/constraint_strategy.hpp"
 #include "constraints/friction_laws/coulomb.hpp"
@@ -132,4 +137,21 @@ TEST(IpoptSurface, CoulombStickAndSlipOfANodeOnAFloor) {
     EXPECT_NEAR(s.u[0], (fx - lt) / kx, 1e-12) << fx;
     EXPECT_EQ(s.friction_state[0], sticks ? FrictionState::kStick : FrictionState::kSlip) << fx;
   }
+}
+
+// Ipopt's Initialize() reads ./ipopt.opt: a file of that name in the caller's working folder
+// (here one that allows no iteration) must not change the method. The chain's answer as above.
+TEST(IpoptSurface, IgnoresAnOptionsFileInTheWorkingFolder) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("c2d-ipopt-opt-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "ipopt.opt") << "max_iter 0\nmu_oracle loqo\n";
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(dir);  // this test's own process (one test a process under CTest)
+  const ConstraintSolution s = solve("ipopt", floating_chain(50.0));
+  std::filesystem::current_path(before);
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(s.status, SolveStatus::kConverged) << s.message;
+  EXPECT_NEAR(s.u[0], -0.1, 1e-12);
+  EXPECT_NEAR(s.u[1], -0.1 - 50.0 / 1000.0, 1e-12);
 }
