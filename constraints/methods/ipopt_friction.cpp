@@ -158,7 +158,7 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const RowMemor
       std::vector<char> stick(p.num_gaps(), 0);
       for (int i = 0; i < p.num_gaps() && stick_first; ++i)
         stick[i] = closed[i] && p.frictional(i);
-      qp = dual->solve(bound, stick, o, s);
+      qp = dual->solve(bound, stick, o, o.ipopt_tolerance, s);
     } else {
       RowSet rows = base;
       std::vector<int> friction_sign;

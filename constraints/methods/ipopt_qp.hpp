@@ -88,10 +88,11 @@ class SurfaceDual {
   SurfaceDual(const SurfaceDual&) = delete;
   SurfaceDual& operator=(const SurfaceDual&) = delete;
 
-  /// Ipopt on the dual with each frictional row's tangential force within ±bound (empty: none),
-  /// unbounded where `stick` (a sticking row). s gets the interior point's u and forces.
+  /// Ipopt on the dual, to `tolerance`, with each frictional row's tangential force within
+  /// ±bound (empty: none), unbounded where `stick` (a sticking row). s gets the interior
+  /// point's u and forces.
   QpOutcome solve(const VecX& bound, const std::vector<char>& stick, const StrategyOptions& o,
-                  ConstraintSolution& s);
+                  double tolerance, ConstraintSolution& s);
   /// Frictionless: the rows the last solve holds, solved exactly on the same factor until
   /// `rule` confirms them (at most `max_solves`, and not past a repeated set). True with s the
   /// exact solution.
@@ -132,11 +133,13 @@ class SurfaceDual {
 };
 
 /// ipopt on the frictionless problem condensed onto its rows: the dual QP on one factorisation
-/// of K, its set then solved exactly on the same factor and confirmed by `rule`. False when the
-/// rows do not condense (s then holds only the work of a factorisation that was made);
-/// otherwise s is complete with its status.
+/// of K, its set then solved exactly on the same factor and confirmed by `rule`; first from a
+/// loose interior point while `loose_first` (cleared when the exact solves do not confirm one).
+/// False when the rows do not condense (s then holds only the work of a factorisation that was
+/// made); otherwise s is complete with its status.
 bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows,
-                          const StrategyOptions& o, const SetRule& rule, ConstraintSolution& s);
+                          const StrategyOptions& o, const SetRule& rule, bool& loose_first,
+                          ConstraintSolution& s);
 
 /// Forces from Ipopt's multipliers (its Lagrangian is f + gᵀλ: a row exerts −λ / |row|): the
 /// gap rows' λ ≥ 0, the equality rows' μ, and λ_t from the friction rows (`friction_sign` per

@@ -325,9 +325,9 @@ namespace {
 /// Frictionless: on the surface when it condenses and its set is confirmed, else Ipopt on the
 /// whole KKT system (one factorisation per interior-point iteration). Returns the iterations.
 int solve_frictionless(const ConstrainedProblem& p, const RowSet& base, const StrategyOptions& o,
-                       const SetRule& rule, ConstraintSolution& s) {
+                       const SetRule& rule, bool& loose_first, ConstraintSolution& s) {
   ConstraintSolution surface;
-  const bool condensed = solve_condensed_dual(p, base, o, rule, surface);
+  const bool condensed = solve_condensed_dual(p, base, o, rule, loose_first, surface);
   if (condensed && surface.status == SolveStatus::kConverged) {
     s = std::move(surface);
     return s.iterations;
@@ -386,7 +386,7 @@ ConstraintSolution IpoptStrategy::solve_problem(const ConstrainedProblem& p,
   }
   const bool friction = p.has_friction();
   const int iterations = friction ? solve_with_friction(p, memory, base, options_, s)
-                                  : solve_frictionless(p, base, options_, rule_, s);
+                                  : solve_frictionless(p, base, options_, rule_, loose_first_, s);
   if (base.dropped_zero + base.dropped_duplicate > 0)
     s.message += (s.message.empty() ? "" : "; ") + std::string("dropped ") +
                  std::to_string(base.dropped_zero) + " zero and " +

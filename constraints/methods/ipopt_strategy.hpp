@@ -26,6 +26,9 @@ class IpoptStrategy final : public ExactStrategy {
 
  private:
   PrimalDualRule rule_;
+  /// Frictionless: propose each set from a loose interior point first, until the exact solves
+  /// fail to confirm one (then the method's tolerance for the rest of the analysis).
+  bool loose_first_ = true;
 };
 
 }  // namespace c2d::constraints
