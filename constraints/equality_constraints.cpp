@@ -25,23 +25,31 @@ void EqualityConstraints::add_constraint_rows() {
 
 void EqualityConstraints::check_plate_rows() {
   const core::DofMap& dofs = model_.dofs;
-  const VecX u = core::prescribed_displacement(model_, 1.0);
+  // At λ = 1, and where the motions' amplitudes turn: piecewise linear between, two motions
+  // that agree there agree everywhere.
+  std::vector<double> at = {1.0};
+  for (const core::Amplitude& a : model_.motion_amplitudes)
+    for (const auto& [lambda, value] : a.table) at.push_back(lambda);
   std::vector<EqualityRow> rows;
   for (size_t p = 0; p < model_.plates.size(); ++p) {
-    rows.clear();
-    rigid_plate_rows(model_, static_cast<int>(p), u, true, rows);
-    const VecX residual = values(rows, u);
-    for (size_t k = 0; k < rows.size(); ++k) {
-      bool free = false;
-      for (const auto& [dof, a] : rows[k].terms)
-        free = free || (a != 0.0 && !dofs.is_constrained(dof));
-      plate_row_kept_.push_back(free);
-      const double value = residual[static_cast<int>(k)];
-      if (!free && std::abs(value) > 1e-9 * model_.model_size)
-        throw InputError(model_.plates[p].where + ": the plate's prescribed motion moves node " +
-                         std::to_string(model_.plates[p].nodes[0] + 1) +
-                         "'s support away from what the support prescribes (the two disagree by " +
-                         number_text(value) + ")");
+    for (size_t j = 0; j < at.size(); ++j) {
+      const VecX u = core::prescribed_displacement(model_, at[j]);
+      rows.clear();
+      rigid_plate_rows(model_, static_cast<int>(p), u, true, rows);
+      const VecX residual = values(rows, u);
+      for (size_t k = 0; k < rows.size(); ++k) {
+        bool free = false;
+        for (const auto& [dof, a] : rows[k].terms)
+          free = free || (a != 0.0 && !dofs.is_constrained(dof));
+        if (j == 0) plate_row_kept_.push_back(free);
+        const double value = residual[static_cast<int>(k)];
+        if (!free && std::abs(value) > 1e-9 * model_.model_size)
+          throw InputError(model_.plates[p].where + ": the plate's prescribed motion moves node " +
+                           std::to_string(model_.plates[p].nodes[0] + 1) +
+                           "'s support away from what the support prescribes (the two disagree " +
+                           "by " + number_text(value) + " at load factor " +
+                           number_text(at[j]) + ")");
+      }
     }
   }
 }

@@ -213,12 +213,28 @@ Vec2 rotated(const Vec2& x, const Vec2& c, double angle) {
 }
 }  // namespace
 
-VecX prescribed_displacement(const Model& model, double lambda) {
+VecX prescribed_values(const Model& model, double lambda) {
   VecX u = model.dofs.expand(VecX::Zero(model.dofs.num_free()), lambda);
-  for (const auto& r : model.rotations)
-    for (int n : r.nodes)
-      u.segment<2>(2 * n) = rotated(model.mesh.nodes[n], r.center, lambda * r.angle) - model.mesh.nodes[n];
+  if (model.motion_amplitudes.empty()) return u;
+  std::vector<double> a(model.motion_amplitudes.size());
+  for (size_t k = 0; k < a.size(); ++k) a[k] = model.motion_amplitudes[k].at(lambda);
+  for (int dof = 0; dof < static_cast<int>(model.dof_amplitude.size()); ++dof)
+    if (const int k = model.dof_amplitude[dof]; k >= 0) u[dof] = a[k] * model.dofs.prescribed(dof);
   return u;
+}
+
+VecX prescribed_displacement(const Model& model, double lambda) {
+  VecX u = prescribed_values(model, lambda);
+  for (const auto& r : model.rotations) {
+    const double a = r.amplitude < 0 ? lambda : model.motion_amplitudes[r.amplitude].at(lambda);
+    for (int n : r.nodes)
+      u.segment<2>(2 * n) = rotated(model.mesh.nodes[n], r.center, a * r.angle) - model.mesh.nodes[n];
+  }
+  return u;
+}
+
+bool has_amplitudes(const Model& model) {
+  return !model.amplitude_loads.empty() || !model.motion_amplitudes.empty();
 }
 
 namespace {
@@ -258,20 +274,39 @@ void mesh_bodies(const Scene& scene, Model& model) {
 }
 
 /// Prescribes the supports' displacements (a rotation's per node) in the DOF map.
+int add_motion_amplitude(const AmplitudeTable& table, Model& model) {
+  if (table.empty()) return -1;
+  model.motion_amplitudes.push_back({table});
+  return static_cast<int>(model.motion_amplitudes.size()) - 1;
+}
+
+bool prescribe_dof(int dof, double value, int amplitude, Model& model) {
+  const bool before = model.dofs.is_constrained(dof);
+  if (!model.dofs.constrain(dof, value)) return false;
+  // A value prescribed twice must also grow alike (0 grows alike under any amplitude).
+  int& kept = model.dof_amplitude[dof];
+  if (before && kept != amplitude && value != 0.0) return false;
+  if (!before || value != 0.0) kept = amplitude;
+  return true;
+}
+
 void apply_supports(const Scene& scene, Model& model) {
   model.dofs = DofMap(model.mesh.num_dofs() + 3 * static_cast<int>(model.plates.size()));
+  model.dof_amplitude.assign(model.dofs.num_dofs(), -1);
   for (const auto& s : scene.supports) {
     const std::vector<int> nodes = select_nodes(model, s.on);
-    if (s.rotate) model.rotations.push_back({nodes, s.rotate->center, s.rotate->angle});
+    const int amplitude = add_motion_amplitude(s.amplitude, model);
+    if (s.rotate) model.rotations.push_back({nodes, s.rotate->center, s.rotate->angle, amplitude});
     for (int n : nodes) {
       Vec2 turned = Vec2::Zero();
       if (s.rotate)
         turned = rotated(model.mesh.nodes[n], s.rotate->center, s.rotate->angle) - model.mesh.nodes[n];
       for (int c = 0; c < 2; ++c) {
         const auto& v = c == 0 ? s.ux : s.uy;
-        if (v && !model.dofs.constrain(2 * n + c, s.rotate ? turned[c] : *v))
+        if (v && !prescribe_dof(2 * n + c, s.rotate ? turned[c] : *v, amplitude, model))
           throw InputError(s.at.where + ": node " + std::to_string(n + 1) +
-                           " already has a different prescribed " + (c == 0 ? "ux" : "uy"));
+                           " already has a different prescribed " + (c == 0 ? "ux" : "uy") +
+                           " (or the same value under another amplitude)");
       }
     }
   }
@@ -364,12 +399,11 @@ void add_follower_loads(const Scene& scene, Model& model) {
 /// its own vector).
 void apply_loads(const Scene& scene, Model& model) {
   model.external_force = VecX::Zero(model.dofs.num_dofs());
-  add_plate_loads(scene, model, model.external_force);
+  add_plate_loads(scene, model);
   for (const auto& l : scene.loads) {
     using K = LoadSpec::Kind;
-    if (!l.amplitude.empty()) {
-      model.amplitude_loads.push_back({VecX::Zero(model.dofs.num_dofs()), l.amplitude});
-    }
+    if (!l.amplitude.empty())
+      model.amplitude_loads.push_back({VecX::Zero(model.dofs.num_dofs()), {l.amplitude}});
     VecX& f = l.amplitude.empty() ? model.external_force : model.amplitude_loads.back().force;
     if (l.kind == K::kNodalForce) {
       for (int n : select_nodes(model, l.on)) f.segment<2>(2 * n) += l.vector;
@@ -426,7 +460,13 @@ Model build_model(const Scene& scene) {
   return model;
 }
 
-double Model::AmplitudeLoad::at(double lambda) const {
+double Amplitude::peak() const {
+  double largest = 0.0;
+  for (const auto& [lambda, value] : table) largest = std::max(largest, std::abs(value));
+  return largest;
+}
+
+double Amplitude::at(double lambda) const {
   if (lambda <= table.front().first) return table.front().second;
   for (size_t k = 1; k < table.size(); ++k)
     if (lambda <= table[k].first) {

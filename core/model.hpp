@@ -13,11 +13,19 @@
 
 namespace c2d::core {
 
+/// A piecewise-linear amplitude a(λ) through its table's points (an `amplitude` table).
+struct Amplitude {
+  AmplitudeTable table;
+  double at(double lambda) const;
+  double peak() const;  ///< the largest |a|
+};
+
 /// Nodes whose prescribed displacement follows a rigid rotation (a `rotate` support).
 struct PrescribedRotation {
   std::vector<int> nodes;
   Vec2 center = Vec2::Zero();
-  double angle = 0.0;  ///< at load factor 1
+  double angle = 0.0;  ///< at load factor 1 (at a = 1 with an amplitude)
+  int amplitude = -1;  ///< its Model::motion_amplitudes entry, −1: none (the angle grows as λ)
 };
 
 /// A spring of the model: node a to ground (b < 0; stiffness k_ground along x and y) or node a
@@ -49,13 +57,18 @@ struct Model {
   /// Full DOF numbering: 2 per node (2 n + component), then 3 per rigid plate.
   DofMap dofs;
   VecX external_force;  ///< full vector: the loads that grow as λ (a = λ), at λ = 1
-  /// Loads with their own amplitude ([[load]] amplitude): a(λ) × force.
+  /// Loads with their own amplitude ([[load]] amplitude, a [[plate]]'s force and moment):
+  /// a(λ) × force.
   struct AmplitudeLoad {
     VecX force;  ///< full vector, at a = 1
-    std::vector<std::pair<double, double>> table;
-    double at(double lambda) const;
+    Amplitude amplitude;
+    double at(double lambda) const { return amplitude.at(lambda); }
   };
   std::vector<AmplitudeLoad> amplitude_loads;
+  /// Prescribed motions with their own amplitude ([[support]] and [[plate]] amplitude): a DOF
+  /// of motion amplitude k takes a_k(λ) × its prescribed value, the others λ × theirs.
+  std::vector<Amplitude> motion_amplitudes;
+  std::vector<int> dof_amplitude;  ///< per full DOF: its motion amplitude, −1: none (λ)
   /// The dead external force at load factor λ: λ external_force + Σ a(λ) force (full vector).
   VecX external_force_at(double lambda) const;
   std::vector<int> node_material;  ///< material of (one of) the elements at each node
@@ -76,9 +89,17 @@ struct Model {
 };
 
 /// The full vector of prescribed displacements at load factor λ (zero on free DOFs): λ × the
-/// supports' values, except on rotated supports, which follow the rotation through λθ exactly
-/// (not λ times its chord), so a load-stepped analysis turns them along the arc.
+/// supports' values (a(λ) × with an amplitude), except on rotated supports, which follow the
+/// rotation through λθ (a(λ)θ) exactly (not its chord), so a load-stepped analysis turns them
+/// along the arc.
 VecX prescribed_displacement(const Model& model, double lambda);
+
+/// The same with every value a chord, λ or a(λ) × its value at 1 (a rotation's too): what a
+/// small-strain analysis prescribes.
+VecX prescribed_values(const Model& model, double lambda);
+
+/// Whether a load or a prescribed motion has its own amplitude: the analysis is staged.
+bool has_amplitudes(const Model& model);
 
 /// Meshes the bodies (or takes the legacy mesh), applies supports and loads. Throws InputError
 /// when a selection matches nothing or a support conflicts.

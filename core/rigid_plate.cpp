@@ -6,12 +6,13 @@
 #include <string>
 
 #include "core/errors.hpp"
+#include "core/scene_sections.hpp"
 
 namespace c2d::core {
 
 PlateSpec parse_plate(const TomlView& v, int index) {
   v.check_keys({"name", "on", "reference", "attach", "force", "moment", "ux", "uy",
-                "rotation_deg", "fix"});
+                "rotation_deg", "fix", "amplitude"});
   PlateSpec p;
   p.at.where = v.where();
   p.name = v["name"].string_or("plate" + std::to_string(index + 1));
@@ -39,6 +40,7 @@ PlateSpec parse_plate(const TomlView& v, int index) {
   if (p.uy && p.force.y() != 0.0) v["force"].fail_message("force y on a prescribed uy: give one");
   if (p.rotation && p.moment != 0.0)
     v["moment"].fail_message("a moment on a prescribed rotation: give one");
+  if (v.has("amplitude")) p.amplitude = parse_amplitude(v["amplitude"]);
   return p;
 }
 
@@ -105,17 +107,32 @@ void prescribe_plates(const Scene& scene, Model& model) {
   for (size_t p = 0; p < scene.plates.size(); ++p) {
     const PlateSpec& spec = scene.plates[p];
     const int dof = model.plates[p].dof;
-    if (spec.ux) model.dofs.constrain(dof, *spec.ux);
-    if (spec.uy) model.dofs.constrain(dof + 1, *spec.uy);
-    if (spec.rotation) model.dofs.constrain(dof + 2, *spec.rotation);
+    int amplitude = -1;
+    if (!spec.amplitude.empty() && (spec.ux || spec.uy || spec.rotation)) {
+      model.motion_amplitudes.push_back({spec.amplitude});
+      amplitude = static_cast<int>(model.motion_amplitudes.size()) - 1;
+    }
+    const std::optional<double> values[3] = {spec.ux, spec.uy, spec.rotation};
+    for (int c = 0; c < 3; ++c)
+      if (values[c]) {
+        model.dofs.constrain(dof + c, *values[c]);  // the plate's own DOFs: no other prescribes them
+        model.dof_amplitude[dof + c] = amplitude;
+      }
   }
 }
 
-void add_plate_loads(const Scene& scene, const Model& model, VecX& f) {
+void add_plate_loads(const Scene& scene, Model& model) {
   for (size_t p = 0; p < scene.plates.size(); ++p) {
+    const PlateSpec& spec = scene.plates[p];
+    if (spec.force.isZero() && spec.moment == 0.0) continue;
+    VecX* f = &model.external_force;
+    if (!spec.amplitude.empty()) {
+      model.amplitude_loads.push_back({VecX::Zero(model.dofs.num_dofs()), {spec.amplitude}});
+      f = &model.amplitude_loads.back().force;
+    }
     const int dof = model.plates[p].dof;
-    f.segment<2>(dof) += scene.plates[p].force;
-    f[dof + 2] += scene.plates[p].moment;
+    f->segment<2>(dof) += spec.force;
+    (*f)[dof + 2] += spec.moment;
   }
 }
 

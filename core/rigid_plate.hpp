@@ -20,7 +20,8 @@ void add_plates(const Scene& scene, Model& model);
 /// Prescribes the plates' fixed components in the DOF map (before it is finalised).
 void prescribe_plates(const Scene& scene, Model& model);
 
-/// Adds the plates' forces and moments to the full load vector.
-void add_plate_loads(const Scene& scene, const Model& model, VecX& f);
+/// Adds the plates' forces and moments to the model's loads (external_force, or a load of its
+/// own under the plate's amplitude).
+void add_plate_loads(const Scene& scene, Model& model);
 
 }  // namespace c2d::core

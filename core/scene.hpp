@@ -77,7 +77,12 @@ struct SelectionSpec {
   SourceRef at;
 };
 
-/// A rigid rotation prescribed on a support: the nodes follow u(λ) = (R(λθ) − I)(X − c).
+/// How a load or a prescribed motion grows with the load factor λ: a piecewise-linear table of
+/// (λ, a) points from λ = 0 to λ = 1 (the value is a(λ) × its value at 1); empty: a = λ.
+using AmplitudeTable = std::vector<std::pair<double, double>>;
+
+/// A rigid rotation prescribed on a support: the nodes follow u(λ) = (R(a θ) − I)(X − c), a = λ
+/// or the support's amplitude a(λ).
 struct RotationSpec {
   Vec2 center = Vec2::Zero();
   double angle = 0.0;  ///< θ in radians at load factor 1
@@ -87,6 +92,7 @@ struct SupportSpec {
   SelectionSpec on;
   std::optional<double> ux, uy;  ///< prescribed values (fix = 0)
   std::optional<RotationSpec> rotate;
+  AmplitudeTable amplitude;  ///< of its prescribed values (and rotation); empty: λ
   SourceRef at;
 };
 
@@ -113,6 +119,7 @@ struct PlateSpec {
   Vec2 force = Vec2::Zero();
   double moment = 0.0;
   std::optional<double> ux, uy, rotation;  ///< prescribed (rotation in radians); absent: free
+  AmplitudeTable amplitude;  ///< of its prescribed motion, force and moment; empty: λ
   SourceRef at;
 };
 
@@ -126,9 +133,7 @@ struct LoadSpec {
   /// A pressure that follows the deformed edge in load-stepped runs (its load stiffness in the
   /// tangent); false: a dead load, fixed at its reference value.
   bool follower = false;
-  /// How the load grows with the load factor λ: a piecewise-linear table of (λ, a) points from
-  /// λ = 0 to λ = 1 (the load is a(λ) × its value); empty: a = λ.
-  std::vector<std::pair<double, double>> amplitude;
+  AmplitudeTable amplitude;  ///< how the load grows with λ; empty: a = λ
   SourceRef at;
 };
 

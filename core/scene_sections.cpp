@@ -178,7 +178,7 @@ SpringSpec parse_spring(const TomlView& s, int index, const std::vector<Material
 }
 
 SupportSpec parse_support(const TomlView& s) {
-  s.check_keys({"on", "fix", "ux", "uy", "rotate"});
+  s.check_keys({"on", "fix", "ux", "uy", "rotate", "amplitude"});
   SupportSpec ss;
   ss.at.where = s.where();
   ss.on = parse_selection(s["on"]);
@@ -207,6 +207,7 @@ SupportSpec parse_support(const TomlView& s) {
   }
   if (!ss.ux && !ss.uy)
     s.fail("'fix = [\"ux\", \"uy\"]', a prescribed 'ux'/'uy' or 'rotate = { center, angle_deg }'");
+  if (s.has("amplitude")) ss.amplitude = parse_amplitude(s["amplitude"]);
   return ss;
 }
 
@@ -234,21 +235,26 @@ LoadSpec parse_load(const TomlView& l, int index) {
   if (ls.follower && ls.kind != LoadSpec::Kind::kPressure)
     l["follower"].fail_message("follower = true applies to a pressure only");
   if (l.has("amplitude")) {
-    const TomlView a = l["amplitude"];
-    const std::vector<Vec2> points = a.points();
-    if (points.size() < 2 || points.front().x() != 0.0 || points.back().x() != 1.0)
-      a.fail("[[lambda, a], ...] points from lambda = 0 to lambda = 1");
-    for (size_t k = 1; k < points.size(); ++k)
-      if (!(points[k].x() > points[k - 1].x()))
-        a.fail("load factors increasing strictly from 0 to 1");
-    for (const Vec2& p : points) {
-      if (!std::isfinite(p.y()) || std::abs(p.y()) > 1e6)
-        a.fail("finite amplitudes of at most 1e6 in size");
-      ls.amplitude.emplace_back(p.x(), p.y());
-    }
-    if (ls.follower) a.fail_message("an amplitude applies to dead loads only (not follower = true)");
+    ls.amplitude = parse_amplitude(l["amplitude"]);
+    if (ls.follower)
+      l["amplitude"].fail_message("an amplitude applies to dead loads only (not follower = true)");
   }
   return ls;
+}
+
+AmplitudeTable parse_amplitude(const TomlView& a) {
+  const std::vector<Vec2> points = a.points();
+  if (points.size() < 2 || points.front().x() != 0.0 || points.back().x() != 1.0)
+    a.fail("[[lambda, a], ...] points from lambda = 0 to lambda = 1");
+  for (size_t k = 1; k < points.size(); ++k)
+    if (!(points[k].x() > points[k - 1].x())) a.fail("load factors increasing strictly from 0 to 1");
+  AmplitudeTable table;
+  for (const Vec2& p : points) {
+    if (!std::isfinite(p.y()) || std::abs(p.y()) > 1e6)
+      a.fail("finite amplitudes of at most 1e6 in size");
+    table.emplace_back(p.x(), p.y());
+  }
+  return table;
 }
 
 void parse_reference(const TomlView& root, Scene& scene) {

@@ -30,6 +30,8 @@ SpringSpec parse_spring(const TomlView& s, int index, const std::vector<Material
 double spring_stiffness_limit(const std::vector<MaterialSpec>& materials);
 /// A [[load]] (the index names an unnamed one).
 LoadSpec parse_load(const TomlView& l, int index);
+/// An `amplitude` table: [[λ, a], ...] from λ = 0 to λ = 1, λ strictly increasing, finite a.
+AmplitudeTable parse_amplitude(const TomlView& a);
 /// [reference]: the kind of reference and its values (what a run is checked against).
 void parse_reference(const TomlView& root, Scene& scene);
 

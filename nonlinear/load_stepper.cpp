@@ -432,7 +432,7 @@ Results solve_load_steps(const Model& model, const AnalysisSpec& analysis,
   const std::unique_ptr<StructuralSystem> system = make_structural_system(model, analysis);
   // A linear analysis without amplitudes is proportional: its one step is every stage.
   StepperOptions staged = options;
-  if (system->is_linear() && model.amplitude_loads.empty()) staged.steps = 1;
+  if (system->is_linear() && !core::has_amplitudes(model)) staged.steps = 1;
   return LoadStepper(*system, analysis, staged, trace, contact).run(contact_report);
 }
 

@@ -20,11 +20,8 @@ std::unique_ptr<StructuralSystem> make_structural_system(const Model& model,
 
 double largest_external_load(const Model& model) {
   VecX peak = model.dofs.restrict(model.external_force).cwiseAbs();
-  for (const auto& a : model.amplitude_loads) {  // the largest each load reaches
-    double largest = 0.0;
-    for (const auto& [lambda, value] : a.table) largest = std::max(largest, std::abs(value));
-    peak += largest * model.dofs.restrict(a.force).cwiseAbs();
-  }
+  for (const auto& a : model.amplitude_loads)  // the largest each load reaches
+    peak += a.amplitude.peak() * model.dofs.restrict(a.force).cwiseAbs();
   return peak.size() ? peak.maxCoeff() : 0.0;
 }
 
@@ -35,31 +32,44 @@ SmallStrainSystem::SmallStrainSystem(const Model& model, const AnalysisSpec& ana
   if (model.fill_order) solver_.set_ordering(model.fill_order, "corner_amd");
   const Stopwatch clock;
   const DofMap& dofs = model.dofs;
-  Assembler assembler(model.mesh, dofs);
-  assembler.set_threads(0);  // element_stiffness is a pure function of the element
-  const VecX u_one = prescribed(1.0);
-  assembler.assemble(
-      [&](int e, LocalMatrix& ke) {
-        ke = element_stiffness(model.mesh.element_coords(e),
-                               model.materials[model.mesh.element_material[e]]);
-      },
-      &u_one, &lift_one_);
-  k_ff_ = std::move(assembler.matrix());
-  if (!model.springs.empty())
-    k_ff_ += spring_stiffness(model, VecX::Zero(dofs.num_dofs()), false, &u_one, &lift_one_);
+  const auto kernel = [&](int e, LocalMatrix& ke) {
+    ke = element_stiffness(model.mesh.element_coords(e),
+                           model.materials[model.mesh.element_material[e]]);
+  };
+  // The prescribed values at 1 (at a = 1 for a motion with its own amplitude): the lift of
+  // those growing as λ, and of each amplitude's own (K_fc is linear in u_c).
+  const int amplitudes = static_cast<int>(model.motion_amplitudes.size());
+  VecX u_one = dofs.expand(VecX::Zero(dofs.num_free()), 1.0);
+  std::vector<VecX> u_amplitude(amplitudes, VecX::Zero(dofs.num_dofs()));
+  for (int dof = 0; dof < static_cast<int>(model.dof_amplitude.size()); ++dof)
+    if (const int k = model.dof_amplitude[dof]; k >= 0) u_amplitude[k][dof] = u_one[dof], u_one[dof] = 0.0;
+  const auto assemble = [&](const VecX& u_c, VecX& lift) {
+    Assembler assembler(model.mesh, dofs);
+    assembler.set_threads(0);  // element_stiffness is a pure function of the element
+    assembler.assemble(kernel, &u_c, &lift);
+    SpMat k = std::move(assembler.matrix());
+    if (!model.springs.empty())
+      k += spring_stiffness(model, VecX::Zero(dofs.num_dofs()), false, &u_c, &lift);
+    return k;
+  };
+  k_ff_ = assemble(u_one, lift_one_);
+  lift_amplitude_.resize(amplitudes);
+  for (int k = 0; k < amplitudes; ++k) assemble(u_amplitude[k], lift_amplitude_[k]);
   assemble_seconds_ = clock.elapsed();
   load_scale_ = largest_external_load(model);
   set_state(0.0, prescribed(0.0));
 }
 
 VecX SmallStrainSystem::prescribed(double lambda) const {
-  return model_.dofs.expand(VecX::Zero(model_.dofs.num_free()), lambda);
+  return prescribed_values(model_, lambda);
 }
 
 void SmallStrainSystem::set_state(double lambda, const VecX& u_prescribed) {
   lambda_ = lambda;
   u_prescribed_ = u_prescribed;
   rhs_ = model_.dofs.restrict(model_.external_force_at(lambda)) - lambda * lift_one_;
+  for (size_t k = 0; k < lift_amplitude_.size(); ++k)
+    rhs_ -= model_.motion_amplitudes[k].at(lambda) * lift_amplitude_[k];
 }
 
 VecX SmallStrainSystem::full(const VecX& u_free) const {

@@ -97,6 +97,31 @@ TEST(RigidPlate, LinearPureBendingIsExactWithT6) {
   EXPECT_NEAR(r.results.probes.at("end_uy") / (m * kL * kL / (2 * kEI)), 1.0, kRoundOff);
 }
 
+// Amplitudes on a plate (issue 34 item 9): its moment a(λ) M with a = 1 at λ = 0.5, 0.25 at 1
+// (a staged linear run), then its rotation prescribed as a(λ) × 0.5° with a = 1, then −0.5:
+// at λ = 1 the cap turns by 0.25 ML/EI and carries 0.25 M, then turns by −0.25° and carries
+// M = EI θ / L. Pure bending, T6: the closed forms to round-off (as above).
+TEST(RigidPlate, AmplitudesStageThePlatesMomentAndRotation) {
+  const double m = 1000.0;
+  const std::string at_half = "amplitude = [[0.0, 0.0], [0.5, 1.0], [1.0, 0.25]]\n";
+  std::string loaded = beam(false, m);
+  loaded.replace(loaded.find("[[probe]]"), 0, at_half);
+  const Solved r = run(core::parse_scene(loaded, "beam.toml"), "lagrange");
+  ASSERT_EQ(r.results.status, SolveStatus::kConverged) << r.results.message;
+  EXPECT_NEAR(r.results.probes.at("theta") / (0.25 * m * kL / kEI), 1.0, 5e-8);
+  EXPECT_NEAR(r.results.probes.at("moment") / (0.25 * m), 1.0, 1e-9);
+
+  std::string turned = beam(false, 0.0);
+  const size_t at = turned.find("moment = ");
+  turned.replace(at, turned.find('\n', at) - at,
+                 "rotation_deg = 0.5\namplitude = [[0.0, 0.0], [0.5, 1.0], [1.0, -0.5]]");
+  const Solved t = run(core::parse_scene(turned, "beam.toml"), "lagrange");
+  ASSERT_EQ(t.results.status, SolveStatus::kConverged) << t.results.message;
+  const double theta = -0.25 * std::numbers::pi / 180.0;
+  EXPECT_NEAR(t.results.probes.at("theta"), theta, 1e-15);
+  EXPECT_NEAR(t.results.probes.at("moment") / (kEI * theta / kL), 1.0, 5e-8);
+}
+
 // Exact arc at θ = ML/EI = 1 rad: the reference point (on the neutral axis) ends at
 // (R sin θ, R (1 − cos θ)), R = L/θ; the issue asks for the tip within 0.5 %.
 TEST(RigidPlate, EndMomentBendsTheBeamIntoACircularArc) {

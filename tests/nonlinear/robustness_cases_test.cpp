@@ -14,7 +14,9 @@
 //  8. the Newton Jacobian with the sets held against central differences of the residual,
 //     with sticking and slipping friction rows;
 //  9. a contact zone travelling across the slave surface (a half disk dragged along a block);
-// 10. frictional contact lost entirely and found again: the second press retraces the first.
+// 10. frictional contact lost entirely and found again: the second press retraces the first;
+// 11. press, then drag, under displacement control (amplitudes on supports): steady sliding
+//     carries μ times the normal force.
 // Every run prints one line (status, steps, attempts, Newton iterations and factorisations per
 // converged step, time). The scenes are those of hard_cases/NAME.toml: C2D_HARD_CASES_DIR=DIR
 // writes them there, to be run as `contact2d run DIR/NAME.toml --method M`.
@@ -497,6 +499,45 @@ master = { body = "floor", edge = "top" }
 detection = "node_to_segment"
 friction = { coefficient = 0.3 }
 )toml"},
+      {"press_drag",
+       R"toml(# Robustness: press, then drag, under displacement control (amplitudes on supports).
+# A 1 x 0.5 block on a rigid floor (y = 1): its top edge pushed down 0.01 (lambda 0 to 0.3),
+# then moved 0.5 along the floor with the press held (lambda 0.3 to 1). Coulomb mu 0.3.
+# Reference: once every node slides, the friction forces are mu times the normal forces.
+[analysis]
+kind = "plane_strain"
+element = "T6"
+geometric_nonlinearity = true
+steps = 20
+[[material]]
+name = "m"
+E = 1000.0
+nu = 0.3
+[[body]]
+name = "block"
+material = "m"
+shape = { type = "rectangle", min = [0.5, 1.0], max = [1.5, 1.5] }
+mesh = { size = 0.1 }
+[[obstacle]]
+name = "floor"
+type = "line"
+point = [0.0, 1.0]
+normal = [0.0, 1.0]
+[[support]]
+on = { body = "block", edge = "top" }
+uy = -0.01
+amplitude = [[0.0, 0.0], [0.3, 1.0], [1.0, 1.0]]
+[[support]]
+on = { body = "block", edge = "top" }
+ux = 0.5
+amplitude = [[0.0, 0.0], [0.3, 0.0], [1.0, 1.0]]
+[[contact]]
+name = "interface"
+slave = { body = "block", edge = "bottom" }
+master = { obstacle = "floor" }
+detection = "node_to_segment"
+friction = { coefficient = 0.3 }
+)toml"},
   };
   return kScenes;
 }
@@ -603,6 +644,7 @@ class DiskJustAbove : public RobustnessCases {};
 class HeldJacobian : public RobustnessCases {};
 class MovingZone : public RobustnessCases {};
 class LiftOff : public RobustnessCases {};
+class PressDrag : public RobustnessCases {};
 
 }  // namespace
 
@@ -950,6 +992,34 @@ TEST_P(LiftOff, SecondPressRetracesTheFirst) {
   EXPECT_GE(released, 1);
 }
 
+// 11. Press, then drag, under displacement control: the top's uy follows its amplitude to
+// −0.01 by λ = 0.3, its ux from 0 there to 0.5 at λ = 1 (asserted on the top's nodes, exactly:
+// prescribed values). From λ = 0.45 on (the block slides: 0.11 by then) the friction resultant
+// on the flat is μ = 0.3 times the normal resultant to 1e-6 (measured 4e-13), and the top's
+// reaction says the same. Before amplitudes on supports, displacement control could only press
+// and drag together.
+TEST_P(PressDrag, SteadySlidingCarriesMuTimesTheNormalForce) {
+  const Solved s = solve("press_drag", GetParam());
+  ASSERT_TRUE(s.converged()) << s.results.message;
+  int sliding = 0;
+  for (const nonlinear::StepRecord& rec : s.trace) {
+    if (rec.newton.status != SolveStatus::kConverged || rec.load_factor < 0.45) continue;
+    const ContactReport& c = rec.contact_state;
+    ASSERT_GT(c.total_force, 0.0);
+    EXPECT_NEAR(std::abs(c.tangent_force) / c.total_force, 0.3, 1e-6) << "λ " << rec.load_factor;
+    ++sliding;
+  }
+  EXPECT_GE(sliding, 5);
+  const double fx = reaction_sum(s, 0), fy = reaction_sum(s, 1);
+  EXPECT_LT(fy, 0.0);
+  EXPECT_NEAR(fx / -fy, 0.3, 1e-6);  // the top pushes the block on against friction
+  for (int n = 0; n < s.model->mesh.num_nodes(); ++n)
+    if (std::abs(s.model->mesh.nodes[n].y() - 1.5) < 1e-12) {
+      EXPECT_NEAR(s.results.displacement[2 * n], 0.5, 1e-12);
+      EXPECT_NEAR(s.results.displacement[2 * n + 1], -0.01, 1e-12);
+    }
+}
+
 // Every method of the registry on every case, but where a method fails the case's reference;
 // those runs are kept as hard_cases/NAME.toml, and each list below names what they end with.
 INSTANTIATE_TEST_SUITE_P(Methods, LoadUnload, ::testing::ValuesIn(constraints::method_names()));
@@ -978,3 +1048,4 @@ INSTANTIATE_TEST_SUITE_P(Methods, DiskJustAbove, ::testing::ValuesIn(constraints
 INSTANTIATE_TEST_SUITE_P(Methods, HeldJacobian, ::testing::ValuesIn(constraints::method_names()));
 INSTANTIATE_TEST_SUITE_P(Methods, MovingZone, ::testing::ValuesIn(constraints::method_names()));
 INSTANTIATE_TEST_SUITE_P(Methods, LiftOff, ::testing::ValuesIn(constraints::method_names()));
+INSTANTIATE_TEST_SUITE_P(Methods, PressDrag, ::testing::ValuesIn(constraints::method_names()));

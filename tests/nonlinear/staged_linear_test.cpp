@@ -143,6 +143,26 @@ TEST_P(StagedLinear, EachStageEqualsTheOneStepRunOfItsLoads) {
   EXPECT_DOUBLE_EQ(staged.stages[0].globals.at("load_factor"), 0.5);
 }
 
+// Prescribed motion stages like a load: the block's top pushed down by uy = −0.02 a(λ) with
+// a = 0, 1 at λ = 0.5, 0.4 at λ = 1 (a press, then a partial release under displacement
+// control). Each stage equals the one-step run of the value it has reached (−0.02, −0.008):
+// round-off on rollers and on the rigid flat, the geometric term on the elastic base.
+TEST_P(StagedLinear, PrescribedMotionStagesLikeALoad) {
+  const Support contact = GetParam();
+  const double tolerance = contact == Support::kElasticBase ? 1e-3 : 1e-10;
+  const auto pressed = [&](double uy, const std::string& amplitude) {
+    return scene_text("", 0.0, "", 0.0, contact) +
+           "[[support]]\non = { body = \"block\", edge = \"top\" }\nuy = " + std::to_string(uy) +
+           "\n" + (amplitude.empty() ? "" : "amplitude = " + amplitude + "\n");
+  };
+  const Solved staged = solve(pressed(-0.02, "[[0.0, 0.0], [0.5, 1.0], [1.0, 0.4]]"), true);
+  ASSERT_EQ(staged.stages.size(), 2u);
+  const Solved pressed_fully = solve(pressed(-0.02, ""), false);
+  const Solved released = solve(pressed(-0.008, ""), false);
+  expect_same_state(staged.stages[0], pressed_fully.last, tolerance);
+  expect_same_state(staged.last, released.last, tolerance);
+}
+
 TEST(StagedLinear, WithoutAmplitudesALinearRunIsOneStep) {
   // Proportional loading: `steps` asks for nothing a linear run would not give at once.
   const Solved run = solve(scene_text("", 10.0, "", 25.0, Support::kElasticBase), true);
