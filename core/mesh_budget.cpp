@@ -64,12 +64,44 @@ std::vector<Vec2> polygon_outline(const ShapeSpec& s) {
   return {};
 }
 
+namespace {
+
+/// A polygon edge drawn as an arc: its opening angle, and the area between it and its chord,
+/// positive where the arc bulges out of the polygon.
+struct ArcPiece {
+  double angle = 0.0, bulge = 0.0;
+};
+
+ArcPiece arc_piece(const ShapeSpec& s, const ShapeSpec::Arc& arc) {
+  const size_t n = s.points.size();
+  const Vec2 a = s.points[arc.edge], b = s.points[(arc.edge + 1) % n];
+  const Vec2 from = a - arc.center, to = b - arc.center;
+  ArcPiece piece;
+  piece.angle = std::atan2(std::abs(from.x() * to.y() - from.y() * to.x()), from.dot(to));
+  const double r = arc.radius;
+  const double segment = 0.5 * r * r * (piece.angle - std::sin(piece.angle));
+  // The minor arc's middle lies from the centre towards the chord's middle.
+  const Vec2 towards = 0.5 * (a + b) - arc.center;
+  const Vec2 middle = arc.center + r * (towards.norm() > 0 ? Vec2(towards.normalized()) : Vec2::UnitX());
+  const Vec2 chord = b - a, off = middle - a;
+  const double side = chord.x() * off.y() - chord.y() * off.x();  // > 0: left of the chord
+  const bool outward = (side > 0) != (signed_area(s.points) > 0);
+  piece.bulge = outward ? segment : -segment;
+  return piece;
+}
+
+}  // namespace
+
 double shape_area(const ShapeSpec& s) {
   auto disk = [](double r) { return std::numbers::pi * r * r; };
   double holes = 0.0;
   for (const auto& h : s.holes) holes += disk(h.radius);
   if (s.type == "rectangle") return (s.max - s.min).prod() - holes;
-  if (s.type == "polygon") return std::abs(signed_area(s.points)) - holes;
+  if (s.type == "polygon") {
+    double area = std::abs(signed_area(s.points)) - holes;
+    for (const auto& arc : s.arcs) area += arc_piece(s, arc).bulge;
+    return area;
+  }
   if (s.type == "disk") return disk(s.radius);
   if (s.type == "annulus") return disk(s.radius) - disk(s.inner_radius);
   if (s.type == "disk_segment") return 0.5 * s.radius * s.radius * (s.to_deg - s.from_deg) * std::numbers::pi / 180.0;
@@ -90,8 +122,11 @@ double boundary_segments(const ShapeSpec& s, double size) {
     const Vec2 d = s.max - s.min;
     n = 2.0 * (pieces(std::abs(d.x())) + pieces(std::abs(d.y())));
   } else if (s.type == "polygon") {
+    std::vector<double> length(s.points.size());
     for (size_t i = 0; i < s.points.size(); ++i)
-      n += pieces((s.points[(i + 1) % s.points.size()] - s.points[i]).norm());
+      length[i] = (s.points[(i + 1) % s.points.size()] - s.points[i]).norm();
+    for (const auto& arc : s.arcs) length[arc.edge] = arc.radius * arc_piece(s, arc).angle;
+    for (double l : length) n += pieces(l);
   } else if (s.type == "disk") {
     n = circle(s.radius);
   } else if (s.type == "annulus") {

@@ -49,6 +49,14 @@ struct ShapeSpec {
     double radius = 0;
   };
   std::vector<Hole> holes;
+  /// polygon: edges drawn as circular arcs, edge k (points[k] to points[k + 1]) the arc of less
+  /// than 180 degrees about `center` between its ends (both at `radius` from it).
+  struct Arc {
+    int edge = 0;
+    Vec2 center = Vec2::Zero();
+    double radius = 0;
+  };
+  std::vector<Arc> arcs;
 };
 
 struct BodySpec {

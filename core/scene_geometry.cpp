@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "core/errors.hpp"
 #include "core/mesh_budget.hpp"
@@ -131,6 +132,36 @@ std::vector<Vec2> bounded_points(const TomlView& v) {
 }
 
 
+/// A polygon's `arcs = [{ edge = k, center = [x, y] }, ...]`: each edge at most once, its ends
+/// equidistant from the centre (to 1e-9 of the radius), the arc between them under 180 degrees
+/// (gmsh's circle arcs; a longer one is two edges).
+std::vector<ShapeSpec::Arc> parse_arcs(const TomlView& v, const std::vector<Vec2>& points) {
+  std::vector<ShapeSpec::Arc> arcs;
+  const int n = static_cast<int>(points.size());
+  for (const TomlView& a : v.tables()) {
+    a.check_keys({"edge", "center"});
+    ShapeSpec::Arc arc;
+    arc.edge = a["edge"].integer();
+    if (arc.edge < 0 || arc.edge >= n)
+      a["edge"].fail("an edge index from 0 to " + std::to_string(n - 1) +
+                     " (edge k joins points[k] and points[k + 1])");
+    for (const ShapeSpec::Arc& other : arcs)
+      if (other.edge == arc.edge) a["edge"].fail("each edge at most once");
+    arc.center = shape_point(a["center"]);
+    const Vec2 from = points[arc.edge] - arc.center, to = points[(arc.edge + 1) % n] - arc.center;
+    arc.radius = from.norm();
+    if (!(std::abs(to.norm() - arc.radius) <= 1e-9 * arc.radius))
+      a["center"].fail("a centre equidistant from the edge's ends (found " +
+                       number_text(from.norm()) + " and " + number_text(to.norm()) + ")");
+    const double angle = std::atan2(std::abs(from.x() * to.y() - from.y() * to.x()), from.dot(to));
+    if (!(angle < std::numbers::pi * (1.0 - 1e-9)))
+      a["center"].fail("an arc of less than 180 degrees (split a longer one at a point of its "
+                       "circle), found 180");
+    arcs.push_back(arc);
+  }
+  return arcs;
+}
+
 }  // namespace
 
 ShapeSpec parse_shape(const TomlView& v) {
@@ -144,11 +175,12 @@ ShapeSpec parse_shape(const TomlView& v) {
     if (!(s.max.array() > s.min.array()).all())
       v["max"].fail("max > min in both coordinates");
   } else if (s.type == "polygon") {
-    v.check_keys({"type", "points", "holes"});
+    v.check_keys({"type", "points", "holes", "arcs"});
     s.points = bounded_points(v["points"]);
     if (s.points.size() < 3) v["points"].fail("at least 3 points");
     if (const std::string why = polygon_problem(s.points); !why.empty())
       v["points"].fail("a simple polygon of positive area (" + why + ")");
+    if (v.has("arcs")) s.arcs = parse_arcs(v["arcs"], s.points);
   } else if (s.type == "points") {
     // A point cloud triangulated as it is (Delaunay): the seed's pre-processor. The checks of
     // the cloud itself (duplicates, collinear, outside the boundary) are the mesher's.
