@@ -47,8 +47,8 @@ void EqualityConstraints::check_plate_rows() {
           throw InputError(model_.plates[p].where + ": the plate's prescribed motion moves node " +
                            std::to_string(model_.plates[p].nodes[0] + 1) +
                            "'s support away from what the support prescribes (the two disagree " +
-                           "by " + number_text(value) + " at load factor " +
-                           number_text(at[j]) + ")");
+                           "by " + number_text(value) + " at load factor " + number_text(at[j]) +
+                           ")");
       }
     }
   }

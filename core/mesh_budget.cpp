@@ -82,7 +82,8 @@ ArcPiece arc_piece(const ShapeSpec& s, const ShapeSpec::Arc& arc) {
   const double segment = 0.5 * r * r * (piece.angle - std::sin(piece.angle));
   // The minor arc's middle lies from the centre towards the chord's middle.
   const Vec2 towards = 0.5 * (a + b) - arc.center;
-  const Vec2 middle = arc.center + r * (towards.norm() > 0 ? Vec2(towards.normalized()) : Vec2::UnitX());
+  const Vec2 middle =
+      arc.center + r * (towards.norm() > 0 ? Vec2(towards.normalized()) : Vec2::UnitX());
   const Vec2 chord = b - a, off = middle - a;
   const double side = chord.x() * off.y() - chord.y() * off.x();  // > 0: left of the chord
   const bool outward = (side > 0) != (signed_area(s.points) > 0);

@@ -128,14 +128,16 @@ std::vector<NamedCurve> build_geometry(const ShapeSpec& s) {
     for (size_t i = 0; i < pts.size(); ++i) {
       const std::string name = s.type == "rectangle" ? rect_names[i] : "edge" + std::to_string(i);
       const int next = tags[(i + 1) % pts.size()];
-      const auto arc = std::find_if(s.arcs.begin(), s.arcs.end(),
-                                    [i](const ShapeSpec::Arc& a) { return a.edge == static_cast<int>(i); });
+      const auto arc = std::find_if(s.arcs.begin(), s.arcs.end(), [i](const ShapeSpec::Arc& a) {
+        return a.edge == static_cast<int>(i);
+      });
       if (arc == s.arcs.end()) {
         add_line(tags[i], next, name);
         continue;
       }
       const int center = geo::addPoint(arc->center.x(), arc->center.y(), 0.0);
-      curves.push_back({geo::addCircleArc(tags[i], center, next), name, true, arc->center, arc->radius});
+      curves.push_back(
+          {geo::addCircleArc(tags[i], center, next), name, true, arc->center, arc->radius});
       loop.push_back(curves.back().tag);
     }
   } else if (s.type == "annulus") {

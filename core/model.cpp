@@ -228,7 +228,8 @@ VecX prescribed_displacement(const Model& model, double lambda) {
   for (const auto& r : model.rotations) {
     const double a = r.amplitude < 0 ? lambda : model.motion_amplitudes[r.amplitude].at(lambda);
     for (int n : r.nodes)
-      u.segment<2>(2 * n) = rotated(model.mesh.nodes[n], r.center, a * r.angle) - model.mesh.nodes[n];
+      u.segment<2>(2 * n) =
+          rotated(model.mesh.nodes[n], r.center, a * r.angle) - model.mesh.nodes[n];
   }
   return u;
 }
@@ -273,13 +274,15 @@ void mesh_bodies(const Scene& scene, Model& model) {
   }
 }
 
-/// Prescribes the supports' displacements (a rotation's per node) in the DOF map.
+/// A support's amplitude as the model's next motion amplitude: its index, −1 for none.
 int add_motion_amplitude(const AmplitudeTable& table, Model& model) {
   if (table.empty()) return -1;
   model.motion_amplitudes.push_back({table});
   return static_cast<int>(model.motion_amplitudes.size()) - 1;
 }
 
+/// Prescribes `value` on `dof` under motion amplitude `amplitude`; false when the DOF already
+/// has another value, or the same non-zero value under another amplitude.
 bool prescribe_dof(int dof, double value, int amplitude, Model& model) {
   const bool before = model.dofs.is_constrained(dof);
   if (!model.dofs.constrain(dof, value)) return false;
@@ -290,6 +293,7 @@ bool prescribe_dof(int dof, double value, int amplitude, Model& model) {
   return true;
 }
 
+/// Prescribes the supports' displacements (a rotation's per node) in the DOF map.
 void apply_supports(const Scene& scene, Model& model) {
   model.dofs = DofMap(model.mesh.num_dofs() + 3 * static_cast<int>(model.plates.size()));
   model.dof_amplitude.assign(model.dofs.num_dofs(), -1);

@@ -11,8 +11,8 @@
 namespace c2d::core {
 
 PlateSpec parse_plate(const TomlView& v, int index) {
-  v.check_keys({"name", "on", "reference", "attach", "force", "moment", "ux", "uy",
-                "rotation_deg", "fix", "amplitude"});
+  v.check_keys({"name", "on", "reference", "attach", "force", "moment", "ux", "uy", "rotation_deg",
+                "fix", "amplitude"});
   PlateSpec p;
   p.at.where = v.where();
   p.name = v["name"].string_or("plate" + std::to_string(index + 1));
@@ -113,9 +113,10 @@ void prescribe_plates(const Scene& scene, Model& model) {
       amplitude = static_cast<int>(model.motion_amplitudes.size()) - 1;
     }
     const std::optional<double> values[3] = {spec.ux, spec.uy, spec.rotation};
+    // The plate's own DOFs: no support prescribes them, so no value or amplitude conflicts.
     for (int c = 0; c < 3; ++c)
       if (values[c]) {
-        model.dofs.constrain(dof + c, *values[c]);  // the plate's own DOFs: no other prescribes them
+        model.dofs.constrain(dof + c, *values[c]);
         model.dof_amplitude[dof + c] = amplitude;
       }
   }

@@ -1,14 +1,13 @@
 // The parsers of a scene's geometric sections: where things are (selections, refinement
 // rules, shapes, bodies with their meshes), each from its TOML table to its spec with located
 // errors. The sections of what acts on them are in scene_sections.cpp.
-#include "core/scene_sections.hpp"
-
 #include <cmath>
 #include <filesystem>
 #include <numbers>
 
 #include "core/errors.hpp"
 #include "core/mesh_budget.hpp"
+#include "core/scene_sections.hpp"
 #include "core/shape_check.hpp"
 
 namespace c2d::core {
@@ -131,7 +130,6 @@ std::vector<Vec2> bounded_points(const TomlView& v) {
   return pts;
 }
 
-
 /// A polygon's `arcs = [{ edge = k, center = [x, y] }, ...]`: each edge at most once, its ends
 /// equidistant from the centre (to 1e-9 of the radius), the arc between them under 180 degrees
 /// (gmsh's circle arcs; a longer one is two edges).
@@ -155,8 +153,9 @@ std::vector<ShapeSpec::Arc> parse_arcs(const TomlView& v, const std::vector<Vec2
                        number_text(from.norm()) + " and " + number_text(to.norm()) + ")");
     const double angle = std::atan2(std::abs(from.x() * to.y() - from.y() * to.x()), from.dot(to));
     if (!(angle < std::numbers::pi * (1.0 - 1e-9)))
-      a["center"].fail("an arc of less than 180 degrees (split a longer one at a point of its "
-                       "circle), found 180");
+      a["center"].fail(
+          "an arc of less than 180 degrees (split a longer one at a point of its "
+          "circle), found 180");
     arcs.push_back(arc);
   }
   return arcs;

@@ -247,7 +247,8 @@ AmplitudeTable parse_amplitude(const TomlView& a) {
   if (points.size() < 2 || points.front().x() != 0.0 || points.back().x() != 1.0)
     a.fail("[[lambda, a], ...] points from lambda = 0 to lambda = 1");
   for (size_t k = 1; k < points.size(); ++k)
-    if (!(points[k].x() > points[k - 1].x())) a.fail("load factors increasing strictly from 0 to 1");
+    if (!(points[k].x() > points[k - 1].x()))
+      a.fail("load factors increasing strictly from 0 to 1");
   AmplitudeTable table;
   for (const Vec2& p : points) {
     if (!std::isfinite(p.y()) || std::abs(p.y()) > 1e6)

@@ -41,8 +41,12 @@ SmallStrainSystem::SmallStrainSystem(const Model& model, const AnalysisSpec& ana
   const int amplitudes = static_cast<int>(model.motion_amplitudes.size());
   VecX u_one = dofs.expand(VecX::Zero(dofs.num_free()), 1.0);
   std::vector<VecX> u_amplitude(amplitudes, VecX::Zero(dofs.num_dofs()));
-  for (int dof = 0; dof < static_cast<int>(model.dof_amplitude.size()); ++dof)
-    if (const int k = model.dof_amplitude[dof]; k >= 0) u_amplitude[k][dof] = u_one[dof], u_one[dof] = 0.0;
+  for (int dof = 0; dof < static_cast<int>(model.dof_amplitude.size()); ++dof) {
+    const int k = model.dof_amplitude[dof];
+    if (k < 0) continue;
+    u_amplitude[k][dof] = u_one[dof];
+    u_one[dof] = 0.0;
+  }
   const auto assemble = [&](const VecX& u_c, VecX& lift) {
     Assembler assembler(model.mesh, dofs);
     assembler.set_threads(0);  // element_stiffness is a pure function of the element

@@ -66,8 +66,9 @@ std::unique_ptr<StructuralSystem> make_structural_system(const core::Model& mode
 
 /// The small-displacement equations K_ff u_f = f_f(λ) − K_fc u_c(λ): K (elements and springs)
 /// assembled once, with the prescribed values growing linearly in λ or by their amplitudes
-/// (their lifts K_fc u_c at 1 kept) and the loads by theirs. The tangent is K; it is factorised once (CHOLMOD,
-/// or Eigen's LDLᵀ when analysis.solver is "ldlt") and the factor kept for every step.
+/// (their lifts K_fc u_c at 1 kept) and the loads by theirs. The tangent is K; it is factorised
+/// once (CHOLMOD, or Eigen's LDLᵀ when analysis.solver is "ldlt") and the factor kept for every
+/// step.
 class SmallStrainSystem final : public StructuralSystem {
  public:
   SmallStrainSystem(const core::Model& model, const core::AnalysisSpec& analysis);
@@ -96,7 +97,8 @@ class SmallStrainSystem final : public StructuralSystem {
   const core::Model& model_;
   SpMat k_ff_;          ///< elements and springs, free DOFs
   VecX lift_one_;       ///< K_fc u_c at λ = 1 of the values growing as λ (elements and springs)
-  std::vector<VecX> lift_amplitude_;  ///< per motion amplitude: K_fc u_c of its values at a = 1
+  /// Per motion amplitude: K_fc u_c of its values at a = 1.
+  std::vector<VecX> lift_amplitude_;
   VecX rhs_;            ///< f_f(λ) − K_fc u_c(λ) at the state's λ
   VecX u_prescribed_;   ///< the state's full vector of prescribed values
   double lambda_ = 0.0;

@@ -389,8 +389,10 @@ int run_bench(const BenchOptions& o) {
   s.case_timeout_s = o.case_timeout_s;
   s.slurm = o.slurm;
   s.out = o.out.empty() ? "out/bench" : o.out;
-  s.timing = "The Hertz rungs below 1M DOFs and the time-to-accuracy runs of every method ran "
-             "three times, each row the fastest (least solve time). " + timing_note(1);
+  s.timing =
+      "The Hertz rungs below 1M DOFs and the time-to-accuracy runs of every method ran "
+      "three times, each row the fastest (least solve time). " +
+      timing_note(1);
   const std::vector<BenchCase> ladder = bench_ladder(o.quick);
   for (const auto& c : ladder)
     if (!fs::exists(o.examples + "/" + c.scene))

@@ -400,9 +400,8 @@ void SurfaceDual::report(ConstraintSolution& s) const {
   s.pivot_ratio = surface_->report().pivot_ratio;
 }
 
-bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows,
-                          const StrategyOptions& o, const SetRule& rule, bool& loose_first,
-                          ConstraintSolution& s) {
+bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows, const StrategyOptions& o,
+                          const SetRule& rule, bool& loose_first, ConstraintSolution& s) {
   const auto dual = SurfaceDual::build(p, rows, false, s);
   if (!dual) return false;
   // Frictionless, Ipopt only proposes the set and the exact solves decide (settle). On a
@@ -419,7 +418,8 @@ bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows,
   for (const bool proposal : {true, false}) {
     if (proposal && !try_loose) continue;
     const QpOutcome out = dual->solve(VecX(), {}, o, proposal ? loose : o.ipopt_tolerance, s);
-    s.iterations = iterations += out.iterations;
+    iterations += out.iterations;
+    s.iterations = iterations;
     s.status = out.status;
     s.message = out.message;
     if (out.status == SolveStatus::kConverged) {
@@ -427,8 +427,9 @@ bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows,
         s.message.clear();
       } else if (dual->solved() == SolveStatus::kSingular) {
         s.status = SolveStatus::kSingular;
-        s.message = "the rows that hold Ipopt's solution leave the structure free to move (a "
-                    "body pulled off its supports, or unsupported)";
+        s.message =
+            "the rows that hold Ipopt's solution leave the structure free to move (a "
+            "body pulled off its supports, or unsupported)";
       } else {
         s.status = SolveStatus::kFailed;
         s.message = "the exact solves from Ipopt's contact set did not settle";

@@ -137,9 +137,8 @@ class SurfaceDual {
 /// loose interior point while `loose_first` (cleared when the exact solves do not confirm one).
 /// False when the rows do not condense (s then holds only the work of a factorisation that was
 /// made); otherwise s is complete with its status.
-bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows,
-                          const StrategyOptions& o, const SetRule& rule, bool& loose_first,
-                          ConstraintSolution& s);
+bool solve_condensed_dual(const ConstrainedProblem& p, const RowSet& rows, const StrategyOptions& o,
+                          const SetRule& rule, bool& loose_first, ConstraintSolution& s);
 
 /// Forces from Ipopt's multipliers (its Lagrangian is f + gᵀλ: a row exerts −λ / |row|): the
 /// gap rows' λ ≥ 0, the equality rows' μ, and λ_t from the friction rows (`friction_sign` per

@@ -1,10 +1,9 @@
 // ipopt on the problem condensed onto its rows (constraints/methods/ipopt_dual.cpp): the dual QP
 // on one factorisation of K, against closed-form solutions and lagrange's.
 #include <gtest/gtest.h>
-
-#include <Eigen/Dense>
 #include <unistd.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <filesystem>
 #include <fstream>

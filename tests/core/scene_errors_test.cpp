@@ -367,17 +367,24 @@ TEST(SceneErrors, AMissingEdgeNameSuggestsOne) {
 // Amplitudes on prescribed motion (issue 34 item 9): a support's or a plate's table is checked
 // like a load's, at its key; and one value prescribed twice must grow alike.
 TEST(SceneErrors, MotionAmplitudesAreCheckedWhereTheyStand) {
-  std::string t =
-      scene("[[support]]\non = { edge = \"top\" }\nuy = -0.1\namplitude = [[0.0, 0.0], [0.5, 1.0]]\n");
-  expect_error({"support amplitude", t.c_str(), {},
+  std::string t = scene(
+      "[[support]]\non = { edge = \"top\" }\nuy = -0.1\namplitude = [[0.0, 0.0], [0.5, 1.0]]\n");
+  expect_error({"support amplitude",
+                t.c_str(),
+                {},
                 {"bad.toml:13:", "support[0].amplitude", "points from lambda = 0 to lambda = 1"}});
-  t = scene("[[plate]]\non = { edge = \"top\" }\nuy = -0.1\namplitude = [[0.0, 0.0], [1.0, 1e7]]\n");
-  expect_error({"plate amplitude", t.c_str(), {},
+  t = scene(
+      "[[plate]]\non = { edge = \"top\" }\nuy = -0.1\namplitude = [[0.0, 0.0], [1.0, 1e7]]\n");
+  expect_error({"plate amplitude",
+                t.c_str(),
+                {},
                 {"bad.toml:13:", "plate[0].amplitude", "finite amplitudes"}});
   t = scene(
       "[[support]]\non = { edge = \"top\" }\nuy = -0.1\n"
       "[[support]]\non = { edge = \"top\" }\nuy = -0.1\namplitude = [[0.0, 0.0], [1.0, 2.0]]\n");
-  expect_error({"two amplitudes", t.c_str(), {},
+  expect_error({"two amplitudes",
+                t.c_str(),
+                {},
                 {"support[1]", "already has a different prescribed uy", "another amplitude"}},
                true);
 }

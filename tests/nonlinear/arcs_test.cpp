@@ -301,16 +301,16 @@ std::string rounded_square(const char* element, double size) {
 // no more than the chords' segments.
 TEST(PolygonArcs, ArcEdgesLieOnTheirCircles) {
   const double r1 = std::sqrt(2.0), r3 = std::sqrt(10.0);
-  const double exact =
-      4.0 + circular_segment(r1, std::numbers::pi / 2) - circular_segment(r3, 2 * std::asin(1 / r3));
+  const double exact = 4.0 + circular_segment(r1, std::numbers::pi / 2) -
+                       circular_segment(r3, 2 * std::asin(1 / r3));
   for (const char* element : {"T3", "T6"})
     for (const double size : {0.1, 0.01}) {
       SCOPED_TRACE(std::string(element) + " size " + std::to_string(size));
       const core::Model model =
           core::build_model(core::parse_scene(rounded_square(element, size), "rounded.toml"));
       const core::Mesh& mesh = model.mesh;
-      for (const auto& [edge, center, radius] :
-           {std::tuple{"p/edge1", Vec2(1.0, 1.0), r1}, std::tuple{"p/edge3", Vec2(-3.0, 1.0), r3}}) {
+      for (const auto& [edge, center, radius] : {std::tuple{"p/edge1", Vec2(1.0, 1.0), r1},
+                                                 std::tuple{"p/edge3", Vec2(-3.0, 1.0), r3}}) {
         ASSERT_TRUE(mesh.edge_groups.count(edge)) << edge;
         for (int i : mesh.edge_groups.at(edge)) {
           const auto& be = mesh.boundary_edges[i];
@@ -391,5 +391,6 @@ TEST(PolygonArcs, ArcsThatCannotBeDrawnAreRefusedAtTheirKey) {
   refused("{ edge = 4, center = [1.0, 1.0] }", "an edge index from 0 to 3");
   refused("{ edge = 1, center = [1.0, 0.5] }", "a centre equidistant from the edge's ends");
   refused("{ edge = 1, center = [2.0, 1.0] }", "an arc of less than 180 degrees");
-  refused("{ edge = 1, center = [1.0, 1.0] }, { edge = 1, center = [3.0, 1.0] }", "each edge at most once");
+  refused("{ edge = 1, center = [1.0, 1.0] }, { edge = 1, center = [3.0, 1.0] }",
+          "each edge at most once");
 }
