@@ -21,6 +21,16 @@ std::string default_out(const Options& o, const core::Scene& scene) {
 
 namespace {
 
+/// ", staged: a = a0 at λ0, a1 at λ1, ..." for a table with an amplitude; "" without (a = λ).
+std::string amplitude_text(const core::AmplitudeTable& table) {
+  if (table.empty()) return "";
+  std::string text = ", staged: a =";
+  for (size_t k = 0; k < table.size(); ++k)
+    text += (k ? ", " : " ") + number_text(table[k].second) + " at λ " +
+            number_text(table[k].first);
+  return text;
+}
+
 /// The model, with every table checked as a run checks it before solving, in the same order and
 /// with the same messages (solve_scene): [[contact]], [[constraint]] and their friction tables,
 /// their selections on the mesh, and the probes. info and mesh exited 0 on tables a run refused
@@ -89,10 +99,15 @@ int cmd_info(const Options& o) {
     std::cout << "node set   " << name << ": " << ids.size() << " nodes\n";
   for (const auto& s : scene.supports)
     std::cout << "support    " << s.at.where << ": " << core::select_nodes(model, s.on).size()
-              << " nodes\n";
+              << " nodes" << amplitude_text(s.amplitude) << "\n";
   for (const auto& l : scene.loads)
     std::cout << "load       " << l.name << " (" << l.at.where
-              << "): " << core::select_nodes(model, l.on).size() << " nodes\n";
+              << "): " << core::select_nodes(model, l.on).size() << " nodes"
+              << amplitude_text(l.amplitude) << "\n";
+  for (const auto& p : scene.plates)
+    std::cout << "plate      " << p.name << " (" << p.at.where
+              << "): " << core::select_nodes(model, p.on).size() << " nodes"
+              << amplitude_text(p.amplitude) << "\n";
   for (const auto& p : scene.probes)
     std::cout << "probe      " << p.name << " (" << p.quantity << ")"
               << (p.on ? ": " + std::to_string(core::select_nodes(model, *p.on).size()) + " nodes"

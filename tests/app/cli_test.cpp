@@ -134,6 +134,26 @@ TEST(Cli, UnsupportedBodyFailsWithExitOneAndKeepsSummary) {
   EXPECT_NE(s["status"].get<std::string>().find("failed: singular"), std::string::npos) << s["status"];
 }
 
+// info lists each support, load and plate with its amplitude's points (the stages a run takes):
+// the Cattaneo–Mindlin example's normal then tangential load, and a support staged by --set.
+TEST(Cli, InfoListsTheStagesOfLoadsSupportsAndPlates) {
+  std::string output;
+  ASSERT_EQ(run_args({"info", example("cattaneo_mindlin.toml"), "--set",
+                      "support[0].amplitude=[[0.0, 0.0], [1.0, 2.0]]"},
+                     &output),
+            0)
+      << output;
+  EXPECT_NE(output.find("support[0]: 27 nodes, staged: a = 0 at λ 0, 2 at λ 1"), std::string::npos)
+      << output;
+  EXPECT_NE(output.find("load[0]): 53 nodes, staged: a = 0 at λ 0, 1 at λ 0.5, 1 at λ 1"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("load[1]): 53 nodes, staged: a = 0 at λ 0, 0 at λ 0.5, 1 at λ 1"),
+            std::string::npos)
+      << output;
+  EXPECT_NE(output.find("plate      cap ("), std::string::npos) << output;
+}
+
 TEST(Cli, HelpForEveryVerb) {
   for (const char* verb : {"run", "mesh", "info", "trace"}) {
     std::string output;
