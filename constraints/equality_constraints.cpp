@@ -1,5 +1,6 @@
 #include "constraints/equality_constraints.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -25,11 +26,20 @@ void EqualityConstraints::add_constraint_rows() {
 
 void EqualityConstraints::check_plate_rows() {
   const core::DofMap& dofs = model_.dofs;
-  // At λ = 1, and where the motions' amplitudes turn: piecewise linear between, two motions
-  // that agree there agree everywhere.
-  std::vector<double> at = {1.0};
+  // At λ = 1, where the motions' amplitudes turn, and halfway between: translations are
+  // piecewise linear between the turns, so two that agree there agree everywhere; a rotation's
+  // arc is not, and the halfway points catch one that leaves the other between turns.
+  std::vector<double> turns = {0.0, 1.0};
   for (const core::Amplitude& a : model_.motion_amplitudes)
-    for (const auto& [lambda, value] : a.table) at.push_back(lambda);
+    for (const auto& [lambda, value] : a.table) turns.push_back(lambda);
+  std::sort(turns.begin(), turns.end());
+  turns.erase(std::unique(turns.begin(), turns.end()), turns.end());
+  std::vector<double> at = {1.0};
+  if (!model_.motion_amplitudes.empty())
+    for (size_t k = 0; k < turns.size(); ++k) {
+      at.push_back(turns[k]);
+      if (k + 1 < turns.size()) at.push_back(0.5 * (turns[k] + turns[k + 1]));
+    }
   std::vector<EqualityRow> rows;
   for (size_t p = 0; p < model_.plates.size(); ++p) {
     for (size_t j = 0; j < at.size(); ++j) {
