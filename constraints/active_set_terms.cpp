@@ -19,6 +19,46 @@ bool same_pattern(const SpMat& a, const SpMat& b) {
          std::equal(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros(), b.innerIndexPtr());
 }
 
+/// Forces as unknowns z = λ/s (the multiplier methods', and the penalty law's mixed form):
+/// z of the active rows' forces, 0 elsewhere; and back, λ = s z on the active rows.
+void pack_scaled_forces(const std::vector<char>& active, double s, const VecX& force,
+                        Eigen::Ref<VecX> extra) {
+  for (int i = 0; i < extra.size(); ++i) extra[i] = active[i] ? force[i] / s : 0.0;
+}
+VecX scaled_forces(const std::vector<char>& active, double s, const Eigen::Ref<const VecX>& extra,
+                   int rows) {
+  VecX f = VecX::Zero(rows);
+  for (int i = 0; i < extra.size(); ++i)
+    if (active[i]) f[i] = s * extra[i];
+  return f;
+}
+
+/// K_T + G_Aᵀ diag(k_A) G_A on one CHOLMOD factor, its analysis kept while the pattern is:
+/// the Newton matrix of both forms of the penalty law (k_A: k on the active rows, 0 elsewhere).
+class PenalisedMatrix {
+ public:
+  PenalisedMatrix(const VecX& k, const std::vector<char>& active) : ka_(VecX::Zero(k.size())) {
+    for (int i = 0; i < ka_.size(); ++i)
+      if (active[i]) ka_[i] = k[i];
+  }
+  const VecX& k_active() const { return ka_; }
+  void set_rows(const SpMat& g) { penalty_ = SpMat(SpMat(g.transpose()) * ka_.asDiagonal() * g); }
+  bool factorize(const SpMat& k_t) {
+    jacobian_ = k_t + penalty_;  // the solver keeps a reference for its residual check
+    if (!same_pattern(jacobian_, pattern_)) {
+      spd_.reset_pattern();
+      pattern_ = jacobian_;
+    }
+    return spd_.factorize(jacobian_) == SolveStatus::kConverged;
+  }
+  bool solve(const VecX& b, VecX& x) { return spd_.solve(b, x) == SolveStatus::kConverged; }
+
+ private:
+  VecX ka_;
+  SpMat penalty_, jacobian_, pattern_;
+  core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
+};
+
 /// The penalty law of the active rows in primal form: their forces λ̂ − k g_A(u) follow from
 /// u, G_Aᵀ diag(k) G_A joins K_T (the augmented Lagrangian's, whose λ̂ each outer iteration's
 /// method solve fixes anew at its exact crossover: the state's forces are the law's at u).
@@ -26,14 +66,12 @@ class PenaltyTerms final : public ActiveSetTerms {
  public:
   PenaltyTerms(const SpMat& g, const std::vector<char>& active, const VecX& k,
                const VecX& lambda_hat)
-      : active_(active), k_(k), lambda_hat_(lambda_hat), ka_(VecX::Zero(k.size())) {
-    for (int i = 0; i < ka_.size(); ++i)
-      if (active_[i]) ka_[i] = k_[i], k_max_ = std::max(k_max_, k_[i]);
+      : active_(active), k_(k), lambda_hat_(lambda_hat), matrix_(k, active) {
+    const VecX& ka = matrix_.k_active();
+    k_max_ = ka.size() ? ka.maxCoeff() : 0.0;
     update_rows(g);
   }
-  void update_rows(const SpMat& g) override {
-    penalty_ = SpMat(SpMat(g.transpose()) * ka_.asDiagonal() * g);
-  }
+  void update_rows(const SpMat& g) override { matrix_.set_rows(g); }
   int extra_unknowns() const override { return 0; }
   void pack_forces(const VecX&, Eigen::Ref<VecX>) const override {}
   VecX forces(const VecX& gap, const Eigen::Ref<const VecX>&) const override {
@@ -43,22 +81,15 @@ class PenaltyTerms final : public ActiveSetTerms {
     return f;
   }
   void extra_residual(const VecX&, const Eigen::Ref<const VecX>&, Eigen::Ref<VecX>) const override {}
-  bool factorize(const SpMat& k_t) override {
-    jacobian_ = k_t + penalty_;  // the solver keeps a reference for its residual check
-    if (!same_pattern(jacobian_, pattern_)) spd_.reset_pattern(), pattern_ = jacobian_;
-    return spd_.factorize(jacobian_) == SolveStatus::kConverged;
-  }
-  bool solve(const VecX& b, VecX& x) override {
-    return spd_.solve(b, x) == SolveStatus::kConverged;
-  }
+  bool factorize(const SpMat& k_t) override { return matrix_.factorize(k_t); }
+  bool solve(const VecX& b, VecX& x) override { return matrix_.solve(b, x); }
   double row_stiffness() const override { return k_max_; }
 
  private:
   std::vector<char> active_;
-  VecX k_, lambda_hat_, ka_;
+  VecX k_, lambda_hat_;
+  PenalisedMatrix matrix_;
   double k_max_ = 0.0;
-  SpMat penalty_, jacobian_, pattern_;
-  core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
 };
 
 /// The penalty law of the active rows, λ_i = λ̂_i − k_i g_i(u), in mixed form: the forces are
@@ -76,25 +107,20 @@ class PenaltyLawTerms final : public ActiveSetTerms {
  public:
   PenaltyLawTerms(const SpMat& g, const std::vector<char>& active, const VecX& k,
                   const VecX& lambda_hat, double s)
-      : active_(active), k_(k), lambda_hat_(lambda_hat), ka_(VecX::Zero(k.size())), s_(s),
+      : active_(active), k_(k), lambda_hat_(lambda_hat), matrix_(k, active), s_(s),
         m_(static_cast<int>(g.rows())) {
-    for (int i = 0; i < ka_.size(); ++i)
-      if (active_[i]) ka_[i] = k_[i];
     update_rows(g);
   }
   void update_rows(const SpMat& g) override {
     g_ = g;
-    penalty_ = SpMat(SpMat(g.transpose()) * ka_.asDiagonal() * g);
+    matrix_.set_rows(g);
   }
   int extra_unknowns() const override { return m_; }
   void pack_forces(const VecX& force, Eigen::Ref<VecX> extra) const override {
-    for (int i = 0; i < m_; ++i) extra[i] = active_[i] ? force[i] / s_ : 0.0;
+    pack_scaled_forces(active_, s_, force, extra);
   }
   VecX forces(const VecX& gap, const Eigen::Ref<const VecX>& extra) const override {
-    VecX f = VecX::Zero(gap.size());
-    for (int i = 0; i < m_; ++i)
-      if (active_[i]) f[i] = s_ * extra[i];
-    return f;
+    return scaled_forces(active_, s_, extra, static_cast<int>(gap.size()));
   }
   void extra_residual(const VecX& gap, const Eigen::Ref<const VecX>& extra,
                       Eigen::Ref<VecX> r) const override {
@@ -102,36 +128,30 @@ class PenaltyLawTerms final : public ActiveSetTerms {
       r[i] = active_[i] ? -s_ * (gap[i] + (s_ * extra[i] - lambda_hat_[i]) / k_[i])
                         : s_ * extra[i];
   }
-  bool factorize(const SpMat& k_t) override {
-    jacobian_ = k_t + penalty_;  // the solver keeps a reference for its residual check
-    if (!same_pattern(jacobian_, pattern_)) spd_.reset_pattern(), pattern_ = jacobian_;
-    return spd_.factorize(jacobian_) == SolveStatus::kConverged;
-  }
+  bool factorize(const SpMat& k_t) override { return matrix_.factorize(k_t); }
   bool solve(const VecX& b, VecX& x) override {
     const int n = static_cast<int>(g_.cols());
+    const VecX& ka = matrix_.k_active();
     const VecX bz = b.tail(m_);
-    VecX scaled = VecX::Zero(m_);  // k/s ∘ b_A
-    for (int i = 0; i < m_; ++i)
-      if (active_[i]) scaled[i] = ka_[i] / s_ * bz[i];
+    const VecX scaled = (ka / s_).cwiseProduct(bz);  // k/s ∘ b_A (0 on the inactive rows)
     VecX du;
-    if (spd_.solve(VecX(b.head(n) - g_.transpose() * scaled), du) != SolveStatus::kConverged)
-      return false;
+    if (!matrix_.solve(VecX(b.head(n) - g_.transpose() * scaled), du)) return false;
     const VecX gdu = g_ * du;
     x.resize(n + m_);
     x.head(n) = du;
     for (int i = 0; i < m_; ++i)
-      x[n + i] = active_[i] ? -ka_[i] / (s_ * s_) * (bz[i] + s_ * gdu[i]) : bz[i] / s_;
+      x[n + i] = active_[i] ? -ka[i] / (s_ * s_) * (bz[i] + s_ * gdu[i]) : bz[i] / s_;
     return true;
   }
   double row_stiffness() const override { return s_; }
 
  private:
   std::vector<char> active_;
-  VecX k_, lambda_hat_, ka_;
+  VecX k_, lambda_hat_;
+  PenalisedMatrix matrix_;
   double s_;
   int m_;
-  SpMat g_, penalty_, jacobian_, pattern_;
-  core::SpdSolver spd_{core::SpdSolver::Backend::kCholmod, false};
+  SpMat g_;
 };
 
 class MultiplierTerms final : public ActiveSetTerms {
@@ -155,13 +175,10 @@ class MultiplierTerms final : public ActiveSetTerms {
   }
   int extra_unknowns() const override { return any_active_ ? m_ : 0; }
   void pack_forces(const VecX& force, Eigen::Ref<VecX> extra) const override {
-    for (int i = 0; i < extra.size(); ++i) extra[i] = active_[i] ? force[i] / s_ : 0.0;
+    pack_scaled_forces(active_, s_, force, extra);
   }
   VecX forces(const VecX& gap, const Eigen::Ref<const VecX>& extra) const override {
-    VecX f = VecX::Zero(gap.size());
-    for (int i = 0; i < extra.size(); ++i)
-      if (active_[i]) f[i] = s_ * extra[i];
-    return f;
+    return scaled_forces(active_, s_, extra, static_cast<int>(gap.size()));
   }
   void extra_residual(const VecX& gap, const Eigen::Ref<const VecX>& extra,
                       Eigen::Ref<VecX> r) const override {

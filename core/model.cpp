@@ -234,6 +234,13 @@ VecX prescribed_displacement(const Model& model, double lambda) {
   return u;
 }
 
+VecX prescribed_group(const Model& model, int amplitude) {
+  VecX u = model.dofs.expand(VecX::Zero(model.dofs.num_free()), 1.0);
+  for (int dof = 0; dof < static_cast<int>(model.dof_amplitude.size()); ++dof)
+    if (model.dof_amplitude[dof] != amplitude) u[dof] = 0.0;
+  return u;
+}
+
 bool has_amplitudes(const Model& model) {
   return !model.amplitude_loads.empty() || !model.motion_amplitudes.empty();
 }

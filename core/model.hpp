@@ -98,6 +98,11 @@ VecX prescribed_displacement(const Model& model, double lambda);
 /// small-strain analysis prescribes.
 VecX prescribed_values(const Model& model, double lambda);
 
+/// The prescribed values of the DOFs under motion amplitude `amplitude` at a = 1 (−1: those
+/// that grow as λ, at λ = 1), zero elsewhere: prescribed_values is λ × the first plus
+/// a_k(λ) × each other.
+VecX prescribed_group(const Model& model, int amplitude);
+
 /// Whether a load or a prescribed motion has its own amplitude: the analysis is staged.
 bool has_amplitudes(const Model& model);
 

@@ -36,17 +36,8 @@ SmallStrainSystem::SmallStrainSystem(const Model& model, const AnalysisSpec& ana
     ke = element_stiffness(model.mesh.element_coords(e),
                            model.materials[model.mesh.element_material[e]]);
   };
-  // The prescribed values at 1 (at a = 1 for a motion with its own amplitude): the lift of
-  // those growing as λ, and of each amplitude's own (K_fc is linear in u_c).
-  const int amplitudes = static_cast<int>(model.motion_amplitudes.size());
-  VecX u_one = dofs.expand(VecX::Zero(dofs.num_free()), 1.0);
-  std::vector<VecX> u_amplitude(amplitudes, VecX::Zero(dofs.num_dofs()));
-  for (int dof = 0; dof < static_cast<int>(model.dof_amplitude.size()); ++dof) {
-    const int k = model.dof_amplitude[dof];
-    if (k < 0) continue;
-    u_amplitude[k][dof] = u_one[dof];
-    u_one[dof] = 0.0;
-  }
+  // The lift of the prescribed values that grow as λ, and of each motion amplitude's own
+  // (K_fc is linear in u_c).
   const auto assemble = [&](const VecX& u_c, VecX& lift) {
     Assembler assembler(model.mesh, dofs);
     assembler.set_threads(0);  // element_stiffness is a pure function of the element
@@ -56,9 +47,10 @@ SmallStrainSystem::SmallStrainSystem(const Model& model, const AnalysisSpec& ana
       k += spring_stiffness(model, VecX::Zero(dofs.num_dofs()), false, &u_c, &lift);
     return k;
   };
-  k_ff_ = assemble(u_one, lift_one_);
-  lift_amplitude_.resize(amplitudes);
-  for (int k = 0; k < amplitudes; ++k) assemble(u_amplitude[k], lift_amplitude_[k]);
+  k_ff_ = assemble(prescribed_group(model, -1), lift_one_);
+  lift_amplitude_.resize(model.motion_amplitudes.size());
+  for (size_t k = 0; k < lift_amplitude_.size(); ++k)
+    assemble(prescribed_group(model, static_cast<int>(k)), lift_amplitude_[k]);
   assemble_seconds_ = clock.elapsed();
   load_scale_ = largest_external_load(model);
   set_state(0.0, prescribed(0.0));
