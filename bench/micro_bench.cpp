@@ -78,7 +78,7 @@ void factorize_solve(benchmark::State& state, bool corner, bool split = false) {
     if (corner)
       solver.set_ordering(std::make_shared<const FillOrder>(
                               split ? mesh_fill_order(g.mesh, g.dofs)
-                                    : FillOrder{corner_graph_ordering(g.mesh, g.dofs), {}}),
+                                    : FillOrder{corner_graph_ordering(g.mesh, g.dofs), {}, {}}),
                           "corner_amd");
     solver.factorize(a.matrix());
     VecX x;

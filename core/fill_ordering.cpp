@@ -1,8 +1,8 @@
 #include "core/fill_ordering.hpp"
 
 #include <Eigen/CholmodSupport>
-
 #include <algorithm>
+#include <array>
 #include <numeric>
 #include <stdexcept>
 
@@ -24,108 +24,17 @@ Corners number_corners(const Mesh& mesh) {
   return c;
 }
 
-/// The corners' edge graph as CHOLMOD's symmetric lower pattern (sorted, each edge once).
-class CornerGraph {
- public:
-  CornerGraph(const Mesh& mesh, const Corners& corners) : n_(corners.count), start_(n_ + 1, 0) {
-    const auto& id = corners.id;
-    for (const auto& e : mesh.elements)
-      for (int k = 0; k < 3; ++k) ++start_[std::min(id[e[k]], id[e[(k + 1) % 3]]) + 1];
-    std::partial_sum(start_.begin(), start_.end(), start_.begin());
-    rows_.resize(start_.back());
-    std::vector<int> next(start_.begin(), start_.end() - 1);
-    for (const auto& e : mesh.elements)
-      for (int k = 0; k < 3; ++k) {
-        const int a = id[e[k]], b = id[e[(k + 1) % 3]];
-        rows_[next[std::min(a, b)]++] = std::max(a, b);
-      }
-    // An interior edge is listed by both its triangles: sort each column, keep one of each.
-    int out = 0;
-    for (int j = 0; j < n_; ++j) {
-      const auto begin = rows_.begin() + start_[j], end = rows_.begin() + start_[j + 1];
-      std::sort(begin, end);
-      const int first = out;
-      for (auto it = begin; it != end; ++it)
-        if (it == begin || *it != *(it - 1)) rows_[out++] = *it;
-      start_[j] = first;
-    }
-    start_[n_] = out;
-    rows_.resize(out);
-    ones_.assign(out, 1.0);  // the orderings read the pattern only
-    cholmod_start(&common_);
-    common_.print = 0;
+/// A CHOLMOD workspace for one call.
+struct Common {
+  cholmod_common c{};
+  Common() {
+    cholmod_start(&c);
+    c.print = 0;
   }
-  ~CornerGraph() { cholmod_finish(&common_); }
-  CornerGraph(const CornerGraph&) = delete;
-  CornerGraph& operator=(const CornerGraph&) = delete;
-
-  /// AMD's elimination order of the corners.
-  std::vector<int> amd() {
-    std::vector<int> order(n_);
-    cholmod_sparse g = view();
-    if (!cholmod_amd(&g, nullptr, 0, order.data(), &common_))
-      throw std::runtime_error("AMD failed on the mesh's corner graph (out of memory?)");
-    return order;
-  }
-  /// METIS's vertex bisection: per corner 0, 1 or 2 (the separator); empty when it fails (no
-  /// METIS in this CHOLMOD).
-  std::vector<int> bisect() {
-    std::vector<int> part(n_);
-    cholmod_sparse g = view();
-    if (cholmod_bisect(&g, nullptr, 0, 1, part.data(), &common_) < 0) return {};
-    return part;
-  }
-
- private:
-  cholmod_sparse view() {
-    Eigen::Map<SpMat> pattern(n_, n_, static_cast<Eigen::Index>(rows_.size()), start_.data(),
-                              rows_.data(), ones_.data());
-    cholmod_sparse g = Eigen::viewAsCholmod(Eigen::Ref<SpMat>(pattern));
-    g.stype = -1;
-    return g;
-  }
-  int n_;
-  std::vector<int> start_, rows_;
-  std::vector<double> ones_;
-  cholmod_common common_;
+  ~Common() { cholmod_finish(&c); }
+  Common(const Common&) = delete;
+  Common& operator=(const Common&) = delete;
 };
-
-/// The free DOFs node by node in the order of `nodes`, then the free DOFs beyond the nodes'.
-std::vector<int> expand_to_dofs(const std::vector<int>& nodes, const DofMap& dofs) {
-  std::vector<int> perm;
-  perm.reserve(dofs.num_free());
-  auto add = [&](int dof) {
-    if (const int q = dofs.equation(dof); q >= 0) perm.push_back(q);
-  };
-  for (int v : nodes)
-    for (int d = 0; d < 2; ++d) add(2 * v + d);
-  for (int dof = 2 * static_cast<int>(nodes.size()); dof < dofs.num_dofs(); ++dof) add(dof);
-  if (static_cast<int>(perm.size()) != dofs.num_free())
-    throw std::logic_error("corner_graph_ordering: the permutation misses free DOFs");
-  return perm;
-}
-
-std::vector<int> corner_order(const Mesh& mesh, const DofMap& dofs, const Corners& corners,
-                              CornerGraph& graph) {
-  const int nc = corners.count, nn = mesh.num_nodes();
-  const std::vector<int> order = graph.amd();
-  std::vector<int> position(nc);
-  for (int k = 0; k < nc; ++k) position[order[k]] = k;
-  // Sort key: corner at 2 p, mid-side right after its edge's first-ordered corner at 2 p + 1,
-  // every other node last.
-  const long last = 2L * nc;
-  std::vector<long> key(nn, last);
-  for (const auto& e : mesh.elements)
-    for (int k = 0; k < 3; ++k) {
-      const int pa = position[corners.id[e[k]]], pb = position[corners.id[e[(k + 1) % 3]]];
-      key[e[k]] = 2L * pa;
-      if (mesh.order == 2) key[e[3 + k]] = 2L * std::min(pa, pb) + 1;
-    }
-  std::vector<int> nodes(nn);
-  std::iota(nodes.begin(), nodes.end(), 0);
-  std::stable_sort(nodes.begin(), nodes.end(), [&](int a, int b) { return key[a] < key[b]; });
-  return expand_to_dofs(nodes, dofs);
-}
 
 /// The free DOFs' parts from the corners' bisection (see mesh_fill_order); empty when a half
 /// is empty.
@@ -151,22 +60,181 @@ std::vector<signed char> dof_parts(const Mesh& mesh, const DofMap& dofs, const C
 
 }  // namespace
 
+/// The corners' edge graph as CHOLMOD's symmetric lower pattern (sorted, each edge once), and
+/// what expands a corner order to the free DOFs: each node's free equations and, for a T6
+/// mid-side node, its edge's two corners.
+class CornerGraph {
+ public:
+  CornerGraph(const Mesh& mesh, const DofMap& dofs, const Corners& corners)
+      : n_(corners.count),
+        start_(n_ + 1, 0),
+        corner_(corners.id),
+        edge_(mesh.num_nodes(), {-1, -1}),
+        equations_(mesh.num_nodes(), {-1, -1}),
+        num_free_(dofs.num_free()) {
+    const auto& id = corners.id;
+    for (const auto& e : mesh.elements)
+      for (int k = 0; k < 3; ++k) {
+        ++start_[std::min(id[e[k]], id[e[(k + 1) % 3]]) + 1];
+        if (mesh.order == 2) edge_[e[3 + k]] = {id[e[k]], id[e[(k + 1) % 3]]};
+      }
+    std::partial_sum(start_.begin(), start_.end(), start_.begin());
+    rows_.resize(start_.back());
+    std::vector<int> next(start_.begin(), start_.end() - 1);
+    for (const auto& e : mesh.elements)
+      for (int k = 0; k < 3; ++k) {
+        const int a = id[e[k]], b = id[e[(k + 1) % 3]];
+        rows_[next[std::min(a, b)]++] = std::max(a, b);
+      }
+    // An interior edge is listed by both its triangles: sort each column, keep one of each.
+    int out = 0;
+    for (int j = 0; j < n_; ++j) {
+      const auto begin = rows_.begin() + start_[j], end = rows_.begin() + start_[j + 1];
+      std::sort(begin, end);
+      const int first = out;
+      for (auto it = begin; it != end; ++it)
+        if (it == begin || *it != *(it - 1)) rows_[out++] = *it;
+      start_[j] = first;
+    }
+    start_[n_] = out;
+    rows_.resize(out);
+    ones_.assign(out, 1.0);  // the orderings read the pattern only
+    for (int v = 0; v < mesh.num_nodes(); ++v)
+      for (int d = 0; d < 2; ++d) equations_[v][d] = dofs.equation(2 * v + d);
+    for (int dof = 2 * mesh.num_nodes(); dof < dofs.num_dofs(); ++dof)
+      if (const int q = dofs.equation(dof); q >= 0) beyond_.push_back(q);
+  }
+
+  int num_free() const { return num_free_; }
+
+  /// AMD's elimination order of the corners.
+  std::vector<int> amd() const {
+    std::vector<int> order(n_);
+    Common common;
+    cholmod_sparse g = view();
+    if (!cholmod_amd(&g, nullptr, 0, order.data(), &common.c))
+      throw std::runtime_error("AMD failed on the mesh's corner graph (out of memory?)");
+    return order;
+  }
+  /// CAMD's elimination order of the corners, those with `last[c]` set after all others.
+  std::vector<int> camd(std::vector<int> last) const {
+    std::vector<int> order(n_);
+    Common common;
+    cholmod_sparse g = view();
+    if (!cholmod_camd(&g, nullptr, 0, last.data(), order.data(), &common.c))
+      throw std::runtime_error("CAMD failed on the mesh's corner graph (out of memory?)");
+    return order;
+  }
+  /// METIS's vertex bisection: per corner 0, 1 or 2 (the separator); empty when it fails (no
+  /// METIS in this CHOLMOD).
+  std::vector<int> bisect() const {
+    std::vector<int> part(n_);
+    Common common;
+    cholmod_sparse g = view();
+    if (cholmod_bisect(&g, nullptr, 0, 1, part.data(), &common.c) < 0) return {};
+    return part;
+  }
+
+  /// The free DOFs for an elimination order of the corners: node by node, each corner in its
+  /// place, each T6 mid-side node right after its edge's first-ordered corner, other nodes
+  /// last; then the free DOFs beyond the nodes'.
+  std::vector<int> expand(const std::vector<int>& corner_order) const {
+    const int nn = static_cast<int>(corner_.size());
+    std::vector<long> position(n_);
+    for (int k = 0; k < n_; ++k) position[corner_order[k]] = k;
+    const long last = 2L * n_;
+    std::vector<long> key(nn, last);
+    for (int v = 0; v < nn; ++v) {
+      if (corner_[v] >= 0)
+        key[v] = 2 * position[corner_[v]];
+      else if (edge_[v][0] >= 0)
+        key[v] = 2 * std::min(position[edge_[v][0]], position[edge_[v][1]]) + 1;
+    }
+    std::vector<int> nodes(nn);
+    std::iota(nodes.begin(), nodes.end(), 0);
+    std::stable_sort(nodes.begin(), nodes.end(), [&](int a, int b) { return key[a] < key[b]; });
+    std::vector<int> perm;
+    perm.reserve(num_free_);
+    for (int v : nodes)
+      for (int q : equations_[v])
+        if (q >= 0) perm.push_back(q);
+    perm.insert(perm.end(), beyond_.begin(), beyond_.end());
+    if (static_cast<int>(perm.size()) != num_free_)
+      throw std::logic_error("corner_graph_ordering: the permutation misses free DOFs");
+    return perm;
+  }
+
+  /// Per corner: 1 if a free DOF of its node is marked in `dof_marked`, else 0.
+  std::vector<int> marked_corners(const std::vector<char>& dof_marked) const {
+    std::vector<int> marked(n_, 0);
+    for (size_t v = 0; v < corner_.size(); ++v)
+      if (corner_[v] >= 0)
+        for (int q : equations_[v])
+          if (q >= 0 && dof_marked[q]) marked[corner_[v]] = 1;
+    return marked;
+  }
+
+ private:
+  cholmod_sparse view() const {
+    Eigen::Map<const SpMat> pattern(n_, n_, static_cast<Eigen::Index>(rows_.size()), start_.data(),
+                                    rows_.data(), ones_.data());
+    cholmod_sparse g{};
+    g.nrow = g.ncol = static_cast<size_t>(n_);
+    g.nzmax = rows_.size();
+    g.p = const_cast<int*>(start_.data());
+    g.i = const_cast<int*>(rows_.data());
+    g.x = const_cast<double*>(ones_.data());
+    g.stype = -1;
+    g.itype = CHOLMOD_INT;
+    g.xtype = CHOLMOD_PATTERN;
+    g.dtype = CHOLMOD_DOUBLE;
+    g.sorted = 1;
+    g.packed = 1;
+    return g;
+  }
+  int n_;
+  std::vector<int> start_, rows_;
+  std::vector<double> ones_;
+  std::vector<int> corner_;                    ///< per node: its corner, −1 if none
+  std::vector<std::array<int, 2>> edge_;       ///< per T6 mid-side node: its edge's corners
+  std::vector<std::array<int, 2>> equations_;  ///< per node: its two equations (−1: none)
+  std::vector<int> beyond_;                    ///< free equations beyond the nodes'
+  int num_free_;
+};
+
+std::vector<int> FillOrder::moved_last(const std::vector<int>& tail) const {
+  std::vector<char> in_tail(order.size(), 0);
+  for (int q : tail) in_tail[q] = 1;
+  std::vector<int> perm = order;
+  std::stable_partition(perm.begin(), perm.end(), [&](int q) { return !in_tail[q]; });
+  return perm;
+}
+
+std::vector<int> FillOrder::tail_last(const std::vector<int>& tail) const {
+  if (!graph) return {};
+  std::vector<char> in_tail(order.size(), 0);
+  for (int q : tail) in_tail[q] = 1;
+  std::vector<int> perm = graph->expand(graph->camd(graph->marked_corners(in_tail)));
+  std::stable_partition(perm.begin(), perm.end(), [&](int q) { return !in_tail[q]; });
+  return perm;
+}
+
 std::vector<int> corner_graph_ordering(const Mesh& mesh, const DofMap& dofs) {
   if (mesh.elements.empty()) return {};
-  const Corners corners = number_corners(mesh);
-  CornerGraph graph(mesh, corners);
-  return corner_order(mesh, dofs, corners, graph);
+  const CornerGraph graph(mesh, dofs, number_corners(mesh));
+  return graph.expand(graph.amd());
 }
 
 FillOrder mesh_fill_order(const Mesh& mesh, const DofMap& dofs, int min_split_unknowns) {
   FillOrder fill;
   if (mesh.elements.empty()) return fill;
   const Corners corners = number_corners(mesh);
-  CornerGraph graph(mesh, corners);
-  fill.order = corner_order(mesh, dofs, corners, graph);
+  auto graph = std::make_shared<const CornerGraph>(mesh, dofs, corners);
+  fill.order = graph->expand(graph->amd());
   if (dofs.num_free() >= min_split_unknowns)
-    if (const std::vector<int> corner_part = graph.bisect(); !corner_part.empty())
+    if (const std::vector<int> corner_part = graph->bisect(); !corner_part.empty())
       fill.part = dof_parts(mesh, dofs, corners, corner_part);
+  fill.graph = std::move(graph);
   return fill;
 }
 

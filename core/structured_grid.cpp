@@ -2,16 +2,19 @@
 
 namespace c2d::core {
 
-StructuredGrid make_structured_grid(int n, int order) {
+StructuredGrid make_structured_grid(int n, int order) { return make_structured_grid(n, n, order); }
+
+StructuredGrid make_structured_grid(int nx, int ny, int order) {
   StructuredGrid g;
   Mesh& m = g.mesh;
   m.order = order;
-  const int k = order * n + 1;  // nodes per side
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) m.nodes.emplace_back(static_cast<double>(i) / (k - 1), static_cast<double>(j) / (k - 1));
+  const int k = order * nx + 1, ky = order * ny + 1;  // nodes along x and y
+  for (int j = 0; j < ky; ++j)
+    for (int i = 0; i < k; ++i)
+      m.nodes.emplace_back(static_cast<double>(i) / (ky - 1), static_cast<double>(j) / (ky - 1));
   auto id = [k](int i, int j) { return j * k + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
       const int s = order;
       const int a = id(s * i, s * j), b = id(s * i + s, s * j), c = id(s * i + s, s * j + s), d = id(s * i, s * j + s);
       if (order == 1) {
@@ -27,7 +30,7 @@ StructuredGrid make_structured_grid(int n, int order) {
       m.element_material.insert(m.element_material.end(), {0, 0});
     }
   g.dofs = DofMap(m.num_dofs());
-  for (int j = 0; j < k; ++j) {
+  for (int j = 0; j < ky; ++j) {
     g.dofs.constrain(2 * id(0, j), 0.0);
     g.dofs.constrain(2 * id(0, j) + 1, 0.0);
   }

@@ -47,6 +47,7 @@ struct TailAnalyses::Impl {
     std::vector<int> tail, tail_part;
     cholmod_factor* symbolic = nullptr;
     double lnz = 0;  ///< the factor's nonzeros, as the analysis counted them
+    const char* ordering = "";  ///< the order's name (TailCholesky's report)
   };
   std::mutex mutex;
   cholmod_common c{};
@@ -64,13 +65,15 @@ struct TailAnalyses::Impl {
   /// kept pattern.
   cholmod_factor* copy(const SpMat& k, const std::vector<int>& tail,
                        const std::vector<int>& tail_part, const FillOrder* fill,
-                       cholmod_common* into, std::shared_ptr<const AnalysedPattern>& pattern) {
+                       cholmod_common* into, std::shared_ptr<const AnalysedPattern>& pattern,
+                       const char*& ordering) {
     const std::lock_guard<std::mutex> lock(mutex);
     for (const Entry& e : entries)
       if (e.fill.get() == fill && e.tail == tail && e.tail_part == tail_part &&
           e.pattern->matches(k)) {
         into->lnz = e.lnz;
         pattern = e.pattern;
+        ordering = e.ordering;
         return cholmod_copy_factor(e.symbolic, into);
       }
     return nullptr;
@@ -78,9 +81,10 @@ struct TailAnalyses::Impl {
   /// Keeps a copy of `symbolic` (not yet factorised), the oldest kept analysis making room.
   void keep(std::shared_ptr<const AnalysedPattern> pattern, const std::vector<int>& tail,
             const std::vector<int>& tail_part, const std::shared_ptr<const FillOrder>& fill,
-            cholmod_factor* symbolic, double lnz) {
+            cholmod_factor* symbolic, double lnz, const char* ordering) {
     const std::lock_guard<std::mutex> lock(mutex);
-    Entry e{fill, std::move(pattern), tail, tail_part, cholmod_copy_factor(symbolic, &c), lnz};
+    Entry e{fill,    std::move(pattern), tail, tail_part, cholmod_copy_factor(symbolic, &c), lnz,
+            ordering};
     if (!e.symbolic) return;
     if (entries.size() == kKept) {
       cholmod_free_factor(&entries.back().symbolic, &c);
@@ -102,6 +106,7 @@ struct TailCholesky::Impl {
   SpMat compressed;                  ///< K's copy when K is not compressed
   std::shared_ptr<const FillOrder> fill;  ///< the caller's order, null for CAMD
   std::shared_ptr<TailAnalyses> analyses;  ///< shared analyses, null: none
+  const char* ordering = "";               ///< the analysed order's name
 
   bool given(int n) const { return fill && static_cast<int>(fill->order.size()) == n; }
   bool analysed_for(const SpMat& k) const { return factor && pattern && pattern->matches(k); }
@@ -151,37 +156,58 @@ SolveStatus TailCholesky::fail(SolveStatus status, const std::string& message) {
   return status;
 }
 
+void TailCholesky::group_tail(const std::vector<int>& tail, std::vector<int>& perm) const {
+  const std::vector<int>& tail_part = impl_->tail_part;
+  if (tail_part.empty()) return;
+  // The tail grouped by part, each in the order given: a part's block is the tail's only
+  // coupling to it (L₂₂ block diagonal when the parts are K's unconnected pieces).
+  std::vector<int> part(n_, 0);
+  for (size_t i = 0; i < tail.size(); ++i) part[tail[i]] = tail_part[i];
+  std::stable_sort(perm.end() - static_cast<std::ptrdiff_t>(tail.size()), perm.end(),
+                   [&](int a, int b) { return part[a] < part[b]; });
+}
+
 bool TailCholesky::analyse(const SpMat& k, const std::vector<int>& tail) {
   Impl& m = *impl_;
   if (m.factor) cholmod_free_factor(&m.factor, &m.c);
   cholmod_sparse a = view_lower(k);
-  // Every other unknown (set 0) before the tail (set 1): the given order partitioned so, else
-  // CAMD with the two sets as constraints.
-  std::vector<int> member(n_, 0), perm(n_);
-  for (int d : tail) member[d] = 1;
+  // Every other unknown (set 0) before the tail (set 1). With a given fill order, the one of
+  // its two tail-last orders whose factor takes fewer flops (FillOrder::tail_last, moved_last);
+  // else CAMD on K with the two sets as constraints.
+  std::vector<std::pair<const char*, std::vector<int>>> orders;
   if (m.given(n_)) {
-    auto it = perm.begin();
-    for (int set = 0; set < 2; ++set)
-      it = std::copy_if(m.fill->order.begin(), m.fill->order.end(), it, [&](int d) { return member[d] == set; });
-  } else if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) {
-    return false;
+    orders.emplace_back("given_tail_last", m.fill->moved_last(tail));
+    if (std::vector<int> camd = m.fill->tail_last(tail); !camd.empty())
+      orders.emplace_back("corner_camd", std::move(camd));
+  } else {
+    std::vector<int> member(n_, 0), perm(n_);
+    for (int d : tail) member[d] = 1;
+    if (!cholmod_camd(&a, nullptr, 0, member.data(), perm.data(), &m.c)) return false;
+    orders.emplace_back("camd", std::move(perm));
   }
-  if (!m.tail_part.empty()) {
-    // The tail grouped by part, each in the order above: a part's block is the tail's only
-    // coupling to it (L₂₂ block diagonal when the parts are K's unconnected pieces).
-    std::vector<int> part(n_, 0);
-    for (size_t i = 0; i < tail.size(); ++i) part[tail[i]] = m.tail_part[i];
-    std::stable_sort(perm.end() - static_cast<std::ptrdiff_t>(tail.size()), perm.end(),
-                     [&](int a, int b) { return part[a] < part[b]; });
+  double flops = 0, lnz = 0;
+  for (auto& [name, perm] : orders) {
+    group_tail(tail, perm);
+    cholmod_factor* f = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
+    if (!f) return false;
+    if (m.factor && m.c.fl >= flops) {
+      cholmod_free_factor(&f, &m.c);
+      continue;
+    }
+    if (m.factor) cholmod_free_factor(&m.factor, &m.c);
+    m.factor = f;
+    m.ordering = name;
+    flops = m.c.fl;
+    lnz = m.c.lnz;
   }
-  m.factor = cholmod_analyze_p(&a, perm.data(), nullptr, 0, &m.c);
-  if (!m.factor) return false;
+  m.c.fl = flops;
+  m.c.lnz = lnz;
   m.keep_pattern(k);
   m.tail = tail;
   if (!place_tail(tail)) return false;
   const std::shared_ptr<const FillOrder> fill = m.given(n_) ? m.fill : nullptr;
   if (m.analyses)
-    m.analyses->impl_->keep(m.pattern, tail, m.tail_part, fill, m.factor, m.c.lnz);
+    m.analyses->impl_->keep(m.pattern, tail, m.tail_part, fill, m.factor, m.c.lnz, m.ordering);
   return true;
 }
 
@@ -190,7 +216,7 @@ bool TailCholesky::adopt(const SpMat& k, const std::vector<int>& tail) {
   if (!m.analyses) return false;
   std::shared_ptr<const AnalysedPattern> pattern;
   cholmod_factor* copy = m.analyses->impl_->copy(
-      k, tail, m.tail_part, m.given(n_) ? m.fill.get() : nullptr, &m.c, pattern);
+      k, tail, m.tail_part, m.given(n_) ? m.fill.get() : nullptr, &m.c, pattern, m.ordering);
   if (!copy) return false;
   if (m.factor) cholmod_free_factor(&m.factor, &m.c);
   m.factor = copy;
@@ -217,7 +243,6 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
   report_.message.clear();
   report_.backend = "cholmod";
   n_ = static_cast<int>(k.rows());
-  report_.ordering = m.given(n_) ? "given_tail_last" : "camd";
   if (!k.coeffs().allFinite())
     return fail(SolveStatus::kFailed, "the stiffness matrix has non-finite entries");
   const SpMat* kk = &k;
@@ -232,6 +257,7 @@ SolveStatus TailCholesky::factorize(const SpMat& k, const std::vector<int>& tail
     const bool ok = adopted || analyse(*kk, tail);
     if (!adopted) report_.symbolic_analyses++;
     report_.symbolic_seconds += clock.lap();
+    report_.ordering = m.ordering;
     if (!ok) {
       m.pattern.reset();
       return fail(SolveStatus::kFailed, "constrained ordering failed (CHOLMOD status " +

@@ -7,8 +7,8 @@
 // L D Lᵀ with unit L, which also factorises a symmetric indefinite K with nonzero pivots, as
 // SpdSolver's does: the same matrices factorise on either path.
 //
-// The ordering is CHOLMOD's CAMD (minimum degree under the constraint "tail last"), or a given
-// fill-reducing order with the tail moved last (set_ordering); L₂₂ is the
+// The ordering is CHOLMOD's CAMD (minimum degree under the constraint "tail last"), on K or on
+// a given fill order's mesh graph (set_ordering, FillOrder::tail_last); L₂₂ is the
 // Cholesky factor of the tail's Schur complement, i.e. the stiffness condensed onto the tail.
 // A right-hand side that lives on the tail (a constraint row's Cᵀ when the tail holds every
 // unknown the constraints touch) then costs dense O(k²) work on L₂₂ instead of two sparse
@@ -62,8 +62,9 @@ class TailCholesky {
   /// entry of K joins two parts.
   SolveStatus factorize(const SpMat& k, const std::vector<int>& tail,
                         const std::vector<int>& tail_part = {});
-  /// Orders matrices of its size by `fill`'s order (e.g. mesh_fill_order) with the tail
-  /// moved last, both parts keeping their relative order, instead of CAMD on the matrix.
+  /// Orders matrices of its size by `fill`'s tail-last order (FillOrder::tail_last: CAMD on
+  /// the corner graph of mesh_fill_order's mesh, or the order with the tail moved last)
+  /// instead of CAMD on the matrix.
   void set_ordering(std::shared_ptr<const FillOrder> fill);
   /// Takes matching symbolic analyses from `analyses` and offers it its own (null: none).
   void set_analyses(std::shared_ptr<TailAnalyses> analyses);
@@ -89,6 +90,8 @@ class TailCholesky {
  private:
   struct Impl;
   bool analyse(const SpMat& k, const std::vector<int>& tail);
+  /// Groups the tail (the last entries of `perm`) by its parts, if any.
+  void group_tail(const std::vector<int>& tail, std::vector<int>& perm) const;
   /// A copy of a matching analysis from the shared analyses, if one is kept.
   bool adopt(const SpMat& k, const std::vector<int>& tail);
   /// Each tail unknown's row in L₂₂, from the analysed order; false if the tail is not last.

@@ -54,7 +54,7 @@ class TailOrder : public ::testing::TestWithParam<bool> {
     if (!reversed_) {  // one order for every factor of the test, as a model has one
       std::vector<int> reversed(kSide * kSide);
       for (int k = 0; k < kSide * kSide; ++k) reversed[k] = kSide * kSide - 1 - k;
-      reversed_ = std::make_shared<const core::FillOrder>(core::FillOrder{reversed, {}});
+      reversed_ = std::make_shared<const core::FillOrder>(core::FillOrder{reversed, {}, {}});
     }
     f.set_ordering(reversed_);
   }
