@@ -158,6 +158,10 @@ struct ConstraintSolution {
   double seconds = 0;
   std::vector<IterationRecord> history;
   std::vector<double> penalty_history;  ///< adaptive_penalty: largest k after each raise
+  /// Non-empty when the method cannot pose this problem at all, and why (ipopt: K_T is not
+  /// positive definite with every row regularising, so its QP is not convex): a method with
+  /// a fallback (ConstraintStrategy::fallback) hands it the iterate.
+  std::string not_applicable;
 };
 
 }  // namespace c2d::constraints

@@ -93,9 +93,10 @@ class ConstraintStrategy {
   void step_accepted(StepHistory converged);
   void step_rejected();
   /// The method that finishes a load step whose outer iterations cycle (their sets return to
-  /// an earlier combination), or null: the cycle then ends the step as `cycling`. Only a
-  /// method with the same solution may serve.
-  virtual std::unique_ptr<ConstraintStrategy> cycle_fallback() const { return nullptr; }
+  /// an earlier combination) or whose problem this method cannot pose
+  /// (ConstraintSolution::not_applicable), or null: the step then ends `cycling`, or with the
+  /// method's failure. Only a method with the same solution may serve.
+  virtual std::unique_ptr<ConstraintStrategy> fallback() const { return nullptr; }
 
   /// The only place a method name becomes a class (through the method registry). Throws
   /// InputError for an unknown method or invalid options.

@@ -49,9 +49,11 @@ struct PlateResult {
 
 struct ContactReport {
   std::string method;
-  /// Load steps the method's cycle fallback finished (its sets cycled there), and its name.
+  /// Load steps the method's fallback finished (ConstraintStrategy::fallback), its name, and
+  /// why the last one was handed over ("its sets cycled", or the method's reason).
   int fallback_steps = 0;
   std::string fallback_method;
+  std::string fallback_reason;
   SolveStatus status = SolveStatus::kFailed;
   std::string message;
   int iterations = 0;  ///< backend iterations summed over detection passes

@@ -43,7 +43,8 @@ SpMat regularised_stiffness(const SpMat& k, const SpMat& ct, const std::vector<i
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
     std::shared_ptr<core::TailAnalyses> analyses, const std::vector<int>& always,
-    std::vector<std::vector<int>> groups, const std::vector<double>& gap, bool anchor) {
+    std::vector<std::vector<int>> groups, const std::vector<double>& gap, bool anchor,
+    bool* unfactorised) {
   auto surface = std::make_unique<SurfaceCondensation>(std::move(ct), std::move(ordering),
                                                        std::move(analyses));
   if (!surface->fits()) return nullptr;
@@ -59,6 +60,7 @@ std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     if (surface->factorize(k, reg)) return surface;
     if (first >= count) break;
   }
+  if (unfactorised) *unfactorised = true;
   return nullptr;
 }
 

@@ -50,13 +50,14 @@ class SurfaceCondensation;
 /// of the eight `groups` nearest to closing (a group: a normal row with its tangential row; its
 /// gap in `gap`, the smallest nearest), or of every group when those leave a rigid mode (a body
 /// held only by its constraints). Null when the rows do not fit a dense surface block or K_ρ is
-/// not definite even with every group.
+/// not definite even with every group (then `*unfactorised`, if given, is set).
 /// With `anchor` (see above), first R = `always` and anchor rows. Without it (a caller that reads
 /// ρ and R itself: ipopt's dual), R never holds rows of the condensation's own.
 std::unique_ptr<SurfaceCondensation> condense_onto_rows(
     SpMat ct, const SpMat& k, std::shared_ptr<const core::FillOrder> ordering,
-    std::shared_ptr<core::TailAnalyses> analyses, const std::vector<int>& always, std::vector<std::vector<int>> groups,
-    const std::vector<double>& gap, bool anchor = true);
+    std::shared_ptr<core::TailAnalyses> analyses, const std::vector<int>& always,
+    std::vector<std::vector<int>> groups, const std::vector<double>& gap, bool anchor = true,
+    bool* unfactorised = nullptr);
 
 class SurfaceCondensation {
  public:

@@ -37,7 +37,7 @@ class ConstrainedStep {
   /// One outer iteration; false when the step failed (out_ says why), out_.status converged
   /// when it ended the step.
   bool iterate(int outer);
-  /// The method solving the step's iterates: the step's own, or its cycle fallback.
+  /// The method solving the step's iterates: the step's own, or its fallback.
   ConstraintStrategy& method() const { return fallback_ ? *fallback_ : strategy_; }
   /// The method's solve of the linearised problem `qp` (constants `c`) from memory_, its work
   /// and set in the iteration record `it`; `next` its active set by slot. False when it failed:
@@ -130,7 +130,7 @@ class ConstrainedStep {
   StructuralSystem& system_;
   const ContactSet& contact_;
   ConstraintStrategy& strategy_;
-  std::unique_ptr<ConstraintStrategy> fallback_;  ///< the cycle fallback, once called on
+  std::unique_ptr<ConstraintStrategy> fallback_;  ///< the method's fallback, once called on
   const ContactStepInput& in_;
   VecX u_;
   ContactMemory previous_;

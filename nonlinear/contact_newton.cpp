@@ -133,8 +133,9 @@ bool ConstrainedStep::iterate(int outer) {
     change = sets_.record(next);
   // Sets that cycle end the step, unless the method has a fallback to finish it with: then
   // this iterate is solved again by the fallback, and so is every later one of the step.
-  if (change.repeated && !fallback_ && (fallback_ = strategy_.cycle_fallback())) {
+  if (change.repeated && !fallback_ && (fallback_ = strategy_.fallback())) {
     out_.fallback = fallback_->name();
+    out_.fallback_reason = "its sets cycled";
     if (!solve_method(qp, c, it, s, next)) return false;
     change = sets_.record(next);
   }
@@ -156,6 +157,16 @@ bool ConstrainedStep::solve_method(const ConstrainedProblem& qp, const VecX& c,
                                    ContactMemory& next) {
   s = solve_catching_first_touch(method(), qp, memory_);
   out_.strategy.add(s);
+  // A problem the method cannot pose goes to its fallback, for this iterate and the rest of
+  // the step, as a cycle does.
+  if (s.status != SolveStatus::kConverged && !s.not_applicable.empty() && !fallback_ &&
+      (fallback_ = strategy_.fallback())) {
+    out_.fallback = fallback_->name();
+    out_.fallback_reason = s.not_applicable;
+    it.factorizations += s.factorizations;
+    s = solve_catching_first_touch(method(), qp, memory_);
+    out_.strategy.add(s);
+  }
   if (s.status == SolveStatus::kConverged && static_cast<int>(s.active.size()) == qp.num_gaps() &&
       static_cast<int>(memory_.initial_active.size()) == qp.num_gaps())
     for (int i = 0; i < qp.num_gaps(); ++i)

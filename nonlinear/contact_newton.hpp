@@ -98,9 +98,10 @@ struct ContactStepResult {
   /// The converged state's sets and friction forces by slot, for the method's history
   /// (ConstraintStrategy::step_accepted).
   constraints::StepHistory history;
-  /// The method that finished the step after the outer iterations cycled
-  /// (ConstraintStrategy::cycle_fallback); empty: the step's own method throughout.
-  std::string fallback;
+  /// The method that finished the step after the outer iterations cycled or the step's own
+  /// could not pose an iterate (ConstraintStrategy::fallback), and why; empty: the step's own
+  /// method throughout.
+  std::string fallback, fallback_reason;
   std::vector<ContactIteration> iterations;
   NewtonReport newton;  ///< the KINSOL solves of the step combined (iterations, norms)
   std::vector<constraints::GapRow> rows;   ///< at the converged state

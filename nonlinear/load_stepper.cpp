@@ -149,6 +149,7 @@ class LoadStepper {
       rec.newton.message = cstep.message;
       rec.contact = cstep.iterations;
       rec.fallback = cstep.fallback;
+      rec.fallback_reason = cstep.fallback_reason;
       rec.factorizations = cstep.strategy.factorizations + cstep.newton.factorizations;
       return cstep.u_free;
     }
@@ -251,8 +252,11 @@ class LoadStepper {
       last_contact_.measured_penetration = cstep.measured_penetration;
       last_contact_.penetration_tolerance = cstep.penetration_tolerance;
       last_contact_.nodal_penetration = cstep.nodal_penetration;
-      if (!cstep.fallback.empty())
-        ++last_contact_.fallback_steps, last_contact_.fallback_method = cstep.fallback;
+      if (!cstep.fallback.empty()) {
+        ++last_contact_.fallback_steps;
+        last_contact_.fallback_method = cstep.fallback;
+        last_contact_.fallback_reason = cstep.fallback_reason;
+      }
       rec.contact_state = last_contact_;
     }
     // Below the nominal increment, grow back toward it: at once after a cutback when the step

@@ -30,9 +30,9 @@ struct StepRecord {
   /// the contact state per slave node (gap, force, pressure, active).
   std::vector<ContactIteration> contact;
   constraints::ContactReport contact_state;
-  /// With contact: the method that finished the attempt after the sets cycled
-  /// (ConstraintStrategy::cycle_fallback); empty: the scene's method throughout.
-  std::string fallback;
+  /// With contact: the method that finished the attempt (ConstraintStrategy::fallback), and
+  /// why; empty: the scene's method throughout.
+  std::string fallback, fallback_reason;
 };
 
 struct StepperOptions {

@@ -49,11 +49,11 @@ nlohmann::json contact_warnings(const constraints::ContactReport& contact) {
     w.push_back(text);
   }
   if (contact.fallback_steps > 0)
-    w.push_back("contact: " + contact.method + "'s sets cycled in " +
-                std::to_string(contact.fallback_steps) + " load step" +
-                (contact.fallback_steps > 1 ? "s" : "") + ", finished by " +
-                contact.fallback_method + ", the method's fallback for a cycle (the same "
-                "solution: docs/scene.md)");
+    w.push_back("contact: " + std::to_string(contact.fallback_steps) + " load step" +
+                (contact.fallback_steps > 1 ? "s" : "") + " finished by " +
+                contact.fallback_method + ", " + contact.method +
+                "'s fallback (the same solution: docs/scene.md); the last handed over because " +
+                contact.fallback_reason);
   return w;
 }
 
@@ -74,6 +74,8 @@ nlohmann::json contact_section(const constraints::ContactReport& contact) {
                       {"message", contact.message},
                       {"iterations", contact.iterations},
                       {"fallback_steps", contact.fallback_steps},
+                      {"fallback_method", contact.fallback_method},
+                      {"fallback_reason", contact.fallback_reason},
                       {"detection_passes", contact.detection_passes},
                       {"rows", contact.rows},
                       {"slave_nodes", contact.nodes.size()},

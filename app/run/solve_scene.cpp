@@ -70,7 +70,8 @@ std::unique_ptr<SceneRun> solve_scene(const core::Scene& scene, const std::strin
         text += line;
       }
       if (s.attempt > 0) text += " (after a cutback)";
-      if (!s.fallback.empty()) text += " (the sets cycled: finished by " + s.fallback + ")";
+      if (!s.fallback.empty())
+        text += " (" + s.fallback_reason + ": finished by " + s.fallback + ")";
       say(text);
     };
   so.on_state = [&](const nonlinear::StepRecord& s, const core::Results& r) {

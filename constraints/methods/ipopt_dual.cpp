@@ -189,8 +189,13 @@ std::unique_ptr<SurfaceDual> SurfaceDual::build(const ConstrainedProblem& p, con
     gap.push_back(-d->b_[r]);
   }
   // (no anchor rows: the dual reads R from ρ and treats its rows as the caller's)
+  bool unfactorised = false;
   d->surface_ = condense_onto_rows(std::move(ct), p.stiffness, p.ordering, p.analyses, always,
-                                   std::move(groups), gap, false);
+                                   std::move(groups), gap, false, &unfactorised);
+  if (unfactorised)
+    work.not_applicable =
+        "K_T is not positive definite with every contact row regularising (a motion only the "
+        "rows' curvature holds, or none): Ipopt's QP is not convex";
   if (!d->surface_) return nullptr;
   if (!d->condense()) {
     d->report(work);

@@ -324,6 +324,9 @@ namespace {
 
 /// Frictionless: on the surface when it condenses and its set is confirmed, else Ipopt on the
 /// whole KKT system (one factorisation per interior-point iteration). Returns the iterations.
+/// Where K_T does not factorise even with every row regularising, the QP is not convex and
+/// the whole system's interior point only wanders (a pin in a frictionless hole, free to turn
+/// under compression: 1,000 iterations a solve, 362 s to fail): not applicable.
 int solve_frictionless(const ConstrainedProblem& p, const RowSet& base, const StrategyOptions& o,
                        const SetRule& rule, bool& loose_first, ConstraintSolution& s) {
   ConstraintSolution surface;
@@ -333,6 +336,11 @@ int solve_frictionless(const ConstrainedProblem& p, const RowSet& base, const St
     return s.iterations;
   }
   add_solution_work(surface, s);
+  if (!surface.not_applicable.empty()) {
+    s.status = SolveStatus::kFailed;
+    s.message = s.not_applicable = surface.not_applicable;
+    return 0;
+  }
   const QpOutcome qp = run_ipopt(p, base, VecX(), o, o.ipopt_tolerance);
   extract_forces(p, base, {}, qp, s);
   s.status = qp.status;
@@ -369,7 +377,7 @@ int solve_with_friction(const ConstrainedProblem& p, const RowMemory& memory, co
 
 }  // namespace
 
-std::unique_ptr<ConstraintStrategy> IpoptStrategy::cycle_fallback() const {
+std::unique_ptr<ConstraintStrategy> IpoptStrategy::fallback() const {
   StrategyOptions o = options_;
   o.method = "lagrange";
   return ConstraintStrategy::create(o);

@@ -18,7 +18,7 @@ class IpoptStrategy final : public ExactStrategy {
   /// indefinite along a motion only the rows hold (a beam buckling against a cap), its dual
   /// holds that motion as if rigid, and the sets it finds at two linearisations can alternate
   /// where the exact active-set iteration settles.
-  std::unique_ptr<ConstraintStrategy> cycle_fallback() const override;
+  std::unique_ptr<ConstraintStrategy> fallback() const override;
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem,

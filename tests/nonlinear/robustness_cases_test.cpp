@@ -1029,7 +1029,7 @@ INSTANTIATE_TEST_SUITE_P(Methods, LoadUnload, ::testing::ValuesIn(constraints::m
 // that floor as its least tolerance.
 INSTANTIATE_TEST_SUITE_P(Methods, PinInHole, ::testing::ValuesIn(constraints::method_names()));
 // ipopt ended `cycling` near λ = 1 until its sets, cycling between two linearisations, were
-// handed to its cycle fallback (lagrange's primal-dual iteration) for the rest of the step.
+// handed to its fallback (lagrange's primal-dual iteration) for the rest of the step.
 INSTANTIATE_TEST_SUITE_P(Methods, BeamCap, ::testing::ValuesIn(constraints::method_names()));
 // penalty and adaptive_penalty converged with friction forces up to 9e-5 of the largest normal
 // force until their default penalties became one stiffness per area of the surface times each
