@@ -1,6 +1,7 @@
 #include "core/fill_ordering.hpp"
 
-#include <Eigen/CholmodSupport>
+#include <cholmod.h>
+
 #include <algorithm>
 #include <array>
 #include <numeric>
@@ -98,14 +99,11 @@ class CornerGraph {
     }
     start_[n_] = out;
     rows_.resize(out);
-    ones_.assign(out, 1.0);  // the orderings read the pattern only
     for (int v = 0; v < mesh.num_nodes(); ++v)
       for (int d = 0; d < 2; ++d) equations_[v][d] = dofs.equation(2 * v + d);
     for (int dof = 2 * mesh.num_nodes(); dof < dofs.num_dofs(); ++dof)
       if (const int q = dofs.equation(dof); q >= 0) beyond_.push_back(q);
   }
-
-  int num_free() const { return num_free_; }
 
   /// AMD's elimination order of the corners.
   std::vector<int> amd() const {
@@ -176,14 +174,11 @@ class CornerGraph {
 
  private:
   cholmod_sparse view() const {
-    Eigen::Map<const SpMat> pattern(n_, n_, static_cast<Eigen::Index>(rows_.size()), start_.data(),
-                                    rows_.data(), ones_.data());
     cholmod_sparse g{};
     g.nrow = g.ncol = static_cast<size_t>(n_);
     g.nzmax = rows_.size();
     g.p = const_cast<int*>(start_.data());
     g.i = const_cast<int*>(rows_.data());
-    g.x = const_cast<double*>(ones_.data());
     g.stype = -1;
     g.itype = CHOLMOD_INT;
     g.xtype = CHOLMOD_PATTERN;
@@ -194,7 +189,6 @@ class CornerGraph {
   }
   int n_;
   std::vector<int> start_, rows_;
-  std::vector<double> ones_;
   std::vector<int> corner_;                    ///< per node: its corner, −1 if none
   std::vector<std::array<int, 2>> edge_;       ///< per T6 mid-side node: its edge's corners
   std::vector<std::array<int, 2>> equations_;  ///< per node: its two equations (−1: none)

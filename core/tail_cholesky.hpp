@@ -62,9 +62,10 @@ class TailCholesky {
   /// entry of K joins two parts.
   SolveStatus factorize(const SpMat& k, const std::vector<int>& tail,
                         const std::vector<int>& tail_part = {});
-  /// Orders matrices of its size by `fill`'s tail-last order (FillOrder::tail_last: CAMD on
-  /// the corner graph of mesh_fill_order's mesh, or the order with the tail moved last)
-  /// instead of CAMD on the matrix.
+  /// Orders matrices of its size by one of `fill`'s tail-last orders instead of CAMD on the
+  /// matrix: CAMD on the corner graph of mesh_fill_order's mesh (FillOrder::tail_last) or the
+  /// order with the tail moved last (moved_last), whichever factor takes fewer flops; the
+  /// report's `ordering` says which ("corner_camd", "given_tail_last").
   void set_ordering(std::shared_ptr<const FillOrder> fill);
   /// Takes matching symbolic analyses from `analyses` and offers it its own (null: none).
   void set_analyses(std::shared_ptr<TailAnalyses> analyses);

@@ -195,7 +195,7 @@ std::unique_ptr<SurfaceDual> SurfaceDual::build(const ConstrainedProblem& p, con
   if (unfactorised)
     work.not_applicable =
         "K_T is not positive definite with every contact row regularising (a motion only the "
-        "rows' curvature holds, or none): Ipopt's QP is not convex";
+        "rows' curvature holds, or none): Ipopt's QP is not strictly convex";
   if (!d->surface_) return nullptr;
   if (!d->condense()) {
     d->report(work);
