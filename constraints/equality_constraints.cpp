@@ -40,10 +40,12 @@ void EqualityConstraints::check_plate_rows() {
       at.push_back(turns[k]);
       if (k + 1 < turns.size()) at.push_back(0.5 * (turns[k] + turns[k + 1]));
     }
+  std::vector<VecX> motion;  // the prescribed displacements there, once for every plate
+  for (double lambda : at) motion.push_back(core::prescribed_displacement(model_, lambda));
   std::vector<EqualityRow> rows;
   for (size_t p = 0; p < model_.plates.size(); ++p) {
     for (size_t j = 0; j < at.size(); ++j) {
-      const VecX u = core::prescribed_displacement(model_, at[j]);
+      const VecX& u = motion[j];
       rows.clear();
       rigid_plate_rows(model_, static_cast<int>(p), u, true, rows);
       const VecX residual = values(rows, u);

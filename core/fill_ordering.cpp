@@ -196,21 +196,31 @@ class CornerGraph {
   int num_free_;
 };
 
-std::vector<int> FillOrder::moved_last(const std::vector<int>& tail) const {
-  std::vector<char> in_tail(order.size(), 0);
+namespace {
+
+/// Per free DOF (of `n`): 1 in `tail`, else 0.
+std::vector<char> tail_marks(int n, const std::vector<int>& tail) {
+  std::vector<char> in_tail(n, 0);
   for (int q : tail) in_tail[q] = 1;
-  std::vector<int> perm = order;
+  return in_tail;
+}
+
+/// `perm` with the marked DOFs moved last, both parts in their relative order.
+std::vector<int> marked_last(std::vector<int> perm, const std::vector<char>& in_tail) {
   std::stable_partition(perm.begin(), perm.end(), [&](int q) { return !in_tail[q]; });
   return perm;
 }
 
+}  // namespace
+
+std::vector<int> FillOrder::moved_last(const std::vector<int>& tail) const {
+  return marked_last(order, tail_marks(static_cast<int>(order.size()), tail));
+}
+
 std::vector<int> FillOrder::tail_last(const std::vector<int>& tail) const {
   if (!graph) return {};
-  std::vector<char> in_tail(order.size(), 0);
-  for (int q : tail) in_tail[q] = 1;
-  std::vector<int> perm = graph->expand(graph->camd(graph->marked_corners(in_tail)));
-  std::stable_partition(perm.begin(), perm.end(), [&](int q) { return !in_tail[q]; });
-  return perm;
+  const std::vector<char> in_tail = tail_marks(static_cast<int>(order.size()), tail);
+  return marked_last(graph->expand(graph->camd(graph->marked_corners(in_tail))), in_tail);
 }
 
 std::vector<int> corner_graph_ordering(const Mesh& mesh, const DofMap& dofs) {

@@ -105,7 +105,7 @@ std::pair<double, int> Mesh::angle_quality(double skinny_deg) const {
     double tri_min = 180.0;
     for (int k = 0; k < 3; ++k) {
       const Vec2 a = nodes[e[(k + 1) % 3]] - nodes[e[k]], b = nodes[e[(k + 2) % 3]] - nodes[e[k]];
-      const double angle = std::atan2(std::abs(a.x() * b.y() - a.y() * b.x()), a.dot(b));
+      const double angle = angle_between(a, b);
       tri_min = std::min(tri_min, angle * 180.0 / M_PI);
     }
     smallest = std::min(smallest, tri_min);

@@ -77,7 +77,7 @@ ArcPiece arc_piece(const ShapeSpec& s, const ShapeSpec::Arc& arc) {
   const Vec2 a = s.points[arc.edge], b = s.points[(arc.edge + 1) % n];
   const Vec2 from = a - arc.center, to = b - arc.center;
   ArcPiece piece;
-  piece.angle = std::atan2(std::abs(from.x() * to.y() - from.y() * to.x()), from.dot(to));
+  piece.angle = angle_between(from, to);
   const double r = arc.radius;
   const double segment = 0.5 * r * r * (piece.angle - std::sin(piece.angle));
   // The minor arc's middle lies from the centre towards the chord's middle.

@@ -265,8 +265,7 @@ void make_delaunay() {
       tri.push_back(t);
     }
     auto angle_at = [&](std::size_t at, std::size_t a, std::size_t b) {
-      const Vec2 u = x[a] - x[at], v = x[b] - x[at];
-      return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v));
+      return angle_between(x[a] - x[at], x[b] - x[at]);
     };
     bool flipped = true;
     for (int pass = 0; flipped && pass < 1000; ++pass) {

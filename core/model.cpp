@@ -245,6 +245,12 @@ bool has_amplitudes(const Model& model) {
   return !model.amplitude_loads.empty() || !model.motion_amplitudes.empty();
 }
 
+int add_motion_amplitude(const AmplitudeTable& table, Model& model) {
+  if (table.empty()) return -1;
+  model.motion_amplitudes.push_back({table});
+  return static_cast<int>(model.motion_amplitudes.size()) - 1;
+}
+
 namespace {
 
 /// A scene material as the element kernels' material, in the analysis' plane state.
@@ -279,13 +285,6 @@ void mesh_bodies(const Scene& scene, Model& model) {
     model.mesh.append(body_mesh, static_cast<int>(b), mat, spec.name + "/");
     model.body_names.push_back(spec.name);
   }
-}
-
-/// A support's amplitude as the model's next motion amplitude: its index, −1 for none.
-int add_motion_amplitude(const AmplitudeTable& table, Model& model) {
-  if (table.empty()) return -1;
-  model.motion_amplitudes.push_back({table});
-  return static_cast<int>(model.motion_amplitudes.size()) - 1;
 }
 
 /// Prescribes `value` on `dof` under motion amplitude `amplitude`; false when the DOF already

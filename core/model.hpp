@@ -106,6 +106,10 @@ VecX prescribed_group(const Model& model, int amplitude);
 /// Whether a load or a prescribed motion has its own amplitude: the analysis is staged.
 bool has_amplitudes(const Model& model);
 
+/// A support's or plate's amplitude as the model's next motion amplitude: its index in
+/// Model::motion_amplitudes, −1 for none (an empty table).
+int add_motion_amplitude(const AmplitudeTable& table, Model& model);
+
 /// Meshes the bodies (or takes the legacy mesh), applies supports and loads. Throws InputError
 /// when a selection matches nothing or a support conflicts.
 Model build_model(const Scene& scene);

@@ -107,11 +107,8 @@ void prescribe_plates(const Scene& scene, Model& model) {
   for (size_t p = 0; p < scene.plates.size(); ++p) {
     const PlateSpec& spec = scene.plates[p];
     const int dof = model.plates[p].dof;
-    int amplitude = -1;
-    if (!spec.amplitude.empty() && (spec.ux || spec.uy || spec.rotation)) {
-      model.motion_amplitudes.push_back({spec.amplitude});
-      amplitude = static_cast<int>(model.motion_amplitudes.size()) - 1;
-    }
+    const bool moved = spec.ux || spec.uy || spec.rotation;
+    const int amplitude = moved ? add_motion_amplitude(spec.amplitude, model) : -1;
     const std::optional<double> values[3] = {spec.ux, spec.uy, spec.rotation};
     // The plate's own DOFs: no support prescribes them, so no value or amplitude conflicts.
     for (int c = 0; c < 3; ++c)

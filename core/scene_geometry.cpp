@@ -151,7 +151,7 @@ std::vector<ShapeSpec::Arc> parse_arcs(const TomlView& v, const std::vector<Vec2
     if (!(std::abs(to.norm() - arc.radius) <= 1e-9 * arc.radius))
       a["center"].fail("a centre equidistant from the edge's ends (found " +
                        number_text(from.norm()) + " and " + number_text(to.norm()) + ")");
-    const double angle = std::atan2(std::abs(from.x() * to.y() - from.y() * to.x()), from.dot(to));
+    const double angle = angle_between(from, to);
     if (!(angle < std::numbers::pi * (1.0 - 1e-9)))
       a["center"].fail(
           "an arc of less than 180 degrees (split a longer one at a point of its "

@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace c2d {
@@ -26,6 +27,12 @@ using LocalVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kM
 /// on one thread: waking a second OpenMP thread beside OpenBLAS's spinning ones cost more than
 /// it saved (a 3,160-element T6 assembly: 12 ms on one thread, 46 ms on two).
 constexpr int kMinParallelElements = 20000;
+
+/// The angle between two vectors, in [0, π] (atan2 of |a × b| and a · b: accurate near 0 and
+/// π, where acos is not).
+inline double angle_between(const Vec2& a, const Vec2& b) {
+  return std::atan2(std::abs(a.x() * b.y() - a.y() * b.x()), a.dot(b));
+}
 
 /// Voigt stress or strain [xx, yy, xy] (engineering shear strain for strains).
 using Voigt = Eigen::Vector3d;
