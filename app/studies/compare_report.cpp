@@ -2,15 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iomanip>
 #include <iostream>
-#include <iterator>
 #include <map>
 #include <sstream>
 #include <tuple>
 
-#include "app/report/gnuplot.hpp"
-#include "app/report/units.hpp"
 #include "app/report/html_report.hpp"
 #include "app/report/pressure_profile.hpp"
 #include "core/writers.hpp"
@@ -66,9 +62,8 @@ const CompareRow* metric_baseline(const CompareStudy& s) {
   return nullptr;
 }
 
-/// The accuracy a row reached on the study's metric (NaN when it has none). Against a baseline
-/// run, the rows of the baseline's level have none: there the difference is between methods on
-/// one mesh, not a discretisation error (method_spread reports it).
+}  // namespace
+
 double accuracy(const CompareStudy& s, const CompareRow& r) {
   if (!r.converged() || s.metric.empty()) return std::nan("");
   if (s.metric.reference) return std::abs(r.metric);
@@ -76,6 +71,15 @@ double accuracy(const CompareStudy& s, const CompareRow& r) {
   if (!base || r.level == base->level) return std::nan("");
   return std::abs(relative_to(r.metric, base->metric));
 }
+
+std::string metric_name(const CompareStudy& s) {
+  std::string name = s.metric.label();
+  if (const CompareRow* base = metric_baseline(s))
+    name += " (" + base->method + ", level " + std::to_string(base->level) + ")";
+  return name;
+}
+
+namespace {
 
 /// Against a baseline run: how far the other methods' values on the baseline's level are from
 /// it, as a sentence ("" without a baseline or another method there).
@@ -92,13 +96,6 @@ std::string method_spread(const CompareStudy& s) {
   if (!widest) return "";
   return " On level " + std::to_string(base->level) + " the other methods' values are within " +
          percent_text(spread) + " of " + base->method + "'s (the widest: " + widest->method + ").";
-}
-
-std::string metric_name(const CompareStudy& s) {
-  std::string name = s.metric.label();
-  if (const CompareRow* base = metric_baseline(s))
-    name += " (" + base->method + ", level " + std::to_string(base->level) + ")";
-  return name;
 }
 
 /// The observed order of convergence of a method on the study's metric over its converged
@@ -307,147 +304,6 @@ HtmlReport compare_html(const CompareStudy& s, const std::vector<size_t>& missin
   return h;
 }
 
-std::string chart_commands_accuracy(const CompareStudy& s, std::string& data_text) {
-  std::ostringstream data, plot;
-  int block = 0;
-  plot << "set title "
-       << gp_text("Accuracy against solve time (" + metric_name(s) +
-                  "; one point per refinement level)")
-       << "\nset xlabel 'solve time (s)'\nset ylabel " << gp_text(metric_name(s))
-       << "\nset logscale xy\nset grid\nset key outside right\nplot ";
-  for (const auto& m : s.methods) {
-    std::ostringstream block_data;
-    int points = 0;
-    for (const auto& r : s.rows) {
-      const double e = accuracy(s, r);
-      if (r.method != m || !std::isfinite(e) || !(e > 0) || !(r.t_solve > 0)) continue;
-      block_data << r.t_solve << ' ' << e << ' ' << r.level << '\n';
-      ++points;
-    }
-    if (!points) continue;
-    data << block_data.str() << "\n\n";
-    plot << (block ? ", \\\n     " : "") << gp_file(s.out + "/accuracy.dat") << " index " << block
-         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m);
-    ++block;
-  }
-  if (!block) return "";
-  data_text = data.str();
-  return plot.str() + "\n";
-}
-
-/// compare's charts, in the order they are drawn.
-const ReportChart kCompareCharts[] = {{"accuracy_time", "accuracy against time", ""},
-                                      {"pressure_profiles", "pressure profiles", ""},
-                                      {"penetration", "penetration", ""}};
-
-/// Adds `chart`, not written for `why` ("" when it was), to `charts`; returns `error`.
-std::string add_chart(std::vector<ReportChart>& charts, ReportChart chart, const std::string& why,
-                      const std::string& error = "") {
-  chart.not_written = error.empty() ? why : error;
-  charts.push_back(chart);
-  return error;
-}
-
-/// accuracy_time.png/svg; "" or the chart's failure.
-std::string chart_accuracy_time(const CompareStudy& s, std::vector<ReportChart>& charts) {
-  if (s.metric.empty())
-    return add_chart(charts, kCompareCharts[0], "the scene has no reference to measure against");
-  std::string data;
-  const std::string cmd = chart_commands_accuracy(s, data);
-  if (cmd.empty())
-    return add_chart(charts, kCompareCharts[0], "no converged run has an error and a time above 0");
-  return add_chart(charts, kCompareCharts[0], "",
-                   plot_with_data(s.out, "accuracy_time", cmd, {{s.out + "/accuracy.dat", data}}));
-}
-
-/// pressure_profiles.png/svg: every method's pressures on the finest level, with Hertz's.
-std::string chart_pressure_profiles(const CompareStudy& s, int finest,
-                                    std::vector<ReportChart>& charts) {
-  std::ostringstream plot;
-  plot << "set title 'Contact pressure, level " << finest
-       << " (finest), every method'\nset xlabel "
-       << gp_text(axis_label("x or y, the coordinate the contact spreads along",
-                             parse_units(s.units).length))
-       << "\nset ylabel " << gp_text(axis_label("pressure", parse_units(s.units).stress))
-       << "\nset grid\nset key top right\n";
-  if (s.hertz) {
-    // The data's span within 1.6 half-widths of the centre (a half model shows one side).
-    double lo = 1e300, hi = -1e300;
-    for (const auto& r : s.rows)
-      if (r.level == finest)
-        for (const auto& xp : r.profile) lo = std::min(lo, xp.first), hi = std::max(hi, xp.first);
-    write_hertz_window(plot, *s.hertz, lo, hi);
-    plot << "set key top left\n";
-  }
-  plot << "plot ";
-  int n = 0;
-  std::vector<PlotData> files;
-  for (const auto& r : s.rows) {
-    if (r.level != finest || r.profile.empty()) continue;
-    std::ostringstream d;
-    d << std::setprecision(12);
-    for (const auto& [x, p] : r.profile) d << x << ' ' << p << '\n';
-    const std::string path = s.out + "/profile_" + r.method + ".dat";
-    files.push_back({path, d.str()});
-    plot << (n ? ", \\\n     " : "") << gp_file(path) << " using 1:2 with linespoints pt " << 4 + n
-         << " ps 0.7 title " << gp_text(r.method);
-    ++n;
-  }
-  if (s.hertz) {
-    plot << (n ? ", \\\n     " : "");
-    write_hertz_curve(plot, *s.hertz);
-    plot << " with lines lw 2 lc rgb 'black' dt 2 title 'Hertz'";
-  }
-  plot << "\n";
-  if (!n) return add_chart(charts, kCompareCharts[1], "no run converged on the finest level");
-  return add_chart(charts, kCompareCharts[1], "",
-                   plot_with_data(s.out, "pressure_profiles", plot.str(), files));
-}
-
-/// penetration.png/svg: the largest penetration per method and level.
-std::string chart_penetration(const CompareStudy& s, std::vector<ReportChart>& charts) {
-  std::ostringstream d, plot;
-  int n = 0;
-  plot << "set title 'Largest penetration per method (exact methods at round-off; 0 drawn at "
-          "1e-20)'\n"
-       << "set xlabel 'refinement level'\nset ylabel "
-       << gp_text(axis_label("max penetration", parse_units(s.units).length)) << "\nset logscale y\n"
-       << "set format y '10^{%L}'\nset grid\nset key outside right\nset xtics 1\n"
-       // Half a level either side: the first and last levels' points clear of the border.
-       << "set xrange [-0.5:" << s.levels - 0.5 << "]\nplot ";
-  for (const auto& m : s.methods) {
-    std::ostringstream block;
-    int points = 0;
-    for (const auto& r : s.rows)
-      if (r.method == m && r.converged() && std::isfinite(r.penetration))
-        block << r.level << ' ' << std::max(r.penetration, 1e-20) << '\n', ++points;
-    if (!points) continue;
-    d << block.str() << "\n\n";
-    plot << (n ? ", \\\n     " : "") << gp_file(s.out + "/penetration.dat") << " index " << n
-         << " using 1:2 with linespoints pt 7 lw 2 title " << gp_text(m);
-    ++n;
-  }
-  plot << "\n";
-  if (!n) return add_chart(charts, kCompareCharts[2], "no run converged");
-  return add_chart(
-      charts, kCompareCharts[2], "",
-      plot_with_data(s.out, "penetration", plot.str(), {{s.out + "/penetration.dat", d.str()}}));
-}
-
-/// The charts, each drawn only while the ones before it succeeded (the others are listed as not
-/// drawn). Returns "" or the first failure.
-std::string draw_compare_charts(const CompareStudy& s, std::vector<ReportChart>& charts) {
-  std::string error;
-  for (size_t k = 0; k < std::size(kCompareCharts); ++k) {
-    if (!error.empty())
-      add_chart(charts, kCompareCharts[k], "not drawn after the failure of an earlier chart");
-    else
-      error = k == 0   ? chart_accuracy_time(s, charts)
-              : k == 1 ? chart_pressure_profiles(s, s.levels - 1, charts)
-                       : chart_penetration(s, charts);
-  }
-  return error;
-}
 }  // namespace
 
 /// A finished case's row: its figures, and for a converged run its pressure profile, with the

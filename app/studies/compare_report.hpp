@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "app/report/hertz.hpp"
+#include "app/report/html_report.hpp"
 #include "app/studies/study.hpp"
 #include "app/studies/study_metric.hpp"
 
@@ -44,6 +45,20 @@ struct CompareStudy {
   std::vector<StudyCase> cases;
   std::vector<CompareRow> rows;
 };
+
+/// The accuracy a row reached on the study's metric (NaN when it has none). Against a baseline
+/// run (a metric without reference: the exact method's run on the finest level it converged),
+/// the rows of the baseline's level have none: there the difference is between methods on one
+/// mesh, not a discretisation error.
+double accuracy(const CompareStudy& s, const CompareRow& r);
+
+/// The metric's label, with the baseline run it is measured against, if any.
+std::string metric_name(const CompareStudy& s);
+
+/// compare's charts (compare_charts.cpp): accuracy against time, the finest level's pressure
+/// profiles with Hertz's, the penetration per level; each drawn only while the ones before it
+/// succeeded, the others listed in `charts` as not drawn. Returns "" or the first failure.
+std::string draw_compare_charts(const CompareStudy& s, std::vector<ReportChart>& charts);
 
 /// compare.csv: the header and a line per finished row.
 std::string compare_csv(const std::vector<CompareRow>& rows);
