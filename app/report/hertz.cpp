@@ -20,9 +20,11 @@ namespace {
 /// Relative L2 error of a sampled profile (linear between its points) against `exact` over
 /// [−1.5 b, 1.5 b] ∩ the points' span: 4000 trapezoid samples. NaN without a span.
 template <class Exact>
-double profile_l2_error(std::vector<std::pair<double, double>> pts, double b, Exact exact) {
+double profile_l2_error(std::vector<std::pair<double, double>> pts, double b, Exact exact,
+                        double window = 1.5) {
   std::sort(pts.begin(), pts.end());
-  const double lo = std::max(pts.front().first, -1.5 * b), hi = std::min(pts.back().first, 1.5 * b);
+  const double lo = std::max(pts.front().first, -window * b),
+               hi = std::min(pts.back().first, window * b);
   if (!(hi > lo)) return std::nan("");
   constexpr int kSamples = 4000;
   double err2 = 0.0, ref2 = 0.0;
@@ -59,6 +61,14 @@ double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, do
   return profile_l2_error(x_p, b, [&](double x) {
     return std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
   });
+}
+
+double hertz_inner_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0,
+                                 double b) {
+  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
+  return profile_l2_error(
+      x_p, b, [&](double x) { return p0 * std::sqrt(std::max(0.0, 1.0 - (x / b) * (x / b))); },
+      kInnerWindow);
 }
 
 double cattaneo_mindlin_error(const std::vector<std::pair<double, double>>& x_q, double mu,

@@ -238,9 +238,12 @@ nlohmann::json reference_errors(const core::Scene& scene, const core::Results& r
       err[key] = number((value - it->second) / it->second);
   }
   const auto hertz = hertz_reference(scene);
-  if (contact && contact->has_surface && hertz)
-    err["pressure_profile_l2"] =
-        number(hertz_profile_error(pressure_profile(*contact), hertz->p0, hertz->b));
+  if (contact && contact->has_surface && hertz) {
+    const auto profile = pressure_profile(*contact);
+    err["pressure_profile_l2"] = number(hertz_profile_error(profile, hertz->p0, hertz->b));
+    err["pressure_profile_inner_l2"] =
+        number(hertz_inner_profile_error(profile, hertz->p0, hertz->b));
+  }
   // Cattaneo–Mindlin: the shear profile, taken in the direction of the total tangential force.
   const auto cm = cattaneo_reference(scene);
   if (contact && contact->friction && contact->has_surface && cm) {

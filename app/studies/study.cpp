@@ -89,6 +89,7 @@ constexpr const char* kSummaryNumbers =
     "contact.friction.tangential_force error.relative_error reference.relative_error.p_max "
     "reference.relative_error.contact_length reference.relative_error.stick_length "
     "reference.relative_error.shear_profile_l2 reference.relative_error.pressure_profile_l2 "
+    "reference.relative_error.pressure_profile_inner_l2 "
     "reference.relative_error.tip_uy reference.relative_error.a_uy process.wall_s "
     "process.peak_rss_mb solver.numeric_factorizations solver.symbolic_analyses solver.symbolic_s "
     "solver.numeric_s solver.triangular_solve_s time_limit_s";

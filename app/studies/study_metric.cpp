@@ -43,17 +43,21 @@ std::set<std::string> reference_keys(const core::Scene& scene) {
   std::set<std::string> keys;
   for (const auto& [key, value] : scene.reference)
     if (value != 0 && (figure(key) || is_probe(scene, key))) keys.insert(key);
-  if (hertz_reference(scene)) keys.insert("pressure_profile_l2");
+  if (hertz_reference(scene)) keys.insert({"pressure_profile_l2", "pressure_profile_inner_l2"});
   if (cattaneo_reference(scene)) keys.insert("shear_profile_l2");
   return keys;
 }
 
 std::string canonical(const std::string& key) {
-  return key == "profile" ? "pressure_profile_l2" : key == "shear" ? "shear_profile_l2" : key;
+  return key == "profile" ? "pressure_profile_l2"
+         : key == "inner" ? "pressure_profile_inner_l2"
+         : key == "shear" ? "shear_profile_l2"
+                          : key;
 }
 
 std::string words(const std::string& key) {
   if (key == "pressure_profile_l2") return "the pressure profile";
+  if (key == "pressure_profile_inner_l2") return "the pressure profile inside 0.9 b";
   if (key == "shear_profile_l2") return "the shear profile (Cattaneo–Mindlin)";
   if (const Figure* f = figure(key)) return f->words;
   return "probe " + key;
@@ -62,7 +66,8 @@ std::string words(const std::string& key) {
 }  // namespace
 
 std::string StudyMetric::label() const {
-  if (key == "pressure_profile_l2" || key == "shear_profile_l2")
+  if (key == "pressure_profile_l2" || key == "pressure_profile_inner_l2" ||
+      key == "shear_profile_l2")
     return "relative L2 error of " + words(key);
   return reference ? "relative error of " + words(key)
                    : "relative difference of " + words(key) + " from the baseline's";

@@ -31,7 +31,8 @@ namespace {
 std::string cell(double v) { return csv_number(v); }
 
 bool is_profile(const std::string& key) {
-  return key == "pressure_profile_l2" || key == "shear_profile_l2";
+  return key == "pressure_profile_l2" || key == "pressure_profile_inner_l2" ||
+         key == "shear_profile_l2";
 }
 
 /// A row's metric against the baseline's (the regularisation's own error, the mesh's taken
