@@ -3,6 +3,7 @@
 // update) and gives the terms with which a Newton solve holds that set.
 #pragma once
 
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,13 +65,20 @@ class ConstraintStrategy {
   const std::string& name() const { return options_.method; }
   /// Enforces the constraints exactly (up to round-off), or up to a regularisation.
   virtual bool exact() const = 0;
-  /// Whether the method's normal set at a state follows from that state alone: its rule on the
-  /// state's forces and gaps, with nothing of the method's own that the state does not carry.
-  /// Then a state that Newton reached with the set held, and whose rule keeps that set, ends a
-  /// load step without a solve that would only confirm it. The exact methods (multipliers are
-  /// the state's forces) and the pure penalty (its force −k g, λ̂ = 0: held where g < 0); not
-  /// adaptive_penalty (it may raise k at that state) or auglag (its estimates λ̂ move).
-  virtual bool set_follows_state() const { return exact(); }
+  /// How a state that Newton reached with the set held is recognised as the method's solution,
+  /// so that it ends a load step without a solve that would only confirm it: the rule that must
+  /// keep the state's set (from its forces, gaps and slips alone), and the penetration the state
+  /// may have. No rule: no state alone can tell.
+  struct StateTest {
+    const SetRule* rule = nullptr;
+    double max_penetration = std::numeric_limits<double>::infinity();
+  };
+  /// The exact methods: their own rule (their multipliers are the state's forces). Overridden by
+  /// the pure penalty (its own rule without friction) and auglag (the primal-dual rule);
+  /// adaptive_penalty has none (it may raise k at that state).
+  virtual StateTest state_test(const ConstrainedProblem&) const {
+    return exact() ? StateTest{&set_rule()} : StateTest{};
+  }
   /// Solves the problem, from what `memory` carries for its rows (nothing: a cold start).
   /// Never throws for numerical trouble: the status and message say what happened, and every
   /// field is finite. Times the method, names it in the solution and derives the gaps,

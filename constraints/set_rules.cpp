@@ -22,6 +22,16 @@ char trial_state(const RowSolution& r, double trial_t, double bound, const RuleS
   return next;
 }
 
+/// A slipping row whose trial force turns against its slip passes through stick. A trial
+/// compared with the bound alone can flip such a row between the two slip directions for ever
+/// (the return map), or send every row of a body that may turn into slip along one rigid turn
+/// that only K_T resists (the semi-smooth trial λ_t + c s with c the mean diagonal of K: a pin
+/// in a hole at the first step of a tangential load). At a solution a slipping row's trial
+/// points along its force, so the guard never holds a converged set.
+bool turns_against_its_slip(const RowSolution& r, double trial_t) {
+  return (r.tangential == kSlipPlus && trial_t < 0) || (r.tangential == kSlipMinus && trial_t > 0);
+}
+
 }  // namespace
 
 NormalDecision PrimalDualRule::normal(const RowSolution& r, const RuleScales& s) const {
@@ -62,6 +72,7 @@ NormalDecision SemiSmoothRule::normal(const RowSolution& r, const RuleScales& s)
 
 char SemiSmoothRule::tangential(const RowSolution& r, const NormalDecision& d, double bound,
                                 const RuleScales& s, double& residual) const {
+  if (turns_against_its_slip(r, d.trial_t)) return kStick;
   return trial_state(r, d.trial_t, bound, s, residual);
 }
 
@@ -75,10 +86,7 @@ NormalDecision ReturnMapRule::normal(const RowSolution& r, const RuleScales&) co
 
 char ReturnMapRule::tangential(const RowSolution& r, const NormalDecision& d, double bound,
                                const RuleScales& s, double& residual) const {
-  // A slipping row whose trial force turns against its slip passes through stick (the return
-  // map alone can flip such a row between the two slip directions for ever).
-  if ((r.tangential == kSlipPlus && d.trial_t < 0) || (r.tangential == kSlipMinus && d.trial_t > 0))
-    return kStick;
+  if (turns_against_its_slip(r, d.trial_t)) return kStick;
   return trial_state(r, d.trial_t, bound, s, residual);
 }
 

@@ -70,13 +70,13 @@ class ConstrainedStep {
   /// already satisfies the equations. False when Newton failed.
   bool hold_set(const ConstrainedProblem& qp0, const VecX& c0, const ConstraintSolution& s0,
                 bool same_set, ContactIteration& it);
-  /// Whether the method's rule keeps, at the state just kept, the set it was solved with: the
-  /// rows detected afresh there, each held slot still a row that the rule holds (compressive),
-  /// every other row one it leaves open (not penetrating), and with friction each sticking row
-  /// within its bound, each slipping row slipping along its force with that force at the bound
-  /// of its normal force to `tolerance`. Methods whose set follows from the state
-  /// (ConstraintStrategy::set_follows_state), with friction the exact ones (a penalty's return
-  /// map reads the last step's forces too); not Tresca's rows, which carry friction open.
+  /// Whether the method's state test (ConstraintStrategy::state_test) recognises the state just
+  /// kept as its solution: its penetration within the test's, and the test's rule keeping the
+  /// set it was solved with: the rows detected afresh there, each held slot still a row that the
+  /// rule holds (compressive), every other row one it leaves open (not penetrating), and with
+  /// friction each sticking row within its bound, each slipping row slipping along its force
+  /// with that force at the bound of its normal force to `tolerance`. Not Tresca's rows, which
+  /// carry friction open.
   bool settled(const ConstrainedProblem& qp, double tolerance) const;
   /// Whether x already satisfies the equations. A gap detected from absolute coordinates
   /// carries their round-off, ε·|x|, which a row stiffness k turns into a force of k·ε·|x|:

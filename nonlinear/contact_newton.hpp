@@ -18,15 +18,17 @@
 //      methods the multipliers of the active rows as unknowns) until the residual is that
 //      tenth, and the method decides its set again from there (a method whose solve costs
 //      more than two factorisations, such as ipopt: until KINSOL has converged). The active set
-//      never changes inside a KINSOL solve, so its line search sees a smooth residual. Once an attempt, a KINSOL solve that runs out of iterations or stalls
-//      after halving the residual hands its state to the next iterate instead of failing the
-//      attempt (a node sliding past its master's free end cannot keep the set it was held in).
+//      never changes inside a KINSOL solve, so its line search sees a smooth residual. Once an
+//      attempt, a KINSOL solve that runs out of iterations or stalls after halving the residual
+//      hands its state to the next iterate instead of failing the attempt (a node sliding past its
+//      master's free end cannot keep the set it was held in).
 // The step has converged when the strategy kept its set and the state, or the state its step
-// reached, satisfies the equations with that set held; without friction, for a method whose set
-// follows from the state (ConstraintStrategy::set_follows_state), also when the state KINSOL
-// reached is one whose rows, detected afresh, the method's rule holds as held. A small-strain
+// reached, satisfies the equations with that set held; for a method that can recognise its
+// solution in a state (ConstraintStrategy::state_test), also when the state KINSOL reached is
+// one whose rows, detected afresh, that test's rule holds as held. A small-strain
 // system takes the strategy's solution as it is (its rows are linear about the detection state)
-// and confirms it by detecting again. `ipopt` is coupled the same way: Ipopt solves each iterate's QP.
+// and confirms it by detecting again. `ipopt` is coupled the same way: Ipopt solves each iterate's
+// QP.
 #pragma once
 
 #include <limits>

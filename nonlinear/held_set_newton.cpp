@@ -126,7 +126,8 @@ bool ConstrainedStep::hold_set(const ConstrainedProblem& qp0, const VecX& c0,
 
 bool ConstrainedStep::settled(const ConstrainedProblem& qp, double tolerance) const {
   const bool friction = qp.has_friction();
-  if (!method().set_follows_state() || system_.is_linear() || (friction && !method().exact()))
+  const ConstraintStrategy::StateTest test = method().state_test(qp);
+  if (!test.rule || system_.is_linear() || !(state_.max_penetration <= test.max_penetration))
     return false;
   const int slots = contact_.num_slots();
   std::vector<char> held(slots, 0), found(slots, 0);
@@ -137,7 +138,7 @@ bool ConstrainedStep::settled(const ConstrainedProblem& qp, double tolerance) co
   double scale = 0.0;
   for (const double f : force_by_slot_) scale = std::max(scale, std::abs(f));
   const RuleScales scales = rule_scales(qp, scale, saddle_point_scale(qp));
-  const SetRule& rule = method().set_rule();
+  const SetRule& rule = *test.rule;
   const int m = qp.num_gaps();
   const bool tangential_state = state_.tangent_force.size() == m && state_.slip.size() == m &&
                                 state_.friction_state.size() == static_cast<size_t>(m);
@@ -147,9 +148,9 @@ bool ConstrainedStep::settled(const ConstrainedProblem& qp, double tolerance) co
     row.held = held[r.slot] != 0;
     row.force = row.held ? force_by_slot_[r.slot] : 0.0;
     row.gap = r.gap;
-    // A regularised method whose set follows the state has no estimate (λ̂ = 0): its rule
-    // reads −k g, whose sign any k > 0 gives.
-    if (!method().exact()) row.penalty = 1.0, row.force_estimate = 0.0;
+    // A regularised rule judging a state reads no estimate (λ̂ = 0, the pure penalty's): −k g,
+    // whose sign any k > 0 gives.
+    if (rule.regularised()) row.penalty = 1.0, row.force_estimate = 0.0;
     const NormalDecision d = rule.normal(row, scales);
     if (d.held != row.held) return false;
     const int i = row_of[r.slot];

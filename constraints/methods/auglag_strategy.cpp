@@ -94,6 +94,10 @@ ConstraintSolution solve_rounds(const SetRule& rule, const ConstrainedProblem& p
 
 }  // namespace
 
+ConstraintStrategy::StateTest AugLagStrategy::state_test(const ConstrainedProblem& p) const {
+  return {&state_rule_, penetration_tolerance(options_, p)};
+}
+
 ConstraintSolution AugLagStrategy::solve_problem(const ConstrainedProblem& p,
                                                  const RowMemory& memory) {
   VecX k_gap, k_eq;

@@ -11,7 +11,11 @@ namespace c2d::constraints {
 class PenaltyStrategy final : public RegularisedStrategy {
  public:
   using RegularisedStrategy::RegularisedStrategy;
-  bool set_follows_state() const override { return true; }
+  /// Its own rule on a frictionless state (its force −k g, λ̂ = 0: held where g < 0); with
+  /// friction none, as the return map's tangential trial needs estimates a state does not carry.
+  StateTest state_test(const ConstrainedProblem& p) const override {
+    return p.has_friction() ? StateTest{} : StateTest{&set_rule()};
+  }
 
  protected:
   ConstraintSolution solve_problem(const ConstrainedProblem& problem,

@@ -50,7 +50,8 @@ TEST(SetRules, PrimalDualStickSlip) {
   EXPECT_EQ(rule.tangential(r, d, 3.0, scales(), residual), kSlipPlus);
 }
 
-// Semi-smooth: held iff λ − c g > 0; stick iff |λ_t + c s| ≤ bound, else slip along it.
+// Semi-smooth: held iff λ − c g > 0; stick iff |λ_t + c s| ≤ bound, else slip along it; a
+// slipping row whose trial turns against its slip passes through stick.
 TEST(SetRules, SemiSmoothComparesTrialForces) {
   const SemiSmoothRule rule;
   RowSolution r;
@@ -69,6 +70,13 @@ TEST(SetRules, SemiSmoothComparesTrialForces) {
   EXPECT_EQ(rule.tangential(r, d, 0.3, scales(1e3), residual), kSlipPlus);
   EXPECT_DOUBLE_EQ(residual, 0.2);     // |λ_t − bound|
   EXPECT_EQ(rule.tangential(r, d, 0.6, scales(1e3), residual), kStick);
+  // A row slipping backwards whose trial turns forwards passes through stick (above the bound
+  // the trial alone would send it straight to slip the other way).
+  r.tangential = kSlipMinus, r.tangent_force = -0.3;
+  d = rule.normal(r, scales(1e3));  // trial −0.3 + 0.4 = 0.1 > 0
+  EXPECT_EQ(rule.tangential(r, d, 0.05, scales(1e3), residual), kStick);
+  r.tangential = kSlipPlus;  // along its slip: the bound decides
+  EXPECT_EQ(rule.tangential(r, d, 0.05, scales(1e3), residual), kSlipPlus);
   ASSERT_NE(rule.on_cycle(), nullptr);
   EXPECT_STREQ(rule.on_cycle()->name(), "primal-dual");
 }
