@@ -45,6 +45,38 @@ double hertz_deviation(const test::SceneRun& r, double b, double p0) {
   return worst;
 }
 
+/// The ring on a rigid floor under its own weight ρg = `weight`, held laterally on its vertical
+/// diameter, meshed to `zone` over `radius` at its foot, with the Hertz figures of that load:
+/// F = ρg π(R² − r²) per unit thickness, b = √(4FR/πE*), p0 = 2F/πb.
+struct RingOnFloor {
+  core::Scene scene;
+  double force, b, p0;
+};
+RingOnFloor ring_on_floor(const std::string& weight, const std::string& zone,
+                          const std::string& radius, const std::string& growth) {
+  RingOnFloor ring;
+  ring.scene = core::parse_scene(
+      "[analysis]\nkind = \"plane_strain\"\nelement = \"T6\"\n" +
+          annulus_body("{ size = 0.1, refine = [ { near = [0.0, 0.0], size = " + zone +
+                       ", radius = " + radius + ", growth = " + growth + " } ] }") +
+          "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, "
+          "1.0]\n"
+          "[[support]]\non = { body = \"ring\", line = { point = [0.0, 0.0], direction = [0.0, "
+          "1.0] } }\n"
+          "fix = [\"ux\"]\n"
+          "[[load]]\non = { body = \"ring\" }\nbody_force = [0.0, -" +
+          weight +
+          "]\n"
+          "[[contact]]\nslave = { body = \"ring\", edge = \"outer\" }\nmaster = { obstacle = "
+          "\"floor\" }\n",
+      "ring.toml");
+  ring.force = std::stod(weight) * std::numbers::pi * (kOuter * kOuter - kInner * kInner);
+  const double e_star = kE / (1.0 - kNu * kNu);
+  ring.b = std::sqrt(4.0 * ring.force * kOuter / (std::numbers::pi * e_star));
+  ring.p0 = 2.0 * ring.force / (std::numbers::pi * ring.b);
+  return ring;
+}
+
 }  // namespace
 
 // Every node of both circles' edges (corners and mid-sides) on its circle, the edges adding up
@@ -123,23 +155,11 @@ TEST(Annulus, ThickCylinderUnderInternalPressureMatchesLame) {
 // 3 % of Hertz's ellipse at every node inside 0.8 b (a polygonal ring zig-zagged ±18 %).
 // Measured, the same with all six: p_max −0.93 %, length 2b + 0.0015, profile 1.65 %.
 TEST(Annulus, ThickRingOnAFloorIsHertzian) {
-  const core::Scene scene = core::parse_scene(
-      "[analysis]\nkind = \"plane_strain\"\nelement = \"T6\"\n" +
-          annulus_body("{ size = 0.1, refine = [ { near = [0.0, 0.0], size = 0.004, radius = 0.1, "
-                       "growth = 1.25 } ] }") +
-          "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, 1.0]\n"
-          "[[support]]\non = { body = \"ring\", line = { point = [0.0, 0.0], direction = [0.0, 1.0] } }\n"
-          "fix = [\"ux\"]\n"
-          "[[load]]\non = { body = \"ring\" }\nbody_force = [0.0, -0.9167]\n"
-          "[[contact]]\nslave = { body = \"ring\", edge = \"outer\" }\nmaster = { obstacle = \"floor\" }\n",
-      "ring.toml");
-  const double force = 0.9167 * std::numbers::pi * (kOuter * kOuter - kInner * kInner);
-  const double e_star = kE / (1.0 - kNu * kNu);
-  const double b = std::sqrt(4.0 * force * kOuter / (std::numbers::pi * e_star));
-  const double p0 = 2.0 * force / (std::numbers::pi * b);
+  const RingOnFloor ring = ring_on_floor("0.9167", "0.004", "0.1", "1.25");
+  const double force = ring.force, b = ring.b, p0 = ring.p0;
   for (const std::string& method : constraints::method_names()) {
     SCOPED_TRACE(method);
-    const test::SceneRun r = test::run_scene(scene, method);
+    const test::SceneRun r = test::run_scene(ring.scene, method);
     ASSERT_EQ(r.results.status, SolveStatus::kConverged) << r.results.message;
     EXPECT_NEAR(r.report.resultant.y(), force, 1e-6 * force);
     EXPECT_NEAR(r.report.p_max / p0, 1.0, 0.015);
@@ -156,27 +176,11 @@ TEST(Annulus, ThickRingOnAFloorIsHertzian) {
 // node inside 0.8 b (0.156 %), and no node-to-node oscillation: neighbouring nodes' deviations
 // within 1 % of each other (0.173 %; a polygonal ring zig-zagged ±18 %).
 TEST(Annulus, ThickRingAtSmallLoadHasHertzsHalfWidthWithoutZigZag) {
-  const double weight = 0.0573;  // written exactly below
-  const core::Scene scene = core::parse_scene(
-      "[analysis]\nkind = \"plane_strain\"\nelement = \"T6\"\n" +
-          annulus_body("{ size = 0.1, refine = [ { near = [0.0, 0.0], size = 0.0005, radius = "
-                       "0.03, growth = 1.3 } ] }") +
-          "[[obstacle]]\nname = \"floor\"\ntype = \"line\"\npoint = [0.0, 0.0]\nnormal = [0.0, "
-          "1.0]\n"
-          "[[support]]\non = { body = \"ring\", line = { point = [0.0, 0.0], direction = [0.0, "
-          "1.0] } }\n"
-          "fix = [\"ux\"]\n"
-          "[[load]]\non = { body = \"ring\" }\nbody_force = [0.0, -0.0573]\n"
-          "[[contact]]\nslave = { body = \"ring\", edge = \"outer\" }\nmaster = { obstacle = "
-          "\"floor\" }\n",
-      "ring_small_load.toml");
-  const double force = weight * std::numbers::pi * (kOuter * kOuter - kInner * kInner);
-  const double e_star = kE / (1.0 - kNu * kNu);
-  const double b = std::sqrt(4.0 * force * kOuter / (std::numbers::pi * e_star));
-  const double p0 = 2.0 * force / (std::numbers::pi * b);
+  const RingOnFloor ring = ring_on_floor("0.0573", "0.0005", "0.03", "1.3");
+  const double force = ring.force, b = ring.b, p0 = ring.p0;
   for (const std::string& method : constraints::method_names()) {
     SCOPED_TRACE(method);
-    const test::SceneRun r = test::run_scene(scene, method);
+    const test::SceneRun r = test::run_scene(ring.scene, method);
     ASSERT_EQ(r.results.status, SolveStatus::kConverged) << r.results.message;
     EXPECT_NEAR(r.report.resultant.y(), force, 1e-6 * force);
     EXPECT_NEAR(r.report.length / (2.0 * b), 1.0, 0.01);
