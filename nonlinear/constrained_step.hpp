@@ -39,6 +39,9 @@ class ConstrainedStep {
   bool iterate(int outer);
   /// The method solving the step's iterates: the step's own, or its fallback.
   ConstraintStrategy& method() const { return fallback_ ? *fallback_ : strategy_; }
+  /// Hands this iterate and the rest of the step to the method's fallback, for `reason` (the
+  /// report's fallback_reason); false when the method has none or has already handed over.
+  bool hand_to_fallback(const std::string& reason);
   /// The method's solve of the linearised problem `qp` (constants `c`) from memory_, its work
   /// and set in the iteration record `it`; `next` its active set by slot. False when it failed:
   /// its trial state kept, the step failed with its status.

@@ -133,9 +133,7 @@ bool ConstrainedStep::iterate(int outer) {
     change = sets_.record(next);
   // Sets that cycle end the step, unless the method has a fallback to finish it with: then
   // this iterate is solved again by the fallback, and so is every later one of the step.
-  if (change.repeated && !fallback_ && (fallback_ = strategy_.fallback())) {
-    out_.fallback = fallback_->name();
-    out_.fallback_reason = "its sets cycled";
+  if (change.repeated && hand_to_fallback("its sets cycled")) {
     if (!solve_method(qp, c, it, s, next)) return false;
     change = sets_.record(next);
   }
@@ -159,10 +157,8 @@ bool ConstrainedStep::solve_method(const ConstrainedProblem& qp, const VecX& c,
   out_.strategy.add(s);
   // A problem the method cannot pose goes to its fallback, for this iterate and the rest of
   // the step, as a cycle does.
-  if (s.status != SolveStatus::kConverged && !s.not_applicable.empty() && !fallback_ &&
-      (fallback_ = strategy_.fallback())) {
-    out_.fallback = fallback_->name();
-    out_.fallback_reason = s.not_applicable;
+  if (s.status != SolveStatus::kConverged && !s.not_applicable.empty() &&
+      hand_to_fallback(s.not_applicable)) {
     it.factorizations += s.factorizations;
     s = solve_catching_first_touch(method(), qp, memory_);
     out_.strategy.add(s);
@@ -179,6 +175,13 @@ bool ConstrainedStep::solve_method(const ConstrainedProblem& qp, const VecX& c,
   out_.iterations.push_back(it);
   fail(s.status, where_ + method().name() + ": " + s.message);
   return false;
+}
+
+bool ConstrainedStep::hand_to_fallback(const std::string& reason) {
+  if (fallback_ || !(fallback_ = strategy_.fallback())) return false;
+  out_.fallback = fallback_->name();
+  out_.fallback_reason = reason;
+  return true;
 }
 
 SpMat ConstrainedStep::tangent(int outer, const VecX& u_full) const {

@@ -18,7 +18,7 @@ std::optional<HertzReference> hertz_reference(const core::Scene& scene) {
 namespace {
 
 /// Relative L2 error of a sampled profile (linear between its points) against `exact` over
-/// [−1.5 b, 1.5 b] ∩ the points' span: 4000 trapezoid samples. NaN without a span.
+/// [−window b, window b] ∩ the points' span: 4000 trapezoid samples. NaN without a span.
 template <class Exact>
 double profile_l2_error(std::vector<std::pair<double, double>> pts, double b, Exact exact,
                         double window = 1.5) {
@@ -44,6 +44,16 @@ double profile_l2_error(std::vector<std::pair<double, double>> pts, double b, Ex
   return ref2 > 0 ? std::sqrt(err2 / ref2) : std::nan("");
 }
 
+/// hertz_profile_error over |x| ≤ window × b.
+double hertz_error_within(const std::vector<std::pair<double, double>>& x_p, double p0, double b,
+                          double window) {
+  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
+  return profile_l2_error(
+      x_p, b,
+      [&](double x) { return std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0; },
+      window);
+}
+
 }  // namespace
 
 std::optional<CattaneoReference> cattaneo_reference(const core::Scene& scene) {
@@ -57,18 +67,12 @@ std::optional<CattaneoReference> cattaneo_reference(const core::Scene& scene) {
 }
 
 double hertz_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0, double b) {
-  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
-  return profile_l2_error(x_p, b, [&](double x) {
-    return std::abs(x) < b ? p0 * std::sqrt(1.0 - (x / b) * (x / b)) : 0.0;
-  });
+  return hertz_error_within(x_p, p0, b, 1.5);
 }
 
 double hertz_inner_profile_error(const std::vector<std::pair<double, double>>& x_p, double p0,
                                  double b) {
-  if (x_p.size() < 2 || !(b > 0) || !(p0 > 0)) return std::nan("");
-  return profile_l2_error(
-      x_p, b, [&](double x) { return p0 * std::sqrt(std::max(0.0, 1.0 - (x / b) * (x / b))); },
-      kInnerWindow);
+  return hertz_error_within(x_p, p0, b, kInnerWindow);
 }
 
 double cattaneo_mindlin_error(const std::vector<std::pair<double, double>>& x_q, double mu,
