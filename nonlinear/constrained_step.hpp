@@ -73,6 +73,21 @@ class ConstrainedStep {
   /// already satisfies the equations. False when Newton failed.
   bool hold_set(const ConstrainedProblem& qp0, const VecX& c0, const ConstraintSolution& s0,
                 bool same_set, ContactIteration& it);
+  /// The held rows' forces: the strategy's (`step`) and the state's own (`state`: the previous
+  /// solve's; a row entering now carries none).
+  struct HeldForces {
+    const VecX& step;
+    const VecX& state;
+  };
+  /// Finite strain: whether the method's step x already satisfies the equations as now held
+  /// (then, with the set kept, the step has converged), or reduced the residual it set out
+  /// from enough to be the next iterate; else Newton with the set held continues it. `norm`
+  /// holds the state's residual when the set was kept, and x's after; `satisfied_now` whether x
+  /// satisfies the held equations. False when Newton failed.
+  bool finite_strain_step(ActiveSetSystem& sys, VecX& x, const NewtonOptions& newton,
+                          ContactIteration& it, const HeldForces& forces,
+                          const ConstraintSolution& s0, const ConstraintSolution& s, bool same_set,
+                          double& norm, bool& satisfied_now);
   /// Whether the method's state test (ConstraintStrategy::state_test) recognises the state just
   /// kept as its solution: its penetration within the test's, and the test's rule keeping the
   /// set it was solved with: the rows detected afresh there, each held slot still a row that the

@@ -67,50 +67,9 @@ bool ConstrainedStep::hold_set(const ConstrainedProblem& qp0, const VecX& c0,
     if (!satisfied(sys, x, newton, it, norm) &&
         !newton_with_set_held(sys, x, newton, it, !same_set))
       return false;
-  } else {
-    // The step is a Newton step of the equations as now held (the method's set, its
-    // friction forces), so the residual it must reduce is theirs at the state it started
-    // from, with the state's forces (a row entering carries none yet, a leaving one none any
-    // more). It can be far above the last state's residual with what was held then: a state
-    // Newton converged with one row too many is out of balance by that row's force once the
-    // row is gone, and one converged with the slipping rows' forces held is out of balance
-    // by their change once the method has updated them. The first iterate of the step: its
-    // residual before the step, with the method's forces.
-    double before = norm;  // same set: the state's residual, measured above
-    if (!same_set) {
-      VecX r;
-      const bool first = !std::isfinite(last_norm_);
-      before = sys.residual(sys.pack(u_, first ? step_force : state_force), r)
-                   ? inf_norm(r)
-                   : std::numeric_limits<double>::quiet_NaN();
-    }
-    if (std::isfinite(before))
-      last_norm_ = std::isfinite(last_norm_) ? std::max(last_norm_, before) : before;
-    if (same_set) x = sys.pack(VecX(u_ + s.u), step_force);
-    // Finite strain: the held rows are detected again at x, so a state that satisfies them
-    // with the set the method kept at u is converged.
-    const bool reached = satisfied(sys, x, newton, it, norm);
-    satisfied_now = reached;
-    if (reached && same_set) out_.status = SolveStatus::kConverged;
-    // A method whose solve costs more than a Newton iteration or two (ipopt's interior
-    // point, a penalty raised or augmented many times) is not asked again for a step
-    // Newton with the set held can finish: it is asked only to confirm.
-    const bool cheap = s0.factorizations <= kCheapStrategy;
-    if (reached || (cheap && std::isfinite(norm) && norm <= step_decrease_ * last_norm_)) {
-      it.newton = NewtonReport{};  // the method's step as one Newton iteration
-      it.newton.status = SolveStatus::kConverged;
-      it.newton.iterations = 1;
-      it.newton.final_residual = norm;
-      it.newton.residual_norms = {norm};
-      it.newton.last_step = inf_norm(s.u);
-      add_newton(it);
-    } else if (!newton_with_set_held(sys, x, newton, it, true, !continued_,
-                                     cheap ? step_decrease_ * last_norm_ : 0.0)) {
-      return false;
-    } else {
-      satisfied_now = it.newton.status == SolveStatus::kConverged &&
-                      it.newton.final_residual <= tolerance(sys, newton);
-    }
+  } else if (!finite_strain_step(sys, x, newton, it, {step_force, state_force}, s0, s, same_set,
+                                 norm, satisfied_now)) {
+    return false;
   }
   last_norm_ = it.newton.final_residual;
   u_ = x.head(u_.size());
@@ -121,6 +80,58 @@ bool ConstrainedStep::hold_set(const ConstrainedProblem& qp0, const VecX& c0,
       settled(qp0, tolerance(sys, newton)))
     out_.status = SolveStatus::kConverged;
   out_.iterations.push_back(it);
+  return true;
+}
+
+bool ConstrainedStep::finite_strain_step(ActiveSetSystem& sys, VecX& x, const NewtonOptions& newton,
+                                         ContactIteration& it, const HeldForces& forces,
+                                         const ConstraintSolution& s0, const ConstraintSolution& s,
+                                         bool same_set, double& norm, bool& satisfied_now) {
+  const VecX& step_force = forces.step;
+  const VecX& state_force = forces.state;
+  // The step is a Newton step of the equations as now held (the method's set, its
+  // friction forces), so the residual it must reduce is theirs at the state it started
+  // from, with the state's forces (a row entering carries none yet, a leaving one none any
+  // more). It can be far above the last state's residual with what was held then: a state
+  // Newton converged with one row too many is out of balance by that row's force once the
+  // row is gone, and one converged with the slipping rows' forces held is out of balance
+  // by their change once the method has updated them. The first iterate of the step: its
+  // residual before the step, with the method's forces.
+  double before = norm;  // same set: the state's residual, measured above
+  if (!same_set) {
+    VecX r;
+    const bool first = !std::isfinite(last_norm_);
+    before = sys.residual(sys.pack(u_, first ? step_force : state_force), r)
+                 ? inf_norm(r)
+                 : std::numeric_limits<double>::quiet_NaN();
+  }
+  if (std::isfinite(before))
+    last_norm_ = std::isfinite(last_norm_) ? std::max(last_norm_, before) : before;
+  if (same_set) x = sys.pack(VecX(u_ + s.u), step_force);
+  // Finite strain: the held rows are detected again at x, so a state that satisfies them
+  // with the set the method kept at u is converged.
+  const bool reached = satisfied(sys, x, newton, it, norm);
+  satisfied_now = reached;
+  if (reached && same_set) out_.status = SolveStatus::kConverged;
+  // A method whose solve costs more than a Newton iteration or two (ipopt's interior
+  // point, a penalty raised or augmented many times) is not asked again for a step
+  // Newton with the set held can finish: it is asked only to confirm.
+  const bool cheap = s0.factorizations <= kCheapStrategy;
+  if (reached || (cheap && std::isfinite(norm) && norm <= step_decrease_ * last_norm_)) {
+    it.newton = NewtonReport{};  // the method's step as one Newton iteration
+    it.newton.status = SolveStatus::kConverged;
+    it.newton.iterations = 1;
+    it.newton.final_residual = norm;
+    it.newton.residual_norms = {norm};
+    it.newton.last_step = inf_norm(s.u);
+    add_newton(it);
+  } else if (!newton_with_set_held(sys, x, newton, it, true, !continued_,
+                                   cheap ? step_decrease_ * last_norm_ : 0.0)) {
+    return false;
+  } else {
+    satisfied_now = it.newton.status == SolveStatus::kConverged &&
+                    it.newton.final_residual <= tolerance(sys, newton);
+  }
   return true;
 }
 
