@@ -286,7 +286,16 @@ void ConstrainedStep::verify_final_state() {
   for (const GapRow& r : fresh) measured = std::max(measured, -r.gap);
   out_.measured_penetration = measured;
   out_.nodal_penetration = contact_.nodal_penetration(system_.full(u_));
-  out_.penetration_tolerance = state_.max_penetration + 1e-9 * contact_.model_size();
+  // The state may penetrate where it holds a row (a regularised method's force over its
+  // stiffness); a row it leaves open, by the method's penetration tolerance at most.
+  double held = 0.0;
+  const int m = static_cast<int>(std::min<size_t>(state_.gap.size(), state_.active.size()));
+  for (int i = 0; i < m; ++i)
+    if (state_.active[i]) held = std::max(held, -state_.gap[i]);
+  const constraints::StrategyOptions& o = contact_.options();
+  const double open = o.tolerance > 0 ? o.tolerance : o.relative_tolerance * contact_.length_scale();
+  out_.penetration_tolerance =
+      std::min(state_.max_penetration, std::max(held, open)) + 1e-9 * contact_.model_size();
   if (out_.status == SolveStatus::kConverged && measured > out_.penetration_tolerance)
     fail(SolveStatus::kPenetration, "the final state penetrates by " + number_text(measured) +
                                         ", beyond the " + number_text(state_.max_penetration) +
