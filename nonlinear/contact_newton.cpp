@@ -293,7 +293,8 @@ void ConstrainedStep::verify_final_state() {
   for (int i = 0; i < m; ++i)
     if (state_.active[i]) held = std::max(held, -state_.gap[i]);
   const constraints::StrategyOptions& o = contact_.options();
-  const double open = o.tolerance > 0 ? o.tolerance : o.relative_tolerance * contact_.length_scale();
+  const double open =
+      o.tolerance > 0 ? o.tolerance : o.relative_tolerance * contact_.length_scale();
   out_.penetration_tolerance =
       std::min(state_.max_penetration, std::max(held, open)) + 1e-9 * contact_.model_size();
   if (out_.status == SolveStatus::kConverged && measured > out_.penetration_tolerance)
