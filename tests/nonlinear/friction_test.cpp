@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -298,6 +299,45 @@ TEST(Friction, CattaneoMindlinPathDependence) {
   }
   EXPECT_GT(locked, 0.05 * kMu * 271.03);  // shear locked in at zero tangential force
   EXPECT_GT(slipped, 0.0);
+}
+
+// The shear traction node by node (issue 34 item 4), mortar, with finite and with small strain,
+// ssn, lagrange and auglag: at every slave node inside 0.9 c within 2 % of μ p0 of the
+// Cattaneo–Mindlin profile (measured, worst node: 1.08 % finite, 0.76 % small strain; the same
+// for the three methods). Inside c the profile's √ kink at c, where the measured zone ends 0.3 %
+// short, takes the nearest nodes to 3.6 % (finite) and 4.7 % (small). With small strain the
+// contact forces' tangential resultant is −Q to 1e-9 Q (7e-11 to 2e-10 measured), the
+// analysis being linear: nothing else to balance. node_to_segment on these non-matching T6
+// meshes leaves 1.9–2.2 % at this mesh and 7.8 % with the block shifted by half a node spacing
+// (collocation at non-matching nodes; mortar's figure does not move), so it is not asserted.
+TEST(Friction, CattaneoMindlinMortarShearAtEveryNode) {
+  const double c = kB * std::sqrt(1.0 - kQ / (kMu * kP)), p0 = 2.0 * kP / (std::numbers::pi * kB);
+  for (const bool small : {false, true})
+    for (const std::string m : {"lagrange", "ssn", "auglag"}) {
+      SCOPED_TRACE(m + (small ? " small strain" : " finite strain"));
+      std::vector<std::string> sets = {"contact[0].detection=\"mortar\""};
+      if (small) sets.push_back("analysis.geometric_nonlinearity=false");
+      const test::SceneRun r = test::run_scene(cattaneo(sets), m);
+      ASSERT_EQ(r.results.status, SolveStatus::kConverged) << r.results.message;
+      const double sign = r.report.tangent_force < 0 ? -1.0 : 1.0;
+      double worst = 0.0;
+      int nodes = 0;
+      for (const auto& n : r.report.nodes) {
+        const double x = n.x.x();
+        if (std::abs(x) >= 0.9 * c) continue;
+        const double q =
+            kMu * p0 *
+            (std::sqrt(1 - x * x / (kB * kB)) - (c / kB) * std::sqrt(1 - x * x / (c * c)));
+        worst = std::max(worst, std::abs(sign * n.shear - q) / (kMu * p0));
+        ++nodes;
+      }
+      EXPECT_GT(nodes, 80);
+      EXPECT_LT(worst, 0.02);
+      if (small)
+        EXPECT_NEAR(r.report.resultant.x(), -kQ, 1e-9 * kQ);
+      else
+        EXPECT_NEAR(r.report.resultant.x(), -kQ, 1e-6 * kP);
+    }
 }
 
 namespace {
