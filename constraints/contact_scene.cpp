@@ -162,7 +162,7 @@ ContactSceneSpec parse_contact_scene(const core::Scene& scene, const std::string
     for (const auto& v : root["contact"].tables()) {
       v.check_keys({"name", "slave", "master", "detection", "direction", "search_distance",
                     "method", "penalty", "auglag", "ipopt", "tolerance", "relative_tolerance",
-                    "max_iterations", "friction"});
+                    "max_iterations", "penetration_limit", "friction"});
       ContactPairSpec c;
       c.where = v.where();
       c.name = v["name"].string_or("contact" + std::to_string(spec.pairs.size() + 1));
