@@ -299,20 +299,18 @@ void ConstrainedStep::verify_final_state() {
       std::min(state_.max_penetration, std::max(held, open)) + 1e-9 * contact_.model_size();
   if (out_.status == SolveStatus::kConverged && measured > out_.penetration_tolerance)
     fail(SolveStatus::kPenetration, "the final state penetrates by " + number_text(measured) +
-                                        ", beyond the " +
-                                        number_text(out_.penetration_tolerance) +
+                                        ", beyond the " + number_text(out_.penetration_tolerance) +
                                         " the method allows");
   // An exact method's state may not leave a slave node below the deformed master surface
   // beyond the physical limit, whatever its rows say (mortar's weighted gaps, a linear
   // analysis's linearised ones): measured on the final geometry, independently of them. A
   // regularised method converges to its own penetration; the report warns of it.
   const double limit = o.penetration_limit * contact_.length_scale();
-  if (out_.status == SolveStatus::kConverged && method().exact() &&
-      out_.nodal_penetration > limit)
+  if (out_.status == SolveStatus::kConverged && method().exact() && out_.nodal_penetration > limit)
     fail(SolveStatus::kPenetration,
          "a slave node lies " + number_text(out_.nodal_penetration) +
-             " below the deformed master surface, beyond the physical limit " +
-             number_text(limit) + " (penetration_limit x the shortest contact edge), although "
+             " below the deformed master surface, beyond the physical limit " + number_text(limit) +
+             " (penetration_limit x the shortest contact edge), although "
              "the method's rows hold");
 }
 

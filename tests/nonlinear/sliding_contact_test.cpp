@@ -161,8 +161,10 @@ TEST(SlidingHertzLimit, AnExactMethodsNodeBelowTheLimitEndsPenetration) {
         EXPECT_NE(report.message.find("below the deformed master surface"), std::string::npos);
       } else {
         ASSERT_EQ(report.status, SolveStatus::kConverged) << report.message;
-        if (detection == "mortar") EXPECT_GT(report.nodal_penetration, 2.0 * limit);
-        else EXPECT_LT(report.nodal_penetration, limit);
+        if (detection == "mortar")
+          EXPECT_GT(report.nodal_penetration, 2.0 * limit);
+        else
+          EXPECT_LT(report.nodal_penetration, limit);
       }
     }
 }
