@@ -110,9 +110,20 @@ class LoadStepper {
       // The load crushes an element: an attempt of this step inverted one (its Newton solve, or
       // the contact method's trial state), and the smaller steps then stopped on what comes
       // before inversion (a singular tangent at the limit point, a method's iteration cap).
+      // Not when the smallest step from the unloaded state found the tangent singular: a body
+      // free to move (a missing support) or a mechanism, whose displacements at a larger
+      // increment were the singular solve's, inverting an element on the way.
+      const bool singular_unloaded = lambda_ == 0.0 && r_.status == SolveStatus::kSingular;
       if (r_.status != SolveStatus::kInvertedElement && !inverted_at_.empty()) {
-        r_.status = SolveStatus::kInvertedElement;
-        why = inverted_at_ + "; the smaller steps ended: " + why;
+        if (singular_unloaded) {
+          why +=
+              "; singular from the unloaded state on (a body free to move, or a mechanism): "
+              "a larger increment's displacements inverted an element (" +
+              inverted_at_ + ")";
+        } else {
+          r_.status = SolveStatus::kInvertedElement;
+          why = inverted_at_ + "; the smaller steps ended: " + why;
+        }
       }
       // Attempts from the converged state (the increment may have stayed at its smallest
       // since an earlier cutback: "after 1 cutbacks" then hid that it could not be cut again).
