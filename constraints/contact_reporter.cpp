@@ -155,7 +155,7 @@ void ContactReporter::report(const std::vector<GapRow>& rows, const ConstraintSo
                              ContactReport& r) const {
   const core::Mesh& mesh = model_.mesh;
   const std::vector<MasterEdge>& slave_edges = pairs_.slave_edges();
-  r.penetration_limit = penetration_limit_ * pairs_.length_scale();
+  r.penetration_limit = penetration_limit();
   std::map<int, int> slot;
   r.nodes.clear();
   for (int n : pairs_.slave_nodes()) {

@@ -25,6 +25,9 @@ class ContactReporter {
 
   /// Fills the per-node results, recovered pressure, p_max, contact length and total force.
   void report(const std::vector<GapRow>& rows, const ConstraintSolution& s, ContactReport& r) const;
+  /// The physical limit on a final state's penetration: penetration_limit × the shortest
+  /// contact edge (ContactReport::penetration_limit).
+  double penetration_limit() const { return penetration_limit_ * pairs_.length_scale(); }
 
  private:
   /// The [[constraint]] rows' multipliers and residuals.
@@ -58,7 +61,7 @@ class ContactReporter {
   const core::Model& model_;
   const ContactPairs& pairs_;
   const EqualityConstraints& equalities_;
-  double penetration_limit_;  ///< StrategyOptions::penetration_limit (× the length scale)
+  double penetration_limit_;  ///< StrategyOptions::penetration_limit (a fraction)
 };
 
 /// Consistent recovery of a pressure field from nodal normal forces on a line of boundary

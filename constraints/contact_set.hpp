@@ -58,6 +58,7 @@ class ContactSet {
   }
   int num_slots() const { return pairs_.num_slots(); }
   double length_scale() const { return pairs_.length_scale(); }
+  double penetration_limit() const { return reporter_.penetration_limit(); }
 
   // The equality rows' questions (EqualityConstraints documents each).
   std::vector<EqualityRow> equality_rows_at(const VecX& u_full, bool small_strain) const {

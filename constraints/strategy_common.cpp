@@ -86,8 +86,12 @@ VecX ConstrainedProblem::surface_stiffness() const {
   return local;
 }
 
+double penetration_tolerance(const StrategyOptions& o, double length_scale) {
+  return o.tolerance > 0 ? o.tolerance : o.relative_tolerance * length_scale;
+}
+
 double penetration_tolerance(const StrategyOptions& o, const ConstrainedProblem& p) {
-  return o.tolerance > 0 ? o.tolerance : o.relative_tolerance * p.length_scale;
+  return penetration_tolerance(o, p.length_scale);
 }
 
 double touch_tolerance(const ConstrainedProblem& p) { return 1e-12 * p.model_size; }

@@ -16,7 +16,10 @@
 
 namespace c2d::constraints {
 
-/// Penetration tolerance: the absolute option, else relative × the problem's length scale.
+/// Penetration tolerance: the absolute option, else relative × `length_scale` (the shortest
+/// contact edge).
+double penetration_tolerance(const StrategyOptions& options, double length_scale);
+/// The same at the problem's length scale.
 double penetration_tolerance(const StrategyOptions& options, const ConstrainedProblem& p);
 
 /// Rows closed at the start: the memory's warm start if it has one, else the rows with

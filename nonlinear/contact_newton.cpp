@@ -292,9 +292,7 @@ void ConstrainedStep::verify_final_state() {
   const int m = static_cast<int>(std::min<size_t>(state_.gap.size(), state_.active.size()));
   for (int i = 0; i < m; ++i)
     if (state_.active[i]) held = std::max(held, -state_.gap[i]);
-  const constraints::StrategyOptions& o = contact_.options();
-  const double open =
-      o.tolerance > 0 ? o.tolerance : o.relative_tolerance * contact_.length_scale();
+  const double open = penetration_tolerance(contact_.options(), contact_.length_scale());
   out_.penetration_tolerance =
       std::min(state_.max_penetration, std::max(held, open)) + 1e-9 * contact_.model_size();
   if (out_.status == SolveStatus::kConverged && measured > out_.penetration_tolerance)
@@ -305,7 +303,7 @@ void ConstrainedStep::verify_final_state() {
   // beyond the physical limit, whatever its rows say (mortar's weighted gaps, a linear
   // analysis's linearised ones): measured on the final geometry, independently of them. A
   // regularised method converges to its own penetration; the report warns of it.
-  const double limit = o.penetration_limit * contact_.length_scale();
+  const double limit = contact_.penetration_limit();
   if (out_.status == SolveStatus::kConverged && method().exact() && out_.nodal_penetration > limit)
     fail(SolveStatus::kPenetration,
          "a slave node lies " + number_text(out_.nodal_penetration) +

@@ -104,14 +104,13 @@ VecX friction_bounds(const ConstrainedProblem& p, const VecX& normal) {
   return b;
 }
 
-/// The contact forces of touching rows only: an interior point leaves O(μ_barrier / gap)
-/// forces on open rows, which would otherwise keep the bounds moving.
-VecX touching_forces(const ConstrainedProblem& p, const StrategyOptions& o,
-                     const ConstraintSolution& s) {
+/// The solution's normal forces on `rows` (those that hold it), zero on the others: an interior
+/// point leaves O(μ_barrier / gap) forces on open rows, which would otherwise keep the bounds
+/// moving.
+VecX forces_on(const ConstraintSolution& s, const std::vector<char>& rows) {
   VecX normal = s.contact_force;
-  const std::vector<char> touching = touching_rows(p, o, s);
   for (int i = 0; i < normal.size(); ++i)
-    if (!touching[i]) normal[i] = 0.0;
+    if (!rows[i]) normal[i] = 0.0;
   return normal;
 }
 
@@ -172,22 +171,15 @@ std::string solve_tresca_fixed_point(const ConstrainedProblem& p, const RowMemor
     rec.iteration = total_iterations;
     rec.max_penetration = max_penetration(VecX(p.gap0 + p.gap_jacobian * s.u));
     s.history.push_back(rec);
-    // The next bounds at the QP's normal forces on the rows it holds. On the surface those are
-    // the dual's held rows (force against gap), as its classify takes them: the touch
-    // tolerance of the primal (gap within 2e-9 at the u rebuilt from the dual's forces) drops
-    // a few rows that carry force each round, which zeroed their bounds and kept the fixed
-    // point from settling (ring_plate_drag step 8: a change of ~9 % of the largest bound for
-    // all 50 problems, then the whole KKT system, ~150 factorisations an outer iteration).
-    VecX next;
-    if (dual) {
-      dual->classify(s);
-      VecX held = s.contact_force;
-      for (int i = 0; i < held.size(); ++i)
-        if (!s.active[i]) held[i] = 0.0;
-      next = friction_bounds(p, held);
-    } else {
-      next = friction_bounds(p, touching_forces(p, o, s));
-    }
+    // The next bounds at the QP's normal forces on the rows it holds: on the whole system the
+    // rows that touch, on the surface the dual's held rows (force against gap, as its classify
+    // takes them). There the primal's touch test (gap within 2e-9 at the u rebuilt from the
+    // dual's forces) dropped a few rows that carry force each round, which zeroed their bounds
+    // and kept the fixed point from settling (ring_plate_drag step 8: a change of ~9 % of the
+    // largest bound for all 50 problems, then the whole KKT system, ~150 factorisations an
+    // outer iteration).
+    if (dual) dual->classify(s);
+    const VecX next = friction_bounds(p, forces_on(s, dual ? s.active : touching_rows(p, o, s)));
     // On the surface the dual's own indicators classify the rows first (force against gap,
     // slip against the distance to the bound; no touch tolerance), then, as for the primal,
     // touch and the bounds at the QP's own normal forces. A crossover is dense work only.
